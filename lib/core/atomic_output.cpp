@@ -1,0 +1,35 @@
+#include "core/atomic_output.h"
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+
+#include "core/error.h"
+
+namespace sss {
+
+AtomicOutput::AtomicOutput(std::string finalPath) : final_(std::move(finalPath)) {
+  namespace fs = std::filesystem;
+  const fs::path p(final_);
+  const std::string name =
+      "." + p.stem().string() + "." + std::to_string(::getpid()) + ".tmp" + p.extension().string();
+  temp_ = (p.parent_path() / name).string();
+}
+
+AtomicOutput::~AtomicOutput() {
+  if (!committed_) std::remove(temp_.c_str());
+}
+
+void AtomicOutput::commit() {
+  if (std::rename(temp_.c_str(), final_.c_str()) != 0) {
+    const std::string why = std::strerror(errno);
+    std::remove(temp_.c_str());
+    fail(final_, "cannot write (" + why + ")");
+  }
+  committed_ = true;
+}
+
+}  // namespace sss

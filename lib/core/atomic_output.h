@@ -1,0 +1,29 @@
+// Output files appear whole or not at all: write to a temporary name beside the target, rename
+// when complete. A failure (exception, early return) removes the temporary file.
+#pragma once
+
+#include <string>
+
+namespace sss {
+
+class AtomicOutput {
+ public:
+  explicit AtomicOutput(std::string finalPath);
+  ~AtomicOutput();
+  AtomicOutput(const AtomicOutput&) = delete;
+  AtomicOutput& operator=(const AtomicOutput&) = delete;
+
+  // Where to write. Keeps the final name's extension (writers such as OpenImageIO pick the
+  // format from it): "dir/.name.12345.tmp.exr".
+  const std::string& tempPath() const { return temp_; }
+  const std::string& finalPath() const { return final_; }
+  // Renames the temporary file to the final name; throws Error on failure.
+  void commit();
+
+ private:
+  std::string final_;
+  std::string temp_;
+  bool committed_ = false;
+};
+
+}  // namespace sss

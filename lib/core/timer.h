@@ -1,0 +1,21 @@
+// Wall-clock stage timing for reports (--json) and benchmarks.
+#pragma once
+
+#include <chrono>
+
+namespace sss {
+
+class Stopwatch {
+ public:
+  Stopwatch() : start_(std::chrono::steady_clock::now()) {}
+  double seconds() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+  double milliseconds() const { return seconds() * 1e3; }
+  void restart() { start_ = std::chrono::steady_clock::now(); }
+
+ private:
+  std::chrono::steady_clock::time_point start_;
+};
+
+}  // namespace sss

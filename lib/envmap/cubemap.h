@@ -1,0 +1,59 @@
+// A float RGB cubemap in the project's one layout, shared by every tool:
+// six square faces in the order +X, -X, +Y, -Y, +Z, -Z, each in OpenGL cubemap orientation
+// (the OpenGL 4.5 spec, table 8.19), world Y up. Row 0 of a face is its t = 0 row, i.e. the first
+// row glTexImage uploads, so faces go to the GPU as they are. On disk (see cubemap_io.h) the
+// faces are stacked vertically in the same order: an N x 6N RGB float EXR.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+namespace sss {
+
+enum class CubeFace : int { PosX = 0, NegX, PosY, NegY, PosZ, NegZ };
+
+// Where a direction hits the cube: face and (s, t) in [0, 1]^2 on it.
+struct CubeCoord {
+  int face;
+  float s, t;
+};
+
+class Cubemap {
+ public:
+  Cubemap() = default;
+  explicit Cubemap(int size, glm::vec3 fill = glm::vec3(0.0f));
+
+  int size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  std::size_t texelCount() const { return texels_.size(); }
+
+  glm::vec3& at(int face, int x, int y) { return texels_[index(face, x, y)]; }
+  const glm::vec3& at(int face, int x, int y) const { return texels_[index(face, x, y)]; }
+  // Face f starts at data() + f * size * size; rows top (t = 0) to bottom.
+  glm::vec3* data() { return texels_.data(); }
+  const glm::vec3* data() const { return texels_.data(); }
+  std::size_t index(int face, int x, int y) const {
+    return (static_cast<std::size_t>(face) * size_ + y) * size_ + x;
+  }
+
+  // Unit direction through the centre of texel (x, y) of a face.
+  glm::vec3 direction(int face, int x, int y) const;
+  // Solid angle of that texel (exact: the four-corner formula). Sums to 4 pi over the cube.
+  float solidAngle(int face, int x, int y) const;
+  // Bilinear lookup along a (not necessarily normalized) direction, seamless across edges.
+  glm::vec3 sample(const glm::vec3& direction) const;
+
+  // The GL mapping, independent of resolution.
+  static CubeCoord project(const glm::vec3& direction);
+  static glm::vec3 unproject(int face, float s, float t);  // not normalized
+
+ private:
+  int size_ = 0;
+  std::vector<glm::vec3> texels_;
+};
+
+}  // namespace sss

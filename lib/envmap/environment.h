@@ -1,0 +1,49 @@
+// An environment, from any source the tools accept, as a radiance cubemap.
+#pragma once
+
+#include <string>
+
+#include <glm/vec3.hpp>
+
+#include "envmap/cubemap.h"
+#include "envmap/image.h"
+
+namespace sss {
+
+enum class EnvironmentLayout { Equirect, Cross, CubemapStack };
+
+// Layout from the image shape: 2:1 equirect, 4:3 or 3:4 cross, 1:6 our cubemap stack. Anything
+// else throws Error naming the file and its size.
+EnvironmentLayout detectLayout(const std::string& path, int width, int height);
+
+// Resampling an image into a cubemap of `faceSize` (0: keep about the source's resolution).
+// Equirect sources are area-averaged (supersampled) so that no energy is lost or gained.
+Cubemap cubemapFromImage(const ImageRgb& image, EnvironmentLayout layout, int faceSize);
+
+// The unfolded horizontal cross (4:3): middle row -X, +Z, +X, -Z as GL faces are laid out; +Y
+// above and -Y below the +Z face. Used for previews and read back by cubemapFromImage.
+ImageRgb cubemapToCross(const Cubemap& cubemap);
+// Stacked faces N x 6N, the on-disk cubemap layout.
+ImageRgb cubemapToStack(const Cubemap& cubemap);
+
+// Procedural sun + sky (`--sky`): a sky dome with a sun disc, ground below the horizon.
+struct SkyParameters {
+  glm::vec3 sunDirection = glm::vec3(0.3f, 0.6f, -0.74f);  // towards the sun; normalized on use
+  float turbidity = 3.0f;           // haze: 2 (clear) to 10 (hazy)
+  float sunAngularRadiusDeg = 0.27f;
+  float sunIntensity = 1.0f;        // scales the sun's radiance
+  glm::vec3 groundAlbedo = glm::vec3(0.3f);
+};
+// Parses "elevation=45,azimuth=30,turbidity=3" style specs used by --sky; throws Error.
+SkyParameters parseSkySpec(const std::string& spec);
+Cubemap makeSky(const SkyParameters& sky, int faceSize);
+
+struct EnvironmentOptions {
+  ImageReadOptions read;
+  int faceSize = 0;  // 0: chosen from the source resolution
+};
+// Reads an environment file (equirect, cross or our stack) into a radiance cubemap; the special
+// name "sky" or "sky:<spec>" gives makeSky instead. Throws Error naming the file.
+Cubemap loadEnvironment(const std::string& source, const EnvironmentOptions& options = {});
+
+}  // namespace sss

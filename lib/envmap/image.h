@@ -1,0 +1,37 @@
+// A float RGB image in memory, and reading/writing it through OpenImageIO with every result
+// checked (OIIO opens files whose header lies about the size and fails only on reading pixels).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+namespace sss {
+
+struct ImageRgb {
+  int width = 0, height = 0;
+  std::vector<glm::vec3> pixels;  // row-major, top row first
+  glm::vec3& at(int x, int y) { return pixels[static_cast<std::size_t>(y) * width + x]; }
+  const glm::vec3& at(int x, int y) const { return pixels[static_cast<std::size_t>(y) * width + x]; }
+};
+
+// What readImage does with non-finite and negative texels.
+struct ImageReadOptions {
+  bool sanitize = false;  // replace NaN/Inf by 0 (with a warning) instead of failing
+};
+
+// Reads any format OIIO knows (.hdr, .exr, .pfm, .tif, .png, ...) as linear float RGB (grey is
+// replicated, alpha dropped). Throws Error naming the file for: missing/unreadable file, zero
+// size, failed pixel read, NaN/Inf texels (count and first position) unless sanitize; negative
+// texels are clamped to 0 with a warning.
+ImageRgb readImage(const std::string& path, const ImageReadOptions& options = {});
+
+// Writes through AtomicOutput: .exr/.hdr/.pfm as linear float, other extensions (.png, .jpg) as
+// 8-bit sRGB after clamping. Extra string attributes go into the header where the format allows.
+void writeImage(const std::string& path, const ImageRgb& image);
+
+// Linear -> sRGB transfer function, for 8-bit previews.
+float linearToSrgb(float linear);
+
+}  // namespace sss

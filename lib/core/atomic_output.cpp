@@ -14,8 +14,9 @@ namespace sss {
 AtomicOutput::AtomicOutput(std::string finalPath) : final_(std::move(finalPath)) {
   namespace fs = std::filesystem;
   const fs::path p(final_);
-  const std::string name =
-      "." + p.stem().string() + "." + std::to_string(::getpid()) + ".tmp" + p.extension().string();
+  std::string name(1, '.');
+  name.append(p.stem().string()).append(".").append(std::to_string(::getpid()));
+  name.append(".tmp").append(p.extension().string());
   temp_ = (p.parent_path() / name).string();
 }
 

@@ -1,0 +1,268 @@
+#include "mesh/baked_ply.h"
+
+#include <algorithm>
+#include <bit>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <map>
+
+#include "core/atomic_output.h"
+#include "core/error.h"
+#include "mesh/ply_format.h"
+
+namespace sss {
+
+namespace {
+
+static_assert(std::endian::native == std::endian::little,
+              "the baked PLY writer copies floats as little-endian bytes");
+
+constexpr int kFormatVersion = 1;
+
+// Shortest text that reads back to the same double.
+std::string number(double x) {
+  char buffer[32];
+  const auto r = std::to_chars(buffer, buffer + sizeof buffer, x);
+  return std::string(buffer, r.ptr);
+}
+
+std::string triple(const glm::dvec3& v) {
+  return number(v.x) + "," + number(v.y) + "," + number(v.z);
+}
+
+bool parseNumber(std::string_view text, double& x) {
+  const auto r = std::from_chars(text.data(), text.data() + text.size(), x);
+  return r.ec == std::errc() && r.ptr == text.data() + text.size() && std::isfinite(x);
+}
+
+bool parseTriple(std::string_view text, glm::dvec3& v) {
+  for (int i = 0; i < 3; ++i) {
+    const std::size_t comma = i < 2 ? text.find(',') : text.size();
+    if (comma == std::string_view::npos || !parseNumber(text.substr(0, comma), v[i])) return false;
+    text.remove_prefix(i < 2 ? comma + 1 : comma);
+  }
+  return true;
+}
+
+// sRGB transfer function of a linear value in [0, 1], quantized to 8 bits.
+unsigned char srgb8(float linear) {
+  const float x = std::clamp(linear, 0.0f, 1.0f);
+  const float e = x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.0f / 2.4f) - 0.055f;
+  return static_cast<unsigned char>(std::lround(e * 255.0f));
+}
+
+double autoPreviewScale(const std::vector<glm::vec3>& exitance) {
+  std::vector<float> peak(exitance.size());
+  for (std::size_t i = 0; i < exitance.size(); ++i) {
+    peak[i] = std::max({exitance[i].x, exitance[i].y, exitance[i].z});
+  }
+  const std::size_t k = peak.size() * 99 / 100;
+  std::nth_element(peak.begin(), peak.begin() + k, peak.end());
+  return peak[k] > 0.0f ? 1.0 / peak[k] : 1.0;
+}
+
+void checkValues(const std::string& path, const std::vector<glm::vec3>& values, std::size_t n,
+                 const char* what) {
+  if (!values.empty() && values.size() != n) {
+    fail(path, std::string(what) + " has " + std::to_string(values.size()) + " values for " +
+                   std::to_string(n) + " vertices");
+  }
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const glm::vec3& v = values[i];
+    if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) {
+      fail(path, std::string(what) + " of vertex " + std::to_string(i) + " is not finite");
+    }
+  }
+}
+
+template <class T>
+void put(std::string& out, T value) {
+  char bytes[sizeof(T)];
+  std::memcpy(bytes, &value, sizeof(T));
+  out.append(bytes, sizeof(T));
+}
+
+}  // namespace
+
+void writeBakedPly(const std::string& path, const BakedMesh& baked) {
+  const TriangleMesh& mesh = baked.mesh;
+  const std::size_t nv = mesh.positions.size();
+  if (mesh.normals.size() != nv) fail(path, "mesh normals missing");
+  if (mesh.triangles.empty()) fail(path, "mesh has no triangles");
+  for (const glm::uvec3& t : mesh.triangles) {
+    if (t.x >= nv || t.y >= nv || t.z >= nv) fail(path, "triangle index out of range");
+  }
+  checkValues(path, mesh.positions, nv, "position");
+  checkValues(path, baked.irradiance, nv, "irradiance");
+  checkValues(path, baked.exitance, nv, "exitance");
+  if (baked.materialName.find_first_of(" \t\r\n=") != std::string::npos) {
+    fail(path, "material name '" + baked.materialName + "' contains a space or '='");
+  }
+  for (const std::string& c : baked.extraComments) {
+    if (c.find_first_of("\r\n") != std::string::npos) fail(path, "comment spans several lines");
+  }
+  const bool hasE = !baked.irradiance.empty(), hasB = !baked.exitance.empty();
+  const double scale = !hasB                      ? 0.0
+                       : baked.previewScale > 0.0 ? baked.previewScale
+                                                  : autoPreviewScale(baked.exitance);
+
+  std::string out;
+  out += "ply\nformat binary_little_endian 1.0\n";
+  out += "comment sss format=" + std::to_string(kFormatVersion) + "\n";
+  if (!baked.materialName.empty()) {
+    out += "comment sss material=" + baked.materialName + "\n";
+    out += "comment sss sigma_a=" + triple(baked.sigmaA) + "\n";
+    out += "comment sss sigma_s_prime=" + triple(baked.sigmaSPrime) + "\n";
+    out += "comment sss eta=" + number(baked.eta) + "\n";
+  }
+  out += "comment sss mm_per_unit=" + number(baked.mmPerUnit) + "\n";
+  if (hasB) out += "comment sss preview_scale=" + number(scale) + "\n";
+  for (const std::string& c : baked.extraComments) out += "comment " + c + "\n";
+  out += "element vertex " + std::to_string(nv) + "\n";
+  for (const char* p : {"x", "y", "z", "nx", "ny", "nz"})
+    out += std::string("property float ") + p + "\n";
+  if (hasE)
+    out +=
+        "property float irradiance_r\nproperty float irradiance_g\nproperty float irradiance_b\n";
+  if (hasB) {
+    out += "property float exitance_r\nproperty float exitance_g\nproperty float exitance_b\n";
+    out += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+  }
+  out += "element face " + std::to_string(mesh.triangles.size()) + "\n";
+  out += "property list uchar int vertex_indices\nend_header\n";
+
+  const std::size_t vertexBytes = 24 + (hasE ? 12 : 0) + (hasB ? 15 : 0);
+  out.reserve(out.size() + nv * vertexBytes + mesh.triangles.size() * 13);
+  for (std::size_t i = 0; i < nv; ++i) {
+    for (int k = 0; k < 3; ++k) put(out, mesh.positions[i][k]);
+    for (int k = 0; k < 3; ++k) put(out, mesh.normals[i][k]);
+    if (hasE) {
+      for (int k = 0; k < 3; ++k) put(out, baked.irradiance[i][k]);
+    }
+    if (hasB) {
+      for (int k = 0; k < 3; ++k) put(out, baked.exitance[i][k]);
+      for (int k = 0; k < 3; ++k) {
+        put(out, srgb8(static_cast<float>(scale * baked.exitance[i][k])));
+      }
+    }
+  }
+  for (const glm::uvec3& t : mesh.triangles) {
+    put(out, static_cast<unsigned char>(3));
+    for (int k = 0; k < 3; ++k) put(out, static_cast<std::int32_t>(t[k]));
+  }
+
+  AtomicOutput output(path);
+  {
+    std::ofstream file(output.tempPath(), std::ios::binary);
+    if (!file) fail(path, "cannot create output file");
+    file.write(out.data(), static_cast<std::streamsize>(out.size()));
+    file.close();
+    if (!file) fail(path, "write failed (disk full?)");
+  }
+  output.commit();
+}
+
+BakedPlyContents readBakedPly(const std::string& path) {
+  BakedPlyContents result;
+  const std::size_t dot = path.find_last_of('.');
+  std::string ext = dot == std::string::npos ? "" : path.substr(dot + 1);
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext != "ply") {
+    result.baked.mesh = loadMesh(path, &result.report);
+    return result;
+  }
+  ply::PlyMesh ply = ply::readPly(path);
+  BakedMesh& baked = result.baked;
+
+  // "sss key=value" comments; everything else is kept verbatim.
+  std::map<std::string, std::string> keys;
+  for (const std::string& c : ply.comments) {
+    const std::size_t eq = c.find('=');
+    if (c.rfind("sss ", 0) == 0 && eq != std::string::npos && c.find(' ', 4) == std::string::npos) {
+      const std::string key = c.substr(4, eq - 4);
+      static const char* const known[] = {"format", "material",    "sigma_a",      "sigma_s_prime",
+                                          "eta",    "mm_per_unit", "preview_scale"};
+      if (std::find(std::begin(known), std::end(known), key) != std::end(known)) {
+        keys[key] = c.substr(eq + 1);
+        continue;
+      }
+    }
+    baked.extraComments.push_back(c);
+  }
+  auto bad = [&](const std::string& key) {
+    fail(path, "bad 'comment sss " + key + "=" + keys[key] + "'");
+  };
+  if (keys.count("format")) {
+    double version = 0;
+    if (!parseNumber(keys["format"], version)) bad("format");
+    if (version > kFormatVersion) {
+      fail(path, "baked PLY format " + keys["format"] + " is newer than this program reads (" +
+                     std::to_string(kFormatVersion) + ")");
+    }
+  }
+  const int materialKeys = int(keys.count("material")) + int(keys.count("sigma_a")) +
+                           int(keys.count("sigma_s_prime")) + int(keys.count("eta"));
+  if (materialKeys > 0 && materialKeys < 4) {
+    fail(path, "incomplete material comments (need sss material, sigma_a, sigma_s_prime, eta)");
+  }
+  if (materialKeys == 4) {
+    result.hasMaterial = true;
+    baked.materialName = keys["material"];
+    if (!parseTriple(keys["sigma_a"], baked.sigmaA)) bad("sigma_a");
+    if (!parseTriple(keys["sigma_s_prime"], baked.sigmaSPrime)) bad("sigma_s_prime");
+    if (!parseNumber(keys["eta"], baked.eta)) bad("eta");
+  }
+  if (keys.count("mm_per_unit")) {
+    result.hasUnits = true;
+    if (!parseNumber(keys["mm_per_unit"], baked.mmPerUnit) || baked.mmPerUnit <= 0) {
+      bad("mm_per_unit");
+    }
+  }
+  if (keys.count("preview_scale") && !parseNumber(keys["preview_scale"], baked.previewScale)) {
+    bad("preview_scale");
+  }
+
+  // Per-vertex values: all three channels or none.
+  auto channels = [&](const std::string& base, bool& present) {
+    std::vector<float>* c[3];
+    int found = 0;
+    const char* suffix[3] = {"_r", "_g", "_b"};
+    for (int k = 0; k < 3; ++k) {
+      auto it = ply.vertexScalars.find(base + suffix[k]);
+      c[k] = it == ply.vertexScalars.end() ? nullptr : &it->second;
+      found += c[k] != nullptr;
+    }
+    std::vector<glm::vec3> values;
+    if (found == 0) return values;
+    if (found < 3) fail(path, "has only some of " + base + "_r/g/b");
+    present = true;
+    values.resize(c[0]->size());
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      values[i] = {(*c[0])[i], (*c[1])[i], (*c[2])[i]};
+    }
+    return values;
+  };
+  const std::vector<glm::vec3> irradiance = channels("irradiance", result.hasIrradiance);
+  const std::vector<glm::vec3> exitance = channels("exitance", result.hasExitance);
+
+  result.report.format = ply.format;
+  result.report.warnings = std::move(ply.warnings);
+  RawMesh raw;
+  raw.positions = std::move(ply.positions);
+  raw.normals = std::move(ply.normals);
+  raw.faceCorners = std::move(ply.faceCorners);
+  raw.faceSizes = std::move(ply.faceSizes);
+  std::vector<unsigned> origin;
+  baked.mesh = cleanMesh(path, std::move(raw), &result.report, &origin);
+  for (unsigned o : origin) {
+    if (result.hasIrradiance) baked.irradiance.push_back(irradiance[o]);
+    if (result.hasExitance) baked.exitance.push_back(exitance[o]);
+  }
+  checkValues(path, baked.irradiance, origin.size(), "irradiance");
+  checkValues(path, baked.exitance, origin.size(), "exitance");
+  return result;
+}
+
+}  // namespace sss

@@ -1,0 +1,76 @@
+// The baked-mesh file: a binary little-endian PLY with per-vertex irradiance E and exitance B,
+// an 8-bit sRGB preview, and the material and units as header comments, so that sss-render needs
+// no repeat of them. A standard PLY: general readers (MeshLab, Blender) skip the unknown float
+// properties and show red/green/blue as vertex colours; OpenMesh's reader is tested on it.
+//
+//   ply
+//   format binary_little_endian 1.0
+//   comment sss format=1
+//   comment sss material=marble
+//   comment sss sigma_a=0.0021,0.0041,0.0071      (per mm, r,g,b)
+//   comment sss sigma_s_prime=2.19,2.62,3        (per mm)
+//   comment sss eta=1.3
+//   comment sss mm_per_unit=1000
+//   comment sss preview_scale=0.8                (preview sRGB = encode(scale * exitance))
+//   comment <each extraComments line>
+//   (numbers: the shortest decimal that reads back to the same double; the material lines only
+//   when materialName is set, preview_scale only with exitance)
+//   element vertex N
+//   property float x, y, z, nx, ny, nz
+//   property float irradiance_r, irradiance_g, irradiance_b   (when irradiance is given)
+//   property float exitance_r, exitance_g, exitance_b         (when exitance is given)
+//   property uchar red, green, blue                           (with exitance)
+//   element face M
+//   property list uchar int vertex_indices
+//   end_header
+//
+// One property per line in the file. OpenMesh's writer cannot write header comments, hence our
+// own writer.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "mesh/load_mesh.h"
+#include "mesh/triangle_mesh.h"
+
+namespace sss {
+
+struct BakedMesh {
+  TriangleMesh mesh;
+  std::vector<glm::vec3> irradiance;  // E per vertex (empty: not written/not present)
+  std::vector<glm::vec3> exitance;    // B per vertex (empty: not written/not present)
+  std::string materialName;           // no spaces or '='
+  glm::dvec3 sigmaA{0.0};             // absorption, per mm
+  glm::dvec3 sigmaSPrime{0.0};        // reduced scattering, per mm
+  double eta = 1.0;                   // relative index of refraction
+  double mmPerUnit = 1.0;             // millimetres per mesh unit
+  // Preview colour = sRGB(previewScale * exitance). <= 0 on write: auto-exposed so that the
+  // 99th percentile of max(exitance) maps to 1; the scale used is stored in the header.
+  double previewScale = 0.0;
+  std::vector<std::string> extraComments;  // written as "comment <line>"; single lines
+};
+
+// Writes `baked` (exitance and irradiance must have one value per vertex, or be empty: zeros
+// are not invented, the properties are left out) through AtomicOutput. Throws Error.
+void writeBakedPly(const std::string& path, const BakedMesh& baked);
+
+// What readBakedPly found.
+struct BakedPlyContents {
+  BakedMesh baked;
+  bool hasIrradiance = false;  // irradiance_r/g/b present
+  bool hasExitance = false;    // exitance_r/g/b present
+  bool hasMaterial = false;    // "sss material/sigma_a/sigma_s_prime/eta" comments present
+  bool hasUnits = false;       // "sss mm_per_unit" comment present
+  MeshReport report;           // cleanup of the mesh part
+};
+
+// Reads a baked PLY back bit-exactly. Any other mesh file (plain PLY, OBJ, ...) loads too, with
+// the has* flags false, so the caller can say e.g. "missing exitance_r/g/b: run sss-bake".
+// The mesh goes through the same validation and cleanup as loadMesh (per-vertex values follow
+// their vertices); a file that sss-bake wrote comes back unchanged.
+BakedPlyContents readBakedPly(const std::string& path);
+
+}  // namespace sss

@@ -1,0 +1,75 @@
+// Loading and validating triangle meshes from PLY (ascii, binary little and big endian), OBJ,
+// OFF, STL (ascii and binary) and OM.
+//
+// Mesh readers are lenient where a bake must not be: OpenMesh 9 accepts a truncated ASCII PLY as
+// a smaller mesh, can hang or allocate without bound on a lying header, and silently splits
+// non-manifold or duplicate faces apart. So PLY files go through our own strict reader (header
+// counts checked against the file size before anything is allocated, every token checked), the
+// other formats through OpenMesh's readers into a raw face list (no OpenMesh topology), and the
+// cleanup below is ours for every format:
+//   - NaN/Inf coordinates, out-of-range indices, zero faces: errors;
+//   - polygons are fan-triangulated; degenerate triangles (repeated index or zero area) and
+//     duplicate triangles (same three vertices, any order or winding) are dropped and counted;
+//   - unreferenced vertices are removed (counted); a mesh whose faces all drop is an error;
+//   - non-manifold edges (more than two triangles), misoriented edges (two triangles with
+//     inconsistent winding) and non-manifold vertices (several fans meeting at a vertex) are
+//     counted and warned about;
+//   - missing (or non-finite, or zero) normals are computed, area-weighted;
+//   - a closed mesh (no boundary, manifold, consistently wound) with negative signed volume is
+//     turned right side out: its triangles are flipped, with a warning; file normals that point
+//     against the (final) winding on the whole are negated, with a warning.
+// All errors are sss::Error "<file>: <problem>".
+#pragma once
+
+#include <cstddef>
+#include <initializer_list>
+#include <string>
+#include <vector>
+
+#include "mesh/triangle_mesh.h"
+
+namespace sss {
+
+struct MeshReport {
+  std::string format;                    // "ply-ascii", "ply-binary-le", "obj", "stl", ...
+  std::size_t fileVertices = 0;          // as read, before cleanup
+  std::size_t fileFaces = 0;             // polygons as read
+  std::size_t triangulatedPolygons = 0;  // faces with more than three corners
+  std::size_t droppedDegenerate = 0;     // repeated index or zero area
+  std::size_t droppedDuplicate = 0;      // same vertex set as an earlier triangle
+  std::size_t droppedUnreferenced = 0;   // vertices used by no remaining triangle
+  std::size_t nonManifoldEdges = 0;      // edges with more than two triangles
+  std::size_t misorientedEdges = 0;      // edges whose two triangles run the same direction
+  std::size_t nonManifoldVertices = 0;   // vertices whose triangles form more than one fan
+  std::size_t boundaryEdges = 0;         // edges with one triangle (0: the mesh is closed)
+  std::size_t components = 0;            // edge-connected components
+  bool normalsComputed = false;          // the file had no usable vertex normals
+  bool orientationFlipped = false;       // closed, inside out: triangles flipped
+  bool normalsNegated = false;           // file normals pointed against the winding: negated
+  std::vector<std::string> warnings;     // human-readable, one line each, without the file name
+};
+
+// Loads, validates and cleans a mesh; the format comes from the extension (case-insensitive).
+// `report` (optional) receives counts and warnings; warnings are not printed here.
+TriangleMesh loadMesh(const std::string& path, MeshReport* report = nullptr);
+
+// Raw mesh data as a reader produces it, before cleanup: polygons as flat index lists.
+struct RawMesh {
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec3> normals;     // empty, or one per position
+  std::vector<unsigned> faceCorners;  // all polygons' vertex indices, concatenated
+  std::vector<unsigned> faceSizes;    // corners per polygon
+
+  void addFace(std::initializer_list<unsigned> corners) {
+    faceCorners.insert(faceCorners.end(), corners);
+    faceSizes.push_back(static_cast<unsigned>(corners.size()));
+  }
+};
+
+// The validation and cleanup step of loadMesh on in-memory data. `path` only names the source
+// in errors. `vertexOrigin` (optional) receives, for each output vertex, its index in
+// raw.positions, so that other per-vertex data can follow.
+TriangleMesh cleanMesh(const std::string& path, RawMesh raw, MeshReport* report,
+                       std::vector<unsigned>* vertexOrigin = nullptr);
+
+}  // namespace sss

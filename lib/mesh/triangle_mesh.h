@@ -1,0 +1,40 @@
+// An indexed triangle mesh with unit per-vertex normals, and the per-vertex quantities the
+// diffusion sums need (vertex areas: the paper's M(x_i)).
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+namespace sss {
+
+struct TriangleMesh {
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec3> normals;  // one unit normal per vertex (same size as positions)
+  std::vector<glm::uvec3> triangles;
+
+  std::size_t vertexCount() const { return positions.size(); }
+  std::size_t triangleCount() const { return triangles.size(); }
+};
+
+// Area of each vertex's share of the surface: one third of the areas of its adjacent triangles
+// (the paper's M(x_i); a correction of its unspecified "area of the vertex"). The sum equals
+// surfaceArea(mesh).
+std::vector<float> vertexAreas(const TriangleMesh& mesh);
+
+// Total triangle area, accumulated in double.
+double surfaceArea(const TriangleMesh& mesh);
+
+// Signed volume enclosed by the triangles (divergence theorem, in double): positive when a closed
+// mesh's triangles wind counter-clockwise seen from outside. Meaningless for open meshes.
+double signedVolume(const TriangleMesh& mesh);
+
+// Area-weighted vertex normals (the sum of the adjacent triangles' unnormalized cross products,
+// normalized). Vertices without a non-degenerate triangle get (0, 0, 1).
+std::vector<glm::vec3> computeVertexNormals(const TriangleMesh& mesh);
+
+// Multiplies every position by `scale` (normals are unchanged): e.g. to millimetres.
+void scalePositions(TriangleMesh& mesh, double scale);
+
+}  // namespace sss

@@ -1,0 +1,332 @@
+// Validation and cleanup (cleanMesh) and the strict PLY reader's handling of bad files.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <sstream>
+
+#include <glm/geometric.hpp>
+
+#include "mesh/load_mesh.h"
+#include "mesh/primitives.h"
+#include "test_util.h"
+
+namespace sss {
+namespace {
+
+using test::expectError;
+using test::ScratchDir;
+using test::writeFile;
+
+RawMesh rawOf(const TriangleMesh& mesh, bool withNormals = true) {
+  RawMesh raw;
+  raw.positions = mesh.positions;
+  if (withNormals) raw.normals = mesh.normals;
+  for (const glm::uvec3& t : mesh.triangles) raw.addFace({t.x, t.y, t.z});
+  return raw;
+}
+
+// A unit square (two triangles) as ASCII PLY text.
+std::string asciiPly(const std::string& extraHeader = "") {
+  return "ply\nformat ascii 1.0\ncomment made by hand\n" + extraHeader +
+         "element vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+         "element face 2\nproperty list uchar int vertex_indices\nend_header\n"
+         "0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n";
+}
+
+TEST(MeshClean, DropsDegenerateAndDuplicateFacesWithCounts) {
+  RawMesh raw = rawOf(makeBox(glm::vec3(1.0f), 1));
+  raw.positions.push_back(raw.positions[0]);  // 8: same place as vertex 0
+  raw.positions.push_back({5, 5, 5});         // 9: unreferenced after the drops
+  raw.addFace({0, 0, 1});                     // repeated index
+  raw.addFace({0, 8, 1});                     // zero area (two corners coincide)
+  raw.addFace({1, 2});                        // too few corners
+  raw.addFace({raw.faceCorners[2], raw.faceCorners[1], raw.faceCorners[0]});  // duplicate
+  raw.addFace({raw.faceCorners[3], raw.faceCorners[4], raw.faceCorners[5]});  // duplicate
+  raw.normals.clear();
+  MeshReport report;
+  const TriangleMesh m = cleanMesh("m.ply", raw, &report);
+  EXPECT_EQ(report.fileFaces, 12u + 5u);
+  EXPECT_EQ(report.droppedDegenerate, 3u);
+  EXPECT_EQ(report.droppedDuplicate, 2u);
+  EXPECT_EQ(report.droppedUnreferenced, 2u);
+  EXPECT_EQ(m.triangleCount(), 12u);
+  EXPECT_EQ(m.vertexCount(), 8u);
+  EXPECT_EQ(report.boundaryEdges, 0u);
+  EXPECT_TRUE(report.normalsComputed);
+  EXPECT_GE(report.warnings.size(), 3u);
+}
+
+TEST(MeshClean, TriangulatesPolygonsAndKeepsVertexOrigin) {
+  RawMesh raw;
+  raw.positions = {{9, 9, 9}, {0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  raw.addFace({1, 2, 3, 4});
+  MeshReport report;
+  std::vector<unsigned> origin;
+  const TriangleMesh m = cleanMesh("quad.obj", raw, &report, &origin);
+  EXPECT_EQ(report.triangulatedPolygons, 1u);
+  ASSERT_EQ(m.triangleCount(), 2u);
+  EXPECT_EQ(origin, (std::vector<unsigned>{1, 2, 3, 4}));
+  EXPECT_NEAR(surfaceArea(m), 1.0, 1e-7);
+  EXPECT_EQ(report.boundaryEdges, 4u);
+  for (const glm::vec3& n : m.normals) EXPECT_EQ(n, glm::vec3(0, 0, 1));
+}
+
+TEST(MeshClean, NonManifoldEdgeAndVertexAreReported) {
+  // Three triangles on the edge 0-1.
+  RawMesh fin;
+  fin.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}};
+  fin.addFace({0, 1, 2});
+  fin.addFace({1, 0, 3});
+  fin.addFace({0, 1, 4});
+  MeshReport a;
+  cleanMesh("fin.ply", fin, &a);
+  EXPECT_EQ(a.nonManifoldEdges, 1u);
+  EXPECT_FALSE(a.warnings.empty());
+
+  // Two closed tetrahedra touching at one vertex (a bow tie): manifold edges, one vertex.
+  RawMesh bowtie;
+  bowtie.positions = {{0, 0, 0},  {1, 0, 0},  {0, 1, 0}, {0, 0, 1},
+                      {-1, 0, 0}, {0, -1, 0}, {0, 0, -1}};
+  for (unsigned o : {0u, 3u}) {
+    const unsigned a1 = o == 0 ? 1 : 4, b = o == 0 ? 2 : 5, c = o == 0 ? 3 : 6;
+    bowtie.addFace({0, b, a1});
+    bowtie.addFace({0, a1, c});
+    bowtie.addFace({0, c, b});
+    bowtie.addFace({a1, b, c});
+  }
+  MeshReport b;
+  cleanMesh("bowtie.ply", bowtie, &b);
+  EXPECT_EQ(b.nonManifoldEdges, 0u);
+  EXPECT_EQ(b.misorientedEdges, 0u);
+  EXPECT_EQ(b.nonManifoldVertices, 1u);
+  EXPECT_EQ(b.components, 1u);
+  EXPECT_EQ(b.boundaryEdges, 0u);
+
+  // A manifold box has none of these.
+  MeshReport c;
+  cleanMesh("box.ply", rawOf(makeBox(glm::vec3(1.0f), 2)), &c);
+  EXPECT_EQ(c.nonManifoldVertices + c.nonManifoldEdges + c.misorientedEdges, 0u);
+  EXPECT_TRUE(c.warnings.empty());
+}
+
+TEST(MeshClean, MisorientedFaceIsCountedAndNotFlippedGlobally) {
+  RawMesh raw = rawOf(makeBox(glm::vec3(1.0f), 1));
+  std::swap(raw.faceCorners[1], raw.faceCorners[2]);  // one face wound the wrong way
+  MeshReport report;
+  cleanMesh("box.ply", raw, &report);
+  EXPECT_EQ(report.misorientedEdges, 3u);
+  EXPECT_FALSE(report.orientationFlipped);
+}
+
+TEST(MeshClean, InsideOutClosedMeshIsFlipped) {
+  const TriangleMesh sphere = makeIcosphere(2, 1.0f);
+  RawMesh raw = rawOf(sphere);
+  for (std::size_t f = 0; f < raw.faceSizes.size(); ++f) {
+    std::swap(raw.faceCorners[3 * f + 1], raw.faceCorners[3 * f + 2]);
+  }
+  for (glm::vec3& n : raw.normals) n = -n;  // inward, consistent with the winding
+  MeshReport report;
+  const TriangleMesh m = cleanMesh("inside-out.ply", raw, &report);
+  EXPECT_TRUE(report.orientationFlipped);
+  EXPECT_TRUE(report.normalsNegated);
+  EXPECT_GT(signedVolume(m), 0.0);
+  for (std::size_t i = 0; i < m.vertexCount(); ++i) {
+    EXPECT_GT(glm::dot(m.normals[i], m.positions[i]), 0.99f);
+  }
+  // An open mesh is never flipped: a plane facing -Z stays so.
+  RawMesh plane = rawOf(makeGridPlane(2, 1.0f), false);
+  for (std::size_t f = 0; f < plane.faceSizes.size(); ++f) {
+    std::swap(plane.faceCorners[3 * f + 1], plane.faceCorners[3 * f + 2]);
+  }
+  MeshReport open;
+  const TriangleMesh p = cleanMesh("plane.ply", plane, &open);
+  EXPECT_FALSE(open.orientationFlipped);
+  EXPECT_EQ(p.normals[0], glm::vec3(0, 0, -1));
+}
+
+TEST(MeshClean, RejectsNonFiniteCoordinatesBadIndicesAndNoFaces) {
+  RawMesh nan = rawOf(makeBox(glm::vec3(1.0f), 1));
+  nan.positions[5].y = std::numeric_limits<float>::quiet_NaN();
+  expectError([&] { cleanMesh("nan.ply", nan, nullptr); }, "nan.ply", "vertex 5");
+  RawMesh inf = rawOf(makeBox(glm::vec3(1.0f), 1));
+  inf.positions[2].x = std::numeric_limits<float>::infinity();
+  expectError([&] { cleanMesh("inf.ply", inf, nullptr); }, "inf.ply", "non-finite");
+  RawMesh index = rawOf(makeBox(glm::vec3(1.0f), 1));
+  index.addFace({0, 1, 99});
+  expectError([&] { cleanMesh("i.ply", index, nullptr); }, "i.ply", "vertex 99");
+  RawMesh points;
+  points.positions = {{0, 0, 0}, {1, 0, 0}};
+  expectError([&] { cleanMesh("p.ply", points, nullptr); }, "p.ply", "no faces");
+  RawMesh degenerate;
+  degenerate.positions = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};
+  degenerate.addFace({0, 1, 2});
+  expectError([&] { cleanMesh("d.ply", degenerate, nullptr); }, "d.ply", "degenerate");
+}
+
+TEST(MeshPlyReader, AsciiLoadsWithCommentsAndQuads) {
+  ScratchDir dir;
+  const std::string path = dir.path("square.ply");
+  writeFile(path,
+            "ply\nformat ascii 1.0\nelement vertex 4\nproperty double x\nproperty double y\n"
+            "property double z\nproperty uchar red\nelement face 1\n"
+            "property list uchar uint vertex_indices\nend_header\n"
+            "0 0 0 1\n1 0 0 2\n1 1 0 3\n+0 1 0 4\n4 0 1 2 3\n");
+  MeshReport report;
+  const TriangleMesh m = loadMesh(path, &report);
+  EXPECT_EQ(report.format, "ply-ascii");
+  EXPECT_EQ(m.triangleCount(), 2u);
+  EXPECT_EQ(report.triangulatedPolygons, 1u);
+  EXPECT_NEAR(surfaceArea(m), 1.0, 1e-7);
+}
+
+TEST(MeshPlyReader, TruncatedAsciiIsAnError) {
+  ScratchDir dir;
+  const std::string full = asciiPly();
+  for (std::size_t cut : {std::size_t{8}, std::size_t{14}, std::size_t{30}}) {
+    const std::string path = dir.path("cut" + std::to_string(cut) + ".ply");
+    writeFile(path, full.substr(0, full.size() - cut));
+    EXPECT_THROW(loadMesh(path), Error) << cut;
+  }
+  const std::string path = dir.path("cut.ply");
+  writeFile(path, full.substr(0, full.size() - 8));  // ends inside face 1
+  expectError([&] { loadMesh(path); }, path, "truncated");
+}
+
+TEST(MeshPlyReader, TruncatedBinaryIsAnError) {
+  ScratchDir dir;
+  std::string body;
+  auto putF = [&](float f) { body.append(reinterpret_cast<const char*>(&f), 4); };
+  auto putI = [&](int i) { body.append(reinterpret_cast<const char*>(&i), 4); };
+  for (float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 1.f, 1.f, 0.f}) putF(v);
+  body.push_back(3);
+  for (int i : {0, 1, 2}) putI(i);
+  const std::string header =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+      "property float y\nproperty float z\nelement face 1\n"
+      "property list uchar int vertex_indices\nend_header\n";
+  const std::string good = dir.path("good.ply");
+  writeFile(good, header + body);
+  EXPECT_EQ(loadMesh(good).triangleCount(), 1u);
+  const std::string cut = dir.path("cut.ply");
+  writeFile(cut, header + body.substr(0, body.size() - 3));
+  expectError([&] { loadMesh(cut); }, cut, "truncated");
+  const std::string cutVertices = dir.path("cutv.ply");
+  writeFile(cutVertices, header + body.substr(0, 20));
+  expectError([&] { loadMesh(cutVertices); }, cutVertices, "truncated");
+}
+
+TEST(MeshPlyReader, LyingHeaderFailsFastWithoutAllocating) {
+  ScratchDir dir;
+  const std::string path = dir.path("liar.ply");
+  for (const char* format : {"ascii", "binary_little_endian"}) {
+    writeFile(path, std::string("ply\nformat ") + format +
+                        " 1.0\nelement vertex 4000000000000\nproperty float x\nproperty float "
+                        "y\nproperty float z\nelement face 18446744073709551615\n"
+                        "property list uchar int vertex_indices\nend_header\n0 0 0\n");
+    const auto start = std::chrono::steady_clock::now();
+    expectError([&] { loadMesh(path); }, path, "declares 4000000000000 vertex");
+    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(1));
+  }
+  // Face count too large for the bytes that follow the vertices.
+  writeFile(path,
+            "ply\nformat binary_little_endian 1.0\nelement vertex 0\nproperty float x\n"
+            "property float y\nproperty float z\nelement face 100000000\n"
+            "property list uchar int vertex_indices\nend_header\n\x03");
+  expectError([&] { loadMesh(path); }, path, "declares 100000000 face");
+}
+
+TEST(MeshPlyReader, GarbageEmptyAndMalformedFiles) {
+  ScratchDir dir;
+  const std::string empty = dir.path("empty.ply");
+  writeFile(empty, "");
+  expectError([&] { loadMesh(empty); }, empty, "empty file");
+  const std::string garbage = dir.path("garbage.ply");
+  std::string bytes(5000, '\0');
+  for (std::size_t i = 0; i < bytes.size(); ++i) bytes[i] = static_cast<char>((i * 7919) % 251);
+  writeFile(garbage, bytes);
+  expectError([&] { loadMesh(garbage); }, garbage, "not a PLY file");
+  const std::string noEnd = dir.path("noend.ply");
+  writeFile(noEnd, "ply\nformat ascii 1.0\nelement vertex 1\n" + std::string(70000, '\n'));
+  expectError([&] { loadMesh(noEnd); }, noEnd, "end_header");
+  const std::string badNumber = dir.path("badnumber.ply");
+  std::string text = asciiPly();
+  text.replace(text.find("1 1 0"), 5, "1 x 0");
+  writeFile(badNumber, text);
+  expectError([&] { loadMesh(badNumber); }, badNumber, "bad number 'x'");
+  const std::string badType = dir.path("badtype.ply");
+  text = asciiPly();
+  text.replace(text.find("property float y"), 16, "property quad y");
+  writeFile(badType, text);
+  expectError([&] { loadMesh(badType); }, badType, "bad type 'quad'");
+  const std::string missing = dir.path("missing.ply");
+  expectError([&] { loadMesh(missing); }, missing, "cannot open");
+  const std::string unknown = dir.path("mesh.xyz");
+  writeFile(unknown, "1 2 3\n");
+  expectError([&] { loadMesh(unknown); }, unknown, "unknown mesh format");
+}
+
+TEST(MeshPlyReader, ZeroFacesNanAndBadIndexInFiles) {
+  ScratchDir dir;
+  const std::string zero = dir.path("zero.ply");
+  writeFile(zero,
+            "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+            "property float z\nelement face 0\nproperty list uchar int vertex_indices\n"
+            "end_header\n0 0 0\n1 1 1\n");
+  expectError([&] { loadMesh(zero); }, zero, "no faces");
+  const std::string nan = dir.path("nan.ply");
+  std::string text = asciiPly();
+  text.replace(text.find("1 1 0"), 5, "1 nan 0");
+  writeFile(nan, text);
+  expectError([&] { loadMesh(nan); }, nan, "vertex 2 has a non-finite coordinate");
+  const std::string index = dir.path("index.ply");
+  text = asciiPly();
+  text.replace(text.find("3 0 2 3"), 7, "3 0 2 7");
+  writeFile(index, text);
+  expectError([&] { loadMesh(index); }, index, "refers to vertex 7");
+  const std::string negative = dir.path("negative.ply");
+  text = asciiPly();
+  text.replace(text.find("3 0 2 3"), 7, "3 0 2 -1");
+  writeFile(negative, text);
+  expectError([&] { loadMesh(negative); }, negative, "out of range");
+}
+
+TEST(MeshPlyReader, BigEndianMatchesLittleEndian) {
+  ScratchDir dir;
+  const TriangleMesh sphere = makeIcosphere(1, 1.0f);
+  std::string le, be;
+  auto put = [&](const void* p, std::size_t n) {
+    const char* c = static_cast<const char*>(p);
+    le.append(c, n);
+    for (std::size_t i = 0; i < n; ++i) be.push_back(c[n - 1 - i]);
+  };
+  for (const glm::vec3& p : sphere.positions) {
+    for (int k = 0; k < 3; ++k) put(&p[k], 4);
+  }
+  for (const glm::uvec3& t : sphere.triangles) {
+    const unsigned char three = 3;
+    put(&three, 1);
+    for (int k = 0; k < 3; ++k) {
+      const int i = static_cast<int>(t[k]);
+      put(&i, 4);
+    }
+  }
+  auto header = [&](const char* f) {
+    return std::string("ply\nformat ") + f + " 1.0\nelement vertex " +
+           std::to_string(sphere.vertexCount()) +
+           "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
+           std::to_string(sphere.triangleCount()) +
+           "\nproperty list uchar int vertex_indices\nend_header\r\n";
+  };
+  writeFile(dir.path("le.ply"), header("binary_little_endian") + le);
+  writeFile(dir.path("be.ply"), header("binary_big_endian") + be);
+  MeshReport report;
+  const TriangleMesh a = loadMesh(dir.path("le.ply"));
+  const TriangleMesh b = loadMesh(dir.path("be.ply"), &report);
+  EXPECT_EQ(report.format, "ply-binary-be");
+  EXPECT_EQ(a.positions, sphere.positions);
+  EXPECT_EQ(b.positions, sphere.positions);
+  EXPECT_EQ(b.triangles, sphere.triangles);
+}
+
+}  // namespace
+}  // namespace sss

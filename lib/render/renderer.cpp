@@ -1,0 +1,384 @@
+#include "render/renderer.h"
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/mat4x4.hpp>
+
+#include "core/error.h"
+#include "core/timer.h"
+#include "envmap/cubemap.h"
+#include "render/gl.h"
+
+namespace sss {
+namespace {
+
+void checkGl(const char* what) {
+  const GLenum e = glGetError();
+  if (e != GL_NO_ERROR) {
+    char code[16];
+    std::snprintf(code, sizeof code, "0x%04x", e);
+    throw Error(std::string("OpenGL error ") + code + " while " + what);
+  }
+}
+
+std::string programDefines(const ShadingOptions& s) {
+  std::string d;
+  switch (s.mode) {
+    case ShadingMode::Sss:
+      d += "#define MODE_SSS\n";
+      break;
+    case ShadingMode::Brdf:
+      d += "#define MODE_BRDF\n";
+      break;
+    case ShadingMode::Irradiance:
+      d += "#define MODE_IRRADIANCE\n";
+      break;
+    case ShadingMode::Normals:
+      d += "#define MODE_NORMALS\n";
+      break;
+  }
+  if (s.fresnel == FresnelModel::Schlick) d += "#define FRESNEL_SCHLICK\n";
+  if (s.reflectFactor) d += "#define REFLECT_MIX\n";
+  if (s.tonemap == Tonemap::Reinhard) d += "#define TONEMAP_REINHARD\n";
+  if (s.tonemap == Tonemap::Aces) d += "#define TONEMAP_ACES\n";
+  return d;
+}
+
+double processCpuMs() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return (usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) * 1e3 +
+         (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec) * 1e-3;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+GLuint uploadCubemap(const Cubemap& cubemap) {
+  const int n = cubemap.size();
+  int levels = 1;
+  while ((n >> levels) > 0) ++levels;
+  GLuint tex = 0;
+  glCreateTextures(GL_TEXTURE_CUBE_MAP, 1, &tex);
+  glTextureStorage2D(tex, levels, GL_RGBA16F, n, n);
+  for (int face = 0; face < 6; ++face) {
+    // Faces are stored in GL orientation, row 0 = t = 0: uploaded as they are.
+    glTextureSubImage3D(tex, 0, 0, 0, face, n, n, 1, GL_RGB, GL_FLOAT,
+                        cubemap.data() + static_cast<std::size_t>(face) * n * n);
+  }
+  glGenerateTextureMipmap(tex);
+  glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+  glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureParameteri(tex, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(tex, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(tex, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+  checkGl("uploading a cubemap");
+  return tex;
+}
+
+}  // namespace
+
+struct Renderer::Gl {
+  GLuint surface = 0, background = 0;
+  GLuint meshVao = 0, emptyVao = 0, vertexBuffer = 0, indexBuffer = 0;
+  GLuint radiance = 0, irradiance = 0;
+  int radianceSize = 0;
+  GLuint drawFbo = 0, resolveFbo = 0;
+  GLuint drawColor = 0, drawDepth = 0, resolveColor = 0;
+
+  ~Gl() {
+    glDeleteProgram(surface);
+    glDeleteProgram(background);
+    glDeleteVertexArrays(1, &meshVao);
+    glDeleteVertexArrays(1, &emptyVao);
+    glDeleteBuffers(1, &vertexBuffer);
+    glDeleteBuffers(1, &indexBuffer);
+    glDeleteTextures(1, &radiance);
+    glDeleteTextures(1, &irradiance);
+    glDeleteFramebuffers(1, &drawFbo);
+    glDeleteFramebuffers(1, &resolveFbo);
+    glDeleteRenderbuffers(1, &drawColor);
+    glDeleteRenderbuffers(1, &drawDepth);
+    glDeleteRenderbuffers(1, &resolveColor);
+  }
+  GLuint outputFbo() const { return resolveFbo ? resolveFbo : drawFbo; }
+};
+
+Renderer::Renderer(const ShaderSources& shaders, const FrameOptions& frame,
+                   const ShadingOptions& shading)
+    : gl_(new Gl), frame_(frame), shading_(shading) {
+  try {
+    if (frame.width < 1 || frame.height < 1) throw Error("image size must be at least 1x1");
+    GLint maxSize = 0;
+    glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &maxSize);
+    if (frame.width > maxSize || frame.height > maxSize) {
+      throw Error("image size " + std::to_string(frame.width) + "x" + std::to_string(frame.height) +
+                  " exceeds this GL's limit of " + std::to_string(maxSize));
+    }
+    const std::string defines = programDefines(shading);
+    gl_->surface = buildProgram(shaders, "surface.vert", "surface.frag", defines);
+    gl_->background = buildProgram(shaders, "background.vert", "background.frag", defines);
+
+    // 8-bit output is sRGB: the framebuffer encodes on store and resolves MSAA linearly.
+    const GLenum colorFormat = frame.linear ? GL_RGBA32F : GL_SRGB8_ALPHA8;
+    const int samples = std::max(frame.samples, 1);
+    glCreateFramebuffers(1, &gl_->drawFbo);
+    glCreateRenderbuffers(1, &gl_->drawColor);
+    glCreateRenderbuffers(1, &gl_->drawDepth);
+    glNamedRenderbufferStorageMultisample(gl_->drawColor, samples > 1 ? samples : 0, colorFormat,
+                                          frame.width, frame.height);
+    glNamedRenderbufferStorageMultisample(gl_->drawDepth, samples > 1 ? samples : 0,
+                                          GL_DEPTH_COMPONENT24, frame.width, frame.height);
+    glNamedFramebufferRenderbuffer(gl_->drawFbo, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
+                                   gl_->drawColor);
+    glNamedFramebufferRenderbuffer(gl_->drawFbo, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER,
+                                   gl_->drawDepth);
+    if (glCheckNamedFramebufferStatus(gl_->drawFbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+      throw Error("the GL cannot render into a " + std::to_string(samples) + "-sample " +
+                  (frame.linear ? "float" : "8-bit") + " framebuffer");
+    }
+    if (samples > 1) {
+      glCreateFramebuffers(1, &gl_->resolveFbo);
+      glCreateRenderbuffers(1, &gl_->resolveColor);
+      glNamedRenderbufferStorage(gl_->resolveColor, colorFormat, frame.width, frame.height);
+      glNamedFramebufferRenderbuffer(gl_->resolveFbo, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
+                                     gl_->resolveColor);
+    }
+    glCreateVertexArrays(1, &gl_->emptyVao);
+    glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
+    checkGl("creating the framebuffers");
+  } catch (...) {
+    delete gl_;
+    throw;
+  }
+}
+
+Renderer::~Renderer() {
+  delete gl_;
+}
+
+void Renderer::setMesh(const RenderMesh& mesh) {
+  const std::size_t n = mesh.positions.size();
+  if (mesh.normals.size() != n || (!mesh.values.empty() && mesh.values.size() != n)) {
+    throw Error("render mesh: attribute arrays differ in length");
+  }
+  // Interleaved position, normal, value: 36 bytes per vertex.
+  std::vector<float> interleaved(n * 9);
+  for (std::size_t i = 0; i < n; ++i) {
+    float* v = &interleaved[i * 9];
+    std::memcpy(v, &mesh.positions[i], 12);
+    std::memcpy(v + 3, &mesh.normals[i], 12);
+    const glm::vec3 value = mesh.values.empty() ? glm::vec3(0.0f) : mesh.values[i];
+    std::memcpy(v + 6, &value, 12);
+  }
+  glDeleteVertexArrays(1, &gl_->meshVao);
+  glDeleteBuffers(1, &gl_->vertexBuffer);
+  glDeleteBuffers(1, &gl_->indexBuffer);
+  glCreateBuffers(1, &gl_->vertexBuffer);
+  glCreateBuffers(1, &gl_->indexBuffer);
+  glNamedBufferStorage(gl_->vertexBuffer, interleaved.size() * sizeof(float), interleaved.data(),
+                       0);
+  glNamedBufferStorage(gl_->indexBuffer, mesh.indices.size() * sizeof(uint32_t),
+                       mesh.indices.data(), 0);
+  glCreateVertexArrays(1, &gl_->meshVao);
+  glVertexArrayVertexBuffer(gl_->meshVao, 0, gl_->vertexBuffer, 0, 9 * sizeof(float));
+  for (GLuint attrib = 0; attrib < 3; ++attrib) {
+    glEnableVertexArrayAttrib(gl_->meshVao, attrib);
+    glVertexArrayAttribFormat(gl_->meshVao, attrib, 3, GL_FLOAT, GL_FALSE,
+                              attrib * 3 * sizeof(float));
+    glVertexArrayAttribBinding(gl_->meshVao, attrib, 0);
+  }
+  glVertexArrayElementBuffer(gl_->meshVao, gl_->indexBuffer);
+  indexCount_ = mesh.indices.size();
+  checkGl("uploading the mesh");
+}
+
+void Renderer::setEnvironment(const Cubemap& radiance, const Cubemap* irradiance) {
+  if (radiance.empty()) throw Error("empty radiance cubemap");
+  if (shading_.mode == ShadingMode::Brdf && (!irradiance || irradiance->empty())) {
+    throw Error("the brdf mode needs an irradiance cubemap");
+  }
+  glDeleteTextures(1, &gl_->radiance);
+  glDeleteTextures(1, &gl_->irradiance);
+  gl_->radiance = uploadCubemap(radiance);
+  gl_->radianceSize = radiance.size();
+  gl_->irradiance = irradiance && !irradiance->empty() ? uploadCubemap(*irradiance) : 0;
+}
+
+void Renderer::setCamera(const Camera& camera) {
+  camera_ = camera;
+  const float aspect = static_cast<float>(frame_.width) / static_cast<float>(frame_.height);
+  const glm::mat4 projection = camera.projection(aspect);
+  const glm::mat4 view = camera.view();
+  const glm::mat4 viewProjection = projection * view;
+  const glm::mat4 inverseSky = glm::inverse(projection * glm::mat4(glm::mat3(view)));
+  const float exposure = std::exp2(shading_.exposureEv);
+
+  const GLuint s = gl_->surface;
+  glProgramUniformMatrix4fv(s, glGetUniformLocation(s, "uViewProjection"), 1, GL_FALSE,
+                            glm::value_ptr(viewProjection));
+  glProgramUniform3fv(s, glGetUniformLocation(s, "uEye"), 1, glm::value_ptr(camera.eye));
+  glProgramUniform1i(s, glGetUniformLocation(s, "uRadiance"), 0);
+  glProgramUniform1i(s, glGetUniformLocation(s, "uIrradiance"), 1);
+  glProgramUniform1f(s, glGetUniformLocation(s, "uEta"), shading_.eta);
+  glProgramUniform1f(s, glGetUniformLocation(s, "uExitScale"), shading_.exitScale);
+  glProgramUniform1f(s, glGetUniformLocation(s, "uReflectFactor"),
+                     shading_.reflectFactor.value_or(0.0f));
+  glProgramUniform3fv(s, glGetUniformLocation(s, "uAlbedo"), 1, glm::value_ptr(shading_.albedo));
+  glProgramUniform1f(s, glGetUniformLocation(s, "uExposure"), exposure);
+
+  const GLuint b = gl_->background;
+  glProgramUniformMatrix4fv(b, glGetUniformLocation(b, "uInverseViewProjection"), 1, GL_FALSE,
+                            glm::value_ptr(inverseSky));
+  glProgramUniform1i(b, glGetUniformLocation(b, "uRadiance"), 0);
+  // Background level of detail: log2 of a pixel's angle over a texel's (pi/2 per face).
+  const float pixelAngle = glm::radians(camera.fovYDeg) / static_cast<float>(frame_.height);
+  const float texelAngle = 1.5707963f / static_cast<float>(std::max(gl_->radianceSize, 1));
+  glProgramUniform1f(b, glGetUniformLocation(b, "uLod"),
+                     std::max(0.0f, std::log2(pixelAngle / texelAngle)));
+  glProgramUniform1f(b, glGetUniformLocation(b, "uExposure"), exposure);
+  checkGl("setting the camera");
+}
+
+void Renderer::draw() {
+  // An 8-bit framebuffer is sRGB: stores encode and the resolve averages linearly, so the
+  // background colour, given as display values, is decoded first. The normals view stores
+  // n * 0.5 + 0.5 as it is.
+  const bool srgb = !frame_.linear;
+  const auto setSrgb = [](bool on) {
+    on ? glEnable(GL_FRAMEBUFFER_SRGB) : glDisable(GL_FRAMEBUFFER_SRGB);
+  };
+  glm::vec3 bg = shading_.backgroundColor.value_or(glm::vec3(0.0f));
+  if (srgb) {
+    for (int c = 0; c < 3; ++c) {
+      const float v = std::clamp(bg[c], 0.0f, 1.0f);
+      bg[c] = v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+    }
+  }
+  setSrgb(srgb);
+  const GLfloat clearColor[4] = {bg.r, bg.g, bg.b, 1.0f};
+  const GLfloat clearDepth = 1.0f;
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, gl_->drawFbo);
+  glViewport(0, 0, frame_.width, frame_.height);
+  glDepthMask(GL_TRUE);  // clears obey the mask, and the background pass turns it off
+  // The environment background writes every sample the mesh leaves: no colour clear then.
+  if (shading_.backgroundColor) glClearNamedFramebufferfv(gl_->drawFbo, GL_COLOR, 0, clearColor);
+  glClearNamedFramebufferfv(gl_->drawFbo, GL_DEPTH, 0, &clearDepth);
+  glBindTextureUnit(0, gl_->radiance);
+  glBindTextureUnit(1, gl_->irradiance);
+  glEnable(GL_DEPTH_TEST);
+
+  if (indexCount_ > 0) {
+    glDepthFunc(GL_LESS);
+    if (shading_.cullBackFaces) {
+      glEnable(GL_CULL_FACE);
+      glFrontFace(GL_CCW);
+      glCullFace(GL_BACK);
+    } else {
+      glDisable(GL_CULL_FACE);
+    }
+    setSrgb(srgb && shading_.mode != ShadingMode::Normals);
+    glUseProgram(gl_->surface);
+    glBindVertexArray(gl_->meshVao);
+    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(indexCount_), GL_UNSIGNED_INT, nullptr);
+    setSrgb(srgb);
+  }
+  if (!shading_.backgroundColor) {
+    // Only the pixels the mesh left at the far plane pass.
+    glDepthFunc(GL_LEQUAL);
+    glDepthMask(GL_FALSE);
+    glDisable(GL_CULL_FACE);
+    glUseProgram(gl_->background);
+    glBindVertexArray(gl_->emptyVao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+  }
+  if (gl_->resolveFbo) {
+    glBlitNamedFramebuffer(gl_->drawFbo, gl_->resolveFbo, 0, 0, frame_.width, frame_.height, 0, 0,
+                           frame_.width, frame_.height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  }
+}
+
+RenderedImage Renderer::readBack() {
+  RenderedImage image;
+  image.width = frame_.width;
+  image.height = frame_.height;
+  image.linear = frame_.linear;
+  const std::size_t w = frame_.width, h = frame_.height;
+  // The stored (encoded) bytes, not converted back to linear.
+  glDisable(GL_FRAMEBUFFER_SRGB);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, gl_->outputFbo());
+  glNamedFramebufferReadBuffer(gl_->outputFbo(), GL_COLOR_ATTACHMENT0);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  // GL rows come bottom-up: flip to top row first.
+  if (frame_.linear) {
+    std::vector<float> rows(w * h * 3);
+    glReadPixels(0, 0, frame_.width, frame_.height, GL_RGB, GL_FLOAT, rows.data());
+    image.linearRgb.resize(rows.size());
+    for (std::size_t y = 0; y < h; ++y) {
+      std::memcpy(&image.linearRgb[y * w * 3], &rows[(h - 1 - y) * w * 3], w * 3 * sizeof(float));
+    }
+  } else {
+    std::vector<uint8_t> rows(w * h * 3);
+    glReadPixels(0, 0, frame_.width, frame_.height, GL_RGB, GL_UNSIGNED_BYTE, rows.data());
+    image.srgb8.resize(rows.size());
+    for (std::size_t y = 0; y < h; ++y) {
+      std::memcpy(&image.srgb8[y * w * 3], &rows[(h - 1 - y) * w * 3], w * 3);
+    }
+  }
+  checkGl("reading the image back");
+  return image;
+}
+
+FrameTimings Renderer::timeFrames(int frames, int warmup) {
+  FrameTimings t;
+  if (frames < 1) return t;
+  for (int i = 0; i < warmup; ++i) draw();
+  glFinish();
+
+  std::vector<GLuint> queries(frames);
+  glCreateQueries(GL_TIME_ELAPSED, frames, queries.data());
+  std::vector<double> wall(frames);
+  const double cpuStart = processCpuMs();
+  for (int i = 0; i < frames; ++i) {
+    Stopwatch clock;
+    glBeginQuery(GL_TIME_ELAPSED, queries[i]);
+    draw();
+    glEndQuery(GL_TIME_ELAPSED);
+    glFinish();
+    wall[i] = clock.milliseconds();
+  }
+  t.cpuMs = (processCpuMs() - cpuStart) / frames;
+  std::vector<double> gpu(frames);
+  for (int i = 0; i < frames; ++i) {
+    GLuint64 ns = 0;
+    glGetQueryObjectui64v(queries[i], GL_QUERY_RESULT, &ns);
+    gpu[i] = static_cast<double>(ns) * 1e-6;
+  }
+  glDeleteQueries(frames, queries.data());
+
+  Stopwatch pipelined;
+  for (int i = 0; i < frames; ++i) draw();
+  glFinish();
+  t.pipelinedMs = pipelined.milliseconds() / frames;
+
+  t.frames = frames;
+  t.medianWallMs = median(wall);
+  t.minWallMs = *std::min_element(wall.begin(), wall.end());
+  t.maxWallMs = *std::max_element(wall.begin(), wall.end());
+  t.medianGpuMs = median(gpu);
+  checkGl("timing frames");
+  return t;
+}
+
+}  // namespace sss

@@ -1,0 +1,109 @@
+// Draws a baked mesh in an environment into an offscreen framebuffer: the surface shading of
+// shaders/surface.frag, the environment behind it, MSAA resolved by a blit, read back as an
+// image. One vertex buffer with interleaved attributes, one index buffer, one draw call; nothing
+// is uploaded per frame, so --frames measures the drawing alone.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "render/camera.h"
+#include "render/shader_sources.h"
+
+namespace sss {
+
+class Cubemap;
+
+// World-space triangles with unit vertex normals (CCW front faces) and one value per vertex:
+// exitance B (sss), irradiance E (irradiance view); brdf and normals ignore it.
+struct RenderMesh {
+  std::vector<glm::vec3> positions, normals, values;
+  std::vector<uint32_t> indices;  // three per triangle
+};
+
+enum class ShadingMode { Sss, Brdf, Irradiance, Normals };
+enum class FresnelModel { Exact, Schlick };
+enum class Tonemap { None, Reinhard, Aces };
+
+struct ShadingOptions {
+  ShadingMode mode = ShadingMode::Sss;
+  FresnelModel fresnel = FresnelModel::Exact;
+  float eta = 1.3f;
+  // Radiance leaving at normal incidence per unit exitance, before F_t: 1 / (pi (1 - 2 C_1))
+  // for the normalized exit model (exitRadianceScale), 1 / pi for Jensen et al.'s.
+  float exitScale = 0.31830988f;
+  // Set: the paper's constant mix(base, reflection, f) instead of the Fresnel-weighted sum.
+  std::optional<float> reflectFactor;
+  glm::vec3 albedo = glm::vec3(1.0f);  // brdf: total diffuse reflectance of the material
+  float exposureEv = 0.0f;
+  Tonemap tonemap = Tonemap::Aces;
+  // Set: a flat background, stored as given (display values, not tonemapped); else the
+  // environment.
+  std::optional<glm::vec3> backgroundColor;
+  // Cull back faces (closed, consistently CCW meshes); off shows both sides.
+  bool cullBackFaces = true;
+};
+
+struct FrameOptions {
+  int width = 1024, height = 1024;
+  int samples = 4;      // MSAA samples; 1 = none
+  bool linear = false;  // float framebuffer with linear values (.exr) instead of sRGB 8 bit
+};
+
+// Read back, top row first, RGB.
+struct RenderedImage {
+  int width = 0, height = 0;
+  bool linear = false;
+  std::vector<float> linearRgb;  // when linear
+  std::vector<uint8_t> srgb8;    // otherwise
+};
+
+struct FrameTimings {
+  int frames = 0;
+  // Per frame: draw + resolve + glFinish, by the wall clock.
+  double medianWallMs = 0, minWallMs = 0, maxWallMs = 0;
+  // Per frame by GL_TIME_ELAPSED queries; not a measure of CPU work on software renderers.
+  double medianGpuMs = 0;
+  // All frames queued, one glFinish at the end, divided by the count.
+  double pipelinedMs = 0;
+  // Process CPU time (every thread) per frame over the glFinish-per-frame run: on a software
+  // renderer the work itself, independent of what else the machine runs.
+  double cpuMs = 0;
+  double fps() const { return medianWallMs > 0 ? 1000.0 / medianWallMs : 0.0; }
+};
+
+// Needs a current GL 4.5 context (GlContext) for its whole life.
+class Renderer {
+ public:
+  // Compiles the program variant for these options; throws Error with the GLSL log.
+  Renderer(const ShaderSources& shaders, const FrameOptions& frame, const ShadingOptions& shading);
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  void setMesh(const RenderMesh& mesh);
+  // radiance: reflections and background; irradiance: the brdf mode's E(n) (may be null in
+  // other modes). Faces are uploaded as they are (GL orientation), RGB16F with mipmaps.
+  void setEnvironment(const Cubemap& radiance, const Cubemap* irradiance);
+  void setCamera(const Camera& camera);
+
+  // Draws one frame into the resolved framebuffer (no wait).
+  void draw();
+  RenderedImage readBack();
+  // `warmup` untimed frames, then `frames` timed ones.
+  FrameTimings timeFrames(int frames, int warmup = 3);
+
+ private:
+  struct Gl;
+  Gl* gl_;
+  FrameOptions frame_;
+  ShadingOptions shading_;
+  Camera camera_;
+  std::size_t indexCount_ = 0;
+};
+
+}  // namespace sss

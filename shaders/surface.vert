@@ -1,0 +1,52 @@
+// Shading of the baked surface (Li & Guo's CubeMapping.vert/.frag, made physically consistent):
+//   L = B F_t(mu_o, eta) * exitScale + F_r(mu_o, eta) * L_env(reflect(-w_o, n))
+// B: exitance baked per vertex (MODE_SSS), or albedo * E(n) from the diffuse irradiance cubemap
+// (MODE_BRDF: a Lambertian surface, the paper's Figure 3 comparison, so that the two modes differ
+// only by light transport). exitScale is 1 / (pi (1 - 2 C_1(eta))) for the normalized exit model
+// (the emitted flux equals B; d'Eon 2012) or 1 / pi (Jensen et al. 2001). The paper writes F_r for
+// the factor that lets light out; that is the transmittance F_t = 1 - F_r.
+// REFLECT_MIX reproduces the paper's constant mix(base, cube, reflect_factor) instead.
+// MODE_IRRADIANCE shows the baked E as a white Lambertian surface (E / pi); MODE_NORMALS shows
+// n * 0.5 + 0.5.
+//
+// As in the paper, everything but the reflection lookup is evaluated per vertex: the Fresnel
+// factors and E(n) vary slowly over a triangle, and a reflection vector interpolated linearly is
+// the reflection of the linearly interpolated normal (reflect() is linear in n). On a software
+// rasterizer this keeps the per-pixel work to one cubemap lookup.
+// Vertices are in world space (no model matrix).
+layout(location = 0) in vec3 aPosition;
+layout(location = 1) in vec3 aNormal;
+layout(location = 2) in vec3 aValue;
+
+uniform mat4 uViewProjection;
+uniform vec3 uEye;
+uniform float uEta;
+uniform float uExitScale;
+uniform vec3 uAlbedo;
+uniform samplerCube uIrradiance;
+
+out vec3 vBase;       // view-independent radiance: the exit term (or E / pi)
+out vec3 vDirection;  // reflected view direction (the normal for MODE_NORMALS)
+out float vFresnel;   // F_r(mu_o) weighting the reflection
+
+void main() {
+  gl_Position = uViewProjection * vec4(aPosition, 1.0);
+  vec3 n = normalize(aNormal);
+  vec3 v = normalize(uEye - aPosition);
+  // |n.v|: a back face (open meshes, drawn without culling) is shaded as seen from its side;
+  // reflect() does not depend on the normal's sign. At silhouettes, where interpolated normals
+  // turn slightly away from the eye, this stays continuous at grazing exit.
+  float mu = min(abs(dot(n, v)), 1.0);
+  vFresnel = fresnelReflectance(mu, uEta);
+  vDirection = reflect(-v, n);
+#if defined(MODE_NORMALS)
+  vBase = vec3(0.0);
+  vDirection = n;
+#elif defined(MODE_IRRADIANCE)
+  vBase = aValue / PI;
+#elif defined(MODE_BRDF)
+  vBase = uAlbedo * textureLod(uIrradiance, n, 0.0).rgb * ((1.0 - vFresnel) * uExitScale);
+#else
+  vBase = aValue * ((1.0 - vFresnel) * uExitScale);
+#endif
+}

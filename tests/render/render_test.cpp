@@ -1,0 +1,284 @@
+// The renderer against analytic values on llvmpipe: linear float output, no tonemap, 1 sample,
+// so that every pixel can be predicted from the camera ray.
+#include <cmath>
+#include <memory>
+
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
+#include "envmap/cubemap.h"
+#include "envmap/environment.h"
+#include "envmap/equirect.h"
+#include "mesh/primitives.h"
+#include "optics/fresnel.h"
+#include "render/camera.h"
+#include "render/gl_context.h"
+#include "render/renderer.h"
+
+namespace sss {
+namespace {
+
+class RenderTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { context_ = std::make_unique<GlContext>(); }
+  static void TearDownTestSuite() { context_.reset(); }
+  static std::unique_ptr<GlContext> context_;
+};
+std::unique_ptr<GlContext> RenderTest::context_;
+
+RenderMesh toRenderMesh(const TriangleMesh& mesh, glm::vec3 value) {
+  RenderMesh r;
+  r.positions = mesh.positions;
+  r.normals = mesh.normals;
+  r.values.assign(mesh.positions.size(), value);
+  for (const glm::uvec3& t : mesh.triangles) r.indices.insert(r.indices.end(), {t.x, t.y, t.z});
+  return r;
+}
+
+// World direction through the centre of pixel (x, y), row 0 at the top.
+glm::vec3 pixelRay(const Camera& c, int x, int y, int width, int height) {
+  const glm::vec3 f = glm::normalize(c.target - c.eye);
+  const glm::vec3 r = glm::normalize(glm::cross(f, c.up));
+  const glm::vec3 u = glm::cross(r, f);
+  const float t = std::tan(glm::radians(c.fovYDeg) * 0.5f);
+  const float aspect = static_cast<float>(width) / height;
+  const float nx = (x + 0.5f) / width * 2.0f - 1.0f, ny = 1.0f - (y + 0.5f) / height * 2.0f;
+  return glm::normalize(f + nx * t * aspect * r + ny * t * u);
+}
+
+// Nearest hit of a ray with the sphere |p| = radius, or a negative distance.
+float hitSphere(glm::vec3 origin, glm::vec3 dir, float radius) {
+  const float b = glm::dot(origin, dir), c = glm::dot(origin, origin) - radius * radius;
+  const float disc = b * b - c;
+  return disc < 0.0f ? -1.0f : -b - std::sqrt(disc);
+}
+
+glm::vec3 pixel(const RenderedImage& image, int x, int y) {
+  const float* p = &image.linearRgb[(static_cast<std::size_t>(y) * image.width + x) * 3];
+  return glm::vec3(p[0], p[1], p[2]);
+}
+
+// A smooth environment that tells directions apart: 0.5 + 0.5 d.
+Cubemap directionColouredCubemap(int size) {
+  Cubemap env(size);
+  for (int f = 0; f < 6; ++f)
+    for (int y = 0; y < size; ++y)
+      for (int x = 0; x < size; ++x) env.at(f, x, y) = 0.5f + 0.5f * env.direction(f, x, y);
+  return env;
+}
+
+FrameOptions linearFrame(int size) {
+  FrameOptions frame;
+  frame.width = frame.height = size;
+  frame.samples = 1;
+  frame.linear = true;
+  return frame;
+}
+
+struct ExitCase {
+  FresnelModel fresnel;
+  bool normalized;
+};
+
+class ExitModelTest : public RenderTest, public ::testing::WithParamInterface<ExitCase> {};
+
+// L = B F_t(mu) s + F_r(mu) L_env for a sphere with constant B under a uniform environment.
+TEST_P(ExitModelTest, SphereWithConstantExitanceMatchesTheExitModel) {
+  const float eta = 1.4f;
+  const glm::vec3 exitance(2.0f, 1.0f, 0.5f), envRadiance(0.7f, 0.5f, 0.3f);
+  ShadingOptions shading;
+  shading.fresnel = GetParam().fresnel;
+  shading.eta = eta;
+  shading.exitScale = GetParam().normalized ? static_cast<float>(exitRadianceScale(eta))
+                                            : static_cast<float>(1.0 / M_PI);
+  shading.tonemap = Tonemap::None;
+  shading.backgroundColor = glm::vec3(0.0f);
+  const FrameOptions frame = linearFrame(128);
+  Renderer renderer(ShaderSources(), frame, shading);
+  renderer.setMesh(toRenderMesh(makeIcosphere(5, 1.0f), exitance));
+  renderer.setEnvironment(Cubemap(16, envRadiance), nullptr);
+  const Camera camera =
+      orbitCamera(BoundingSphere{glm::vec3(0.0f), 1.0f}, 20.0f, 10.0f, 0.0f, 35.0f, 1.0f);
+  renderer.setCamera(camera);
+  renderer.draw();
+  const RenderedImage image = renderer.readBack();
+
+  int checked = 0;
+  for (int y = 0; y < frame.height; ++y) {
+    for (int x = 0; x < frame.width; ++x) {
+      const glm::vec3 dir = pixelRay(camera, x, y, frame.width, frame.height);
+      const float t = hitSphere(camera.eye, dir, 1.0f);
+      const glm::vec3 got = pixel(image, x, y);
+      if (t < 0.0f) {
+        // Clearly outside the sphere: the background colour.
+        if (hitSphere(camera.eye, dir, 1.03f) < 0.0f) {
+          EXPECT_EQ(got, glm::vec3(0.0f));
+        }
+        continue;
+      }
+      const glm::vec3 n = glm::normalize(camera.eye + t * dir);
+      const float mu = -glm::dot(n, dir);
+      if (mu < 0.3f) continue;  // silhouette: the polyhedron and the sphere differ
+      const float fr = GetParam().fresnel == FresnelModel::Exact ? fresnelDielectric(mu, eta)
+                                                                 : fresnelSchlick(mu, eta);
+      const glm::vec3 expected = exitance * (1.0f - fr) * shading.exitScale + fr * envRadiance;
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(got[c], expected[c], 0.01f * expected[c]) << "pixel " << x << "," << y;
+      }
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 4000);
+}
+
+INSTANTIATE_TEST_SUITE_P(FresnelAndExit, ExitModelTest,
+                         ::testing::Values(ExitCase{FresnelModel::Exact, true},
+                                           ExitCase{FresnelModel::Schlick, false}));
+
+// The paper's constant mix with factor 1 is a perfect mirror: each pixel shows the environment
+// along the reflected view ray (a mirrored lookup would swap sides).
+TEST_F(RenderTest, MirrorShowsTheEnvironmentAlongTheReflectedRay) {
+  ShadingOptions shading;
+  shading.reflectFactor = 1.0f;
+  shading.tonemap = Tonemap::None;
+  shading.backgroundColor = glm::vec3(0.0f);
+  const FrameOptions frame = linearFrame(128);
+  Renderer renderer(ShaderSources(), frame, shading);
+  renderer.setMesh(toRenderMesh(makeIcosphere(5, 1.0f), glm::vec3(0.0f)));
+  renderer.setEnvironment(directionColouredCubemap(64), nullptr);
+  const Camera camera =
+      orbitCamera(BoundingSphere{glm::vec3(0.0f), 1.0f}, 60.0f, 25.0f, 0.0f, 35.0f, 1.0f);
+  renderer.setCamera(camera);
+  renderer.draw();
+  const RenderedImage image = renderer.readBack();
+  int checked = 0;
+  for (int y = 0; y < frame.height; ++y) {
+    for (int x = 0; x < frame.width; ++x) {
+      const glm::vec3 dir = pixelRay(camera, x, y, frame.width, frame.height);
+      const float t = hitSphere(camera.eye, dir, 1.0f);
+      if (t < 0.0f) continue;
+      const glm::vec3 n = glm::normalize(camera.eye + t * dir);
+      if (-glm::dot(n, dir) < 0.4f) continue;
+      const glm::vec3 expected = 0.5f + 0.5f * glm::reflect(dir, n);
+      const glm::vec3 got = pixel(image, x, y);
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], expected[c], 0.02f) << x << "," << y;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 3000);
+}
+
+// The background shows an equirect image the way sss-irrmap reads it: from the origin looking
+// at -Z, the image centre; +X to the right; every pixel the environment along its view ray.
+TEST_F(RenderTest, BackgroundFollowsTheEquirectConvention) {
+  ImageRgb equirect;
+  equirect.width = 256;
+  equirect.height = 128;
+  equirect.pixels.resize(256 * 128);
+  for (int y = 0; y < 128; ++y)
+    for (int x = 0; x < 256; ++x)
+      equirect.at(x, y) = 0.5f + 0.5f * equirectDirection((x + 0.5f) / 256, (y + 0.5f) / 128);
+  const Cubemap env = cubemapFromImage(equirect, EnvironmentLayout::Equirect, 64);
+
+  ShadingOptions shading;
+  shading.tonemap = Tonemap::None;
+  const FrameOptions frame = linearFrame(64);
+  Renderer renderer(ShaderSources(), frame, shading);
+  renderer.setEnvironment(env, nullptr);
+  for (const glm::vec3& forward :
+       {glm::vec3(0, 0, -1), glm::vec3(1, 0, 0), glm::vec3(0.3f, 0.8f, 0.2f)}) {
+    Camera camera;
+    camera.eye = glm::vec3(0.0f);
+    camera.target = forward;
+    camera.fovYDeg = 60.0f;
+    renderer.setCamera(camera);
+    renderer.draw();
+    const RenderedImage image = renderer.readBack();
+    for (int y = 0; y < frame.height; ++y) {
+      for (int x = 0; x < frame.width; ++x) {
+        const glm::vec3 expected = 0.5f + 0.5f * pixelRay(camera, x, y, frame.width, frame.height);
+        const glm::vec3 got = pixel(image, x, y);
+        for (int c = 0; c < 3; ++c) ASSERT_NEAR(got[c], expected[c], 0.01f) << x << "," << y;
+      }
+    }
+  }
+  // Explicitly: the image centre is ahead when looking at -Z, and +X is on the right.
+  Camera camera;
+  camera.eye = glm::vec3(0.0f);
+  camera.target = glm::vec3(0, 0, -1);
+  renderer.setCamera(camera);
+  renderer.draw();
+  const RenderedImage image = renderer.readBack();
+  const glm::vec3 centre = pixel(image, 32, 32);
+  EXPECT_NEAR(centre.b, equirect.at(128, 64).b, 0.02f);
+  EXPECT_GT(pixel(image, 60, 32).r, pixel(image, 3, 32).r + 0.2f);
+}
+
+// Exposure, tonemap and encoding, checked on a uniform background of radiance 1 seen at +1 EV.
+TEST_F(RenderTest, ExposureAndTonemapsFollowTheirFormulas) {
+  const float x = 2.0f;  // 1 at +1 EV
+  const float aces = (x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f);
+  struct Case {
+    Tonemap tonemap;
+    float expected;
+  };
+  for (const Case& c : {Case{Tonemap::None, x}, Case{Tonemap::Reinhard, x / (1.0f + x)},
+                        Case{Tonemap::Aces, std::min(aces, 1.0f)}}) {
+    ShadingOptions shading;
+    shading.tonemap = c.tonemap;
+    shading.exposureEv = 1.0f;
+    for (bool linear : {true, false}) {
+      FrameOptions frame = linearFrame(8);
+      frame.linear = linear;
+      Renderer renderer(ShaderSources(), frame, shading);
+      renderer.setEnvironment(Cubemap(4, glm::vec3(1.0f)), nullptr);
+      renderer.setCamera(Camera());
+      renderer.draw();
+      const RenderedImage image = renderer.readBack();
+      if (linear) {
+        EXPECT_NEAR(image.linearRgb[0], c.expected, 2e-3f * c.expected);
+      } else {
+        const float v = std::min(c.expected, 1.0f);
+        const float srgb = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1 / 2.4f) - 0.055f;
+        EXPECT_NEAR(image.srgb8[0], std::lround(255.0f * srgb), 1);
+      }
+    }
+  }
+}
+
+// The normals view encodes n * 0.5 + 0.5: a sphere seen from +Z shows +Z (0.5, 0.5, 1) in its
+// middle, and back faces are culled (front faces are counter-clockwise).
+TEST_F(RenderTest, NormalsViewAndCounterClockwiseFrontFaces) {
+  ShadingOptions shading;
+  shading.mode = ShadingMode::Normals;
+  shading.backgroundColor = glm::vec3(0.0f);
+  const FrameOptions frame = linearFrame(64);
+  Renderer renderer(ShaderSources(), frame, shading);
+  renderer.setMesh(toRenderMesh(makeIcosphere(3, 1.0f), glm::vec3(0.0f)));
+  renderer.setEnvironment(Cubemap(4, glm::vec3(1.0f)), nullptr);
+  const Camera camera =
+      orbitCamera(BoundingSphere{glm::vec3(0.0f), 1.0f}, 0.0f, 0.0f, 0.0f, 35.0f, 1.0f);
+  renderer.setCamera(camera);
+  renderer.draw();
+  const RenderedImage image = renderer.readBack();
+  const glm::vec3 middle = 0.5f * (pixel(image, 31, 31) + pixel(image, 32, 32));
+  EXPECT_NEAR(middle.x, 0.5f, 0.03f);
+  EXPECT_NEAR(middle.y, 0.5f, 0.03f);
+  EXPECT_NEAR(middle.z, 1.0f, 0.01f);
+  // Upper part of the picture: normals point up.
+  EXPECT_GT(pixel(image, 32, 12).y, 0.75f);
+}
+
+TEST(CameraTest, OrbitFramesTheSphereAndLooksFromTheGivenSide) {
+  const BoundingSphere bounds{glm::vec3(1.0f, 2.0f, 3.0f), 2.0f};
+  const Camera c = orbitCamera(bounds, 90.0f, 0.0f, 0.0f, 40.0f, 2.0f);
+  EXPECT_NEAR(c.eye.y, 2.0f, 1e-5f);
+  EXPECT_NEAR(c.eye.z, 3.0f, 1e-4f);
+  EXPECT_GT(c.eye.x, 1.0f + 2.0f / std::sin(glm::radians(20.0f)));  // from +X, sphere fits
+  EXPECT_LT(c.nearPlane, glm::length(c.eye - bounds.centre) - bounds.radius);
+  EXPECT_GT(c.farPlane, glm::length(c.eye - bounds.centre) + bounds.radius);
+}
+
+}  // namespace
+}  // namespace sss

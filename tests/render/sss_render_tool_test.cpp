@@ -1,0 +1,293 @@
+// sss-render end to end on llvmpipe: output formats, brdf vs sss, and every bad input.
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "envmap/image.h"
+#include "material/dipole_profile.h"
+#include "mesh/baked_ply.h"
+#include "mesh/primitives.h"
+#include "optics/fresnel.h"
+
+namespace fs = std::filesystem;
+
+namespace sss {
+namespace {
+
+struct ToolRun {
+  int exitCode = -1;
+  std::string output;  // stdout and stderr
+};
+
+class SssRenderTool : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::path(SSS_BINARY_DIR) / "tests/render/tmp" /
+           ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  ToolRun run(const std::string& args, const std::string& environment = "") const {
+    const std::string command =
+        environment + " " SSS_BINARY_DIR "/tools/sss-render " + args + " 2>&1";
+    ToolRun result;
+    FILE* pipe = popen(command.c_str(), "r");
+    if (!pipe) return result;
+    char buffer[4096];
+    for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;) {
+      result.output.append(buffer, n);
+    }
+    const int status = pclose(pipe);
+    result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return result;
+  }
+
+  // Only the inputs are left: no output, no temporary file.
+  void expectOnlyInputs(std::size_t inputs) const {
+    std::size_t files = 0;
+    for (const auto& entry : fs::directory_iterator(dir_)) {
+      (void)entry;
+      ++files;
+    }
+    EXPECT_EQ(files, inputs) << "a failed run left a file behind";
+  }
+
+  void writeUniformEnvironment(const std::string& name, glm::vec3 radiance) const {
+    ImageRgb image;
+    image.width = 32;
+    image.height = 16;
+    image.pixels.assign(32 * 16, radiance);
+    writeImage(path(name), image);
+  }
+
+  static BakedMesh bakedSphere() {
+    BakedMesh baked;
+    baked.mesh = makeIcosphere(4, 10.0f);
+    baked.exitance.assign(baked.mesh.positions.size(), glm::vec3(0.8f, 0.5f, 0.3f));
+    baked.irradiance.assign(baked.mesh.positions.size(), glm::vec3(1.0f));
+    baked.materialName = "marble";
+    baked.sigmaA = glm::dvec3(0.0021, 0.0041, 0.0071);
+    baked.sigmaSPrime = glm::dvec3(2.19, 2.62, 3.00);
+    baked.eta = 1.3;
+    baked.mmPerUnit = 1.0;
+    return baked;
+  }
+
+  // A mesh file with positions and faces only, as a scanner or modeller writes it.
+  void writePlainPly(const std::string& name) const {
+    const TriangleMesh mesh = makeIcosphere(2, 1.0f);
+    std::ofstream out(path(name));
+    out << "ply\nformat ascii 1.0\nelement vertex " << mesh.positions.size()
+        << "\nproperty float x\nproperty float y\nproperty float z\nelement face "
+        << mesh.triangles.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
+    for (const glm::vec3& p : mesh.positions) out << p.x << " " << p.y << " " << p.z << "\n";
+    for (const glm::uvec3& t : mesh.triangles)
+      out << "3 " << t.x << " " << t.y << " " << t.z << "\n";
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(SssRenderTool, WritesAPngOfTheRequestedSizeWithThreeChannels) {
+  writeBakedPly(path("sphere.ply"), bakedSphere());
+  writeUniformEnvironment("env.exr", glm::vec3(0.5f));
+  const ToolRun r = run(path("sphere.ply") + " -e " + path("env.exr") + " -o " + path("out.png") +
+                        " --size 96x64 --samples 4 --quiet");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  auto in = OIIO::ImageInput::open(path("out.png"));
+  ASSERT_TRUE(in);
+  const OIIO::ImageSpec& spec = in->spec();
+  EXPECT_EQ(spec.width, 96);
+  EXPECT_EQ(spec.height, 64);
+  EXPECT_EQ(spec.nchannels, 3);
+  EXPECT_EQ(spec.format, OIIO::TypeDesc::UINT8);
+  // The sphere is in the middle, lighter than nothing; the corner is the environment.
+  std::vector<uint8_t> pixels(96 * 64 * 3);
+  ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, pixels.data()));
+  EXPECT_GT(pixels[(32 * 96 + 48) * 3], 60);
+  EXPECT_NE(pixels[(32 * 96 + 48) * 3], pixels[0]);
+}
+
+// The brdf mode is a Lambertian surface with the material's total diffuse reflectance lit by
+// the transmitted irradiance cubemap: on a flat region under uniform light it must match a
+// baked B = R_d E_t, and differ where the bake darkened B (a shadow, a thin part).
+TEST_F(SssRenderTool, BrdfAndSssAgreeOnAFlatUniformRegionAndDifferInAShadow) {
+  const float eta = 1.5f;
+  const glm::vec3 radiance(0.5f, 0.4f, 0.3f);
+  writeUniformEnvironment("env.exr", radiance);
+  BakedMesh baked;
+  baked.mesh = makeGridPlane(32, 2.0f);
+  baked.materialName = "marble";
+  baked.sigmaA = glm::dvec3(0.0021, 0.0041, 0.0071);
+  baked.sigmaSPrime = glm::dvec3(2.19, 2.62, 3.00);
+  baked.eta = eta;
+  const double transmitted = M_PI * (1.0 - diffuseFresnelReflectance(eta));
+  for (const glm::vec3& p : baked.mesh.positions) {
+    glm::vec3 b;
+    for (int c = 0; c < 3; ++c) {
+      const double alpha = baked.sigmaSPrime[c] / (baked.sigmaSPrime[c] + baked.sigmaA[c]);
+      b[c] = static_cast<float>(dipoleTotalReflectance(alpha, eta) * transmitted * radiance[c]);
+    }
+    baked.exitance.push_back(p.x < 0.0f ? 0.3f * b : b);  // the left half lies in a shadow
+    baked.irradiance.push_back(glm::vec3(1.0f));
+  }
+  writeBakedPly(path("plane.ply"), baked);
+  const std::string common = path("plane.ply") + " -e " + path("env.exr") +
+                             " --eye 0,0,3 --target 0,0,0 --fov 30 --size 64x64 --samples 1"
+                             " --tonemap none --quiet";
+  ToolRun r = run(common + " --mode sss -o " + path("sss.exr"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  r = run(common + " --mode brdf -o " + path("brdf.exr"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const ImageRgb sss = readImage(path("sss.exr")), brdf = readImage(path("brdf.exr"));
+  ASSERT_EQ(sss.width, 64);
+  int lit = 0, shadowed = 0;
+  for (int y = 4; y < 60; ++y) {
+    for (int x = 4; x < 60; ++x) {
+      if (x > 36) {
+        for (int c = 0; c < 3; ++c) {
+          ASSERT_NEAR(sss.at(x, y)[c], brdf.at(x, y)[c], 0.01f * brdf.at(x, y)[c]) << x << "," << y;
+        }
+        ++lit;
+      } else if (x < 28) {
+        EXPECT_LT(sss.at(x, y).g, 0.8f * brdf.at(x, y).g) << x << "," << y;
+        ++shadowed;
+      }
+    }
+  }
+  EXPECT_GT(lit, 1000);
+  EXPECT_GT(shadowed, 1000);
+}
+
+// An open mesh is drawn from both sides unless culling is asked for: seen from behind, the
+// plane covers the middle of the picture with --cull auto and vanishes with --cull back.
+TEST_F(SssRenderTool, CullingIsAutomaticForOpenMeshes) {
+  BakedMesh baked;
+  baked.mesh = makeGridPlane(8, 2.0f);
+  baked.exitance.assign(baked.mesh.positions.size(), glm::vec3(1.0f));
+  baked.irradiance.assign(baked.mesh.positions.size(), glm::vec3(1.0f));
+  baked.materialName = "marble";
+  baked.sigmaA = glm::dvec3(0.0021, 0.0041, 0.0071);
+  baked.sigmaSPrime = glm::dvec3(2.19, 2.62, 3.00);
+  baked.eta = 1.3;
+  writeBakedPly(path("plane.ply"), baked);
+  writeUniformEnvironment("env.exr", glm::vec3(0.5f));
+  const std::string common = path("plane.ply") + " -e " + path("env.exr") +
+                             " --eye 0,0,-3 --target 0,0,0 --size 16x16 --samples 1"
+                             " --background 0,0,0 --tonemap none --quiet";
+  ASSERT_EQ(run(common + " -o " + path("auto.exr")).exitCode, 0);
+  ASSERT_EQ(run(common + " --cull back -o " + path("back.exr")).exitCode, 0);
+  EXPECT_GT(readImage(path("auto.exr")).at(8, 8).g, 0.1f);
+  EXPECT_EQ(readImage(path("back.exr")).at(8, 8), glm::vec3(0.0f));
+}
+
+TEST_F(SssRenderTool, AMeshWithoutBakedAttributesNamesThemAndSuggestsSssBake) {
+  writePlainPly("plain.ply");
+  writeUniformEnvironment("env.exr", glm::vec3(0.5f));
+  ToolRun r = run(path("plain.ply") + " -e " + path("env.exr") + " -o " + path("out.png"));
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.output.find("exitance_r, exitance_g, exitance_b"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("sss-bake"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--mode brdf"), std::string::npos) << r.output;
+  r = run(path("plain.ply") + " -e " + path("env.exr") + " -o " + path("out.png") +
+          " --mode irradiance");
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.output.find("irradiance_r, irradiance_g, irradiance_b"), std::string::npos);
+  expectOnlyInputs(2);
+  // The brdf mode needs none of them.
+  r = run(path("plain.ply") + " -e " + path("env.exr") + " -o " + path("out.png") +
+          " --mode brdf --size 32x32 --quiet");
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_TRUE(fs::exists(path("out.png")));
+}
+
+TEST_F(SssRenderTool, NoEglDisplayIsAClearError) {
+  writeBakedPly(path("sphere.ply"), bakedSphere());
+  writeUniformEnvironment("env.exr", glm::vec3(0.5f));
+  // glvnd with no vendor library: no EGL implementation at all.
+  const ToolRun r = run(path("sphere.ply") + " -e " + path("env.exr") + " -o " + path("out.png"),
+                        "__EGL_VENDOR_LIBRARY_FILENAMES=" + path("none.json"));
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.output.find("sss-render: error: no EGL display gives an OpenGL 4.5 core context"),
+            std::string::npos)
+      << r.output;
+  expectOnlyInputs(2);
+}
+
+TEST_F(SssRenderTool, TooOldAnOpenGlIsAClearError) {
+  writeBakedPly(path("sphere.ply"), bakedSphere());
+  writeUniformEnvironment("env.exr", glm::vec3(0.5f));
+  // Mesa pretending to offer OpenGL 3.3 only.
+  const ToolRun r = run(path("sphere.ply") + " -e " + path("env.exr") + " -o " + path("out.png"),
+                        "MESA_GL_VERSION_OVERRIDE=3.3");
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.output.find("no EGL display gives an OpenGL 4.5 core context"), std::string::npos)
+      << r.output;
+  expectOnlyInputs(2);
+}
+
+TEST_F(SssRenderTool, AShaderCompileErrorPrintsTheGlslLog) {
+  writeBakedPly(path("sphere.ply"), bakedSphere());
+  writeUniformEnvironment("env.exr", glm::vec3(0.5f));
+  fs::create_directory(path("shaders"));
+  for (const auto& entry : fs::directory_iterator(fs::path(SSS_SOURCE_DIR) / "shaders")) {
+    fs::copy_file(entry.path(), path("shaders/" + entry.path().filename().string()));
+  }
+  std::ofstream(path("shaders/surface.frag"), std::ios::app) << "\nthis is not GLSL\n";
+  const ToolRun r = run(path("sphere.ply") + " -e " + path("env.exr") + " -o " + path("out.png") +
+                        " --shader-dir " + path("shaders"));
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.output.find("shaders/surface.frag: GLSL compile error"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("error", r.output.find("GLSL compile error") + 20), std::string::npos)
+      << "no GLSL log: " << r.output;
+  EXPECT_FALSE(fs::exists(path("out.png")));
+  expectOnlyInputs(3);
+}
+
+TEST_F(SssRenderTool, BadOptionsAreRejectedBeforeAnyOutput) {
+  writeBakedPly(path("sphere.ply"), bakedSphere());
+  writeUniformEnvironment("env.exr", glm::vec3(0.5f));
+  const std::string mesh = path("sphere.ply"), env = " -e " + path("env.exr");
+  for (const std::string& args : {mesh + env + " -o " + path("out.png") + " --size 0x64",
+                                  mesh + env + " -o " + path("out.png") + " --background 1,2",
+                                  mesh + env + " -o " + path("out"),
+                                  mesh + " -e " + path("missing.exr") + " -o " + path("out.png"),
+                                  path("missing.ply") + env + " -o " + path("out.png")}) {
+    const ToolRun r = run(args);
+    EXPECT_EQ(r.exitCode, 1) << args;
+    EXPECT_NE(r.output.find("sss-render: error:"), std::string::npos) << r.output;
+  }
+  expectOnlyInputs(2);
+}
+
+TEST_F(SssRenderTool, FramesAreTimedAndReported) {
+  writeBakedPly(path("sphere.ply"), bakedSphere());
+  writeUniformEnvironment("env.exr", glm::vec3(0.5f));
+  const ToolRun r =
+      run(path("sphere.ply") + " -e " + path("env.exr") + " -o " + path("out.png") +
+          " --size 64x64 --frames 3 --warmup 1 --verbose --json " + path("report.json"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("GL_RENDERER: "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(" FPS"), std::string::npos) << r.output;
+  const nlohmann::json report = nlohmann::json::parse(std::ifstream(path("report.json")));
+  EXPECT_EQ(report["frames"]["count"], 3);
+  EXPECT_GT(report["frames"]["fps"].get<double>(), 0.0);
+  EXPECT_GT(report["frames"]["median_ms"].get<double>(), 0.0);
+  EXPECT_EQ(report["triangles"], 20 * 256);
+  EXPECT_FALSE(report["gl"]["renderer"].get<std::string>().empty());
+}
+
+}  // namespace
+}  // namespace sss

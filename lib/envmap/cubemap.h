@@ -44,8 +44,14 @@ class Cubemap {
   glm::vec3 direction(int face, int x, int y) const;
   // Solid angle of that texel (exact: the four-corner formula). Sums to 4 pi over the cube.
   float solidAngle(int face, int x, int y) const;
+  // All texel solid angles of one face, [y * size + x] (the same on every face).
+  std::vector<float> faceSolidAngles() const;
   // Bilinear lookup along a (not necessarily normalized) direction, seamless across edges.
   glm::vec3 sample(const glm::vec3& direction) const;
+
+  // The same environment at another face size: box-filtered when the size divides this one
+  // (flux-preserving), else supersampled bilinear lookups.
+  Cubemap resized(int faceSize) const;
 
   // The GL mapping, independent of resolution.
   static CubeCoord project(const glm::vec3& direction);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -13,7 +14,9 @@ struct ImageRgb {
   int width = 0, height = 0;
   std::vector<glm::vec3> pixels;  // row-major, top row first
   glm::vec3& at(int x, int y) { return pixels[static_cast<std::size_t>(y) * width + x]; }
-  const glm::vec3& at(int x, int y) const { return pixels[static_cast<std::size_t>(y) * width + x]; }
+  const glm::vec3& at(int x, int y) const {
+    return pixels[static_cast<std::size_t>(y) * width + x];
+  }
 };
 
 // What readImage does with non-finite and negative texels.
@@ -29,7 +32,9 @@ ImageRgb readImage(const std::string& path, const ImageReadOptions& options = {}
 
 // Writes through AtomicOutput: .exr/.hdr/.pfm as linear float, other extensions (.png, .jpg) as
 // 8-bit sRGB after clamping. Extra string attributes go into the header where the format allows.
-void writeImage(const std::string& path, const ImageRgb& image);
+using ImageAttributes = std::vector<std::pair<std::string, std::string>>;
+void writeImage(const std::string& path, const ImageRgb& image,
+                const ImageAttributes& attributes = {});
 
 // Linear -> sRGB transfer function, for 8-bit previews.
 float linearToSrgb(float linear);

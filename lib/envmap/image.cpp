@@ -1,0 +1,128 @@
+#include "envmap/image.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+
+#include <OpenImageIO/imageio.h>
+
+#include "core/atomic_output.h"
+#include "core/error.h"
+#include "core/tool.h"
+
+namespace sss {
+namespace {
+
+std::string lowerExtension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
+float srgbToLinear(float c) {
+  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
+}  // namespace
+
+float linearToSrgb(float linear) {
+  if (!(linear > 0.0f)) return 0.0f;
+  if (linear >= 1.0f) return 1.0f;
+  return linear <= 0.0031308f ? 12.92f * linear : 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
+}
+
+ImageRgb readImage(const std::string& path, const ImageReadOptions& options) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) fail(path, "no such file");
+  if (std::filesystem::is_directory(path, ec)) fail(path, "is a directory, not an image");
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) {
+    std::string why = OIIO::geterror();
+    if (why.empty()) why = "unknown format";
+    fail(path, "cannot read image (" + why + ")");
+  }
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) {
+    fail(path, "image has zero size (" + std::to_string(spec.width) + "x" +
+                   std::to_string(spec.height) + ")");
+  }
+  const int w = spec.width, h = spec.height, nch = spec.nchannels;
+  const bool srgb = spec.format.basetype == OIIO::TypeDesc::UINT8 ||
+                    spec.get_string_attribute("oiio:ColorSpace") == "sRGB";
+  std::vector<float> buffer(static_cast<std::size_t>(w) * h * nch);
+  if (!in->read_image(0, 0, 0, nch, OIIO::TypeDesc::FLOAT, buffer.data())) {
+    fail(path, "cannot read pixels (" + in->geterror() + ")");
+  }
+  in->close();
+
+  ImageRgb image;
+  image.width = w;
+  image.height = h;
+  image.pixels.resize(static_cast<std::size_t>(w) * h);
+  std::size_t nonFinite = 0, negative = 0;
+  int firstX = 0, firstY = 0;
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const float* p = &buffer[(static_cast<std::size_t>(y) * w + x) * nch];
+      glm::vec3 c = nch >= 3 ? glm::vec3(p[0], p[1], p[2]) : glm::vec3(p[0]);
+      for (int k = 0; k < 3; ++k) {
+        if (!std::isfinite(c[k])) {
+          if (nonFinite++ == 0) firstX = x, firstY = y;
+          c[k] = 0.0f;
+        } else if (c[k] < 0.0f) {
+          ++negative;
+          c[k] = 0.0f;
+        } else if (srgb) {
+          c[k] = srgbToLinear(c[k]);
+        }
+      }
+      image.at(x, y) = c;
+    }
+  }
+  if (nonFinite > 0) {
+    const std::string what = std::to_string(nonFinite) + " NaN/Inf texel values, first at (" +
+                             std::to_string(firstX) + ", " + std::to_string(firstY) + ")";
+    if (!options.sanitize) fail(path, what + " (use --sanitize to replace them by 0)");
+    warn(path + ": " + what + " replaced by 0");
+  }
+  if (negative > 0) {
+    warn(path + ": " + std::to_string(negative) + " negative texel values clamped to 0");
+  }
+  return image;
+}
+
+void writeImage(const std::string& path, const ImageRgb& image, const ImageAttributes& attributes) {
+  if (image.width <= 0 || image.height <= 0) fail(path, "refusing to write an empty image");
+  const std::string ext = lowerExtension(path);
+  const bool isFloat =
+      ext == ".exr" || ext == ".hdr" || ext == ".pfm" || ext == ".tif" || ext == ".tiff";
+  AtomicOutput output(path);
+  auto out = OIIO::ImageOutput::create(output.tempPath());
+  if (!out) fail(path, "no image writer for this extension (" + OIIO::geterror() + ")");
+  OIIO::ImageSpec spec(image.width, image.height, 3,
+                       isFloat ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+  for (const auto& [name, value] : attributes) spec.attribute(name, value);
+  if (!isFloat) spec.attribute("oiio:ColorSpace", "sRGB");
+  if (!out->open(output.tempPath(), spec)) fail(path, "cannot write (" + out->geterror() + ")");
+  bool ok;
+  if (isFloat) {
+    ok = out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data());
+  } else {
+    std::vector<std::uint8_t> bytes(image.pixels.size() * 3);
+    for (std::size_t i = 0; i < image.pixels.size(); ++i) {
+      for (int k = 0; k < 3; ++k) {
+        bytes[3 * i + k] =
+            static_cast<std::uint8_t>(std::lround(255.0f * linearToSrgb(image.pixels[i][k])));
+      }
+    }
+    ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
+  }
+  if (!ok || !out->close()) fail(path, "cannot write (" + out->geterror() + ")");
+  out.reset();
+  output.commit();
+}
+
+}  // namespace sss

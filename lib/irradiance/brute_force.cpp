@@ -1,0 +1,358 @@
+#include "irradiance/brute_force.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include <glm/geometric.hpp>
+
+#include "core/error.h"
+#include "core/parallel.h"
+#include "core/progress.h"
+
+namespace sss {
+namespace {
+
+// GCC vector extensions: 8 floats, unaligned loads allowed. The hot loops are compiled for AVX2
+// and for the baseline (target_clones); the CPU picks at load time.
+typedef float v8 __attribute__((vector_size(32)));
+typedef float v8u __attribute__((vector_size(32), aligned(4)));
+constexpr std::size_t kLanes = 8;
+constexpr std::size_t kChunk = 2048;  // terms per cache block (each array 8 KiB)
+constexpr std::size_t kNormalGrain = 32;
+
+inline v8 load(const float* p) {
+  return *reinterpret_cast<const v8u*>(p);
+}
+inline float horizontalSum(v8 v) {
+  return ((v[0] + v[4]) + (v[1] + v[5])) + ((v[2] + v[6]) + (v[3] + v[7]));
+}
+
+// Texel terms: a[0..2] the direction w, a[3..5] L_c dw. Cluster terms: a[3c..3c+2] the vector
+// V_c of channel c, a[9..11] the direction d of the Fresnel factor.
+using Terms = SummationTerms;
+void resizeTerms(Terms& t, std::size_t n, int arrays) {
+  t.count = (n + kLanes - 1) / kLanes * kLanes;
+  for (int i = 0; i < arrays; ++i) t.a[i].assign(t.count, 0.0f);
+}
+// Initial cut threshold, relative to tolerance x total luminous flux.
+constexpr double kInitialThreshold = 0.05;
+
+inline v8 fresnelFactor(const TransmittedCosineKernel& kernel, v8 mu) {
+  v8 t;
+  for (std::size_t k = 0; k < kLanes; ++k) t[k] = kernel.transmittance(mu[k]);
+  return t;
+}
+
+// sum_j k(n . w_j) (L dw)_j over terms [begin, end) for one normal.
+__attribute__((target_clones("avx2", "default"))) glm::vec3 sumTexels(
+    const Terms& t, std::size_t begin, std::size_t end, const glm::vec3& n,
+    const TransmittedCosineKernel* fresnel) {
+  const v8 zero = {};
+  v8 sr = zero, sg = zero, sb = zero;
+  for (std::size_t j = begin; j < end; j += kLanes) {
+    v8 mu = n.x * load(&t.a[0][j]) + n.y * load(&t.a[1][j]) + n.z * load(&t.a[2][j]);
+    mu = mu > zero ? mu : zero;
+    if (fresnel) mu *= fresnelFactor(*fresnel, mu);
+    sr += mu * load(&t.a[3][j]);
+    sg += mu * load(&t.a[4][j]);
+    sb += mu * load(&t.a[5][j]);
+  }
+  return {horizontalSum(sr), horizontalSum(sg), horizontalSum(sb)};
+}
+
+// sum_c max(0, n . V_c) F_t(n . d) over clusters [begin, end) for one normal.
+__attribute__((target_clones("avx2", "default"))) glm::vec3 sumClusters(
+    const Terms& t, std::size_t begin, std::size_t end, const glm::vec3& n,
+    const TransmittedCosineKernel* fresnel) {
+  const v8 zero = {};
+  v8 s[3] = {zero, zero, zero};
+  for (std::size_t j = begin; j < end; j += kLanes) {
+    v8 f = {1, 1, 1, 1, 1, 1, 1, 1};
+    if (fresnel) {
+      v8 mu = n.x * load(&t.a[9][j]) + n.y * load(&t.a[10][j]) + n.z * load(&t.a[11][j]);
+      f = fresnelFactor(*fresnel, mu > zero ? mu : zero);
+    }
+    for (int c = 0; c < 3; ++c) {
+      const v8 e = n.x * load(&t.a[3 * c][j]) + n.y * load(&t.a[3 * c + 1][j]) +
+                   n.z * load(&t.a[3 * c + 2][j]);
+      s[c] += (e > zero ? e : zero) * f;
+    }
+  }
+  return {horizontalSum(s[0]), horizontalSum(s[1]), horizontalSum(s[2])};
+}
+
+// Evaluates the sum at every normal: threads over normals, cache blocks over terms. Each
+// normal's sum runs over the blocks in one fixed order: the same result for any thread count.
+template <class Sum>
+std::vector<glm::vec3> sumAtNormals(const Terms& terms, const std::vector<glm::vec3>& normals,
+                                    const TransmittedCosineKernel& kernel, int threads, Sum sum,
+                                    Progress* progress = nullptr) {
+  std::vector<glm::vec3> out(normals.size());
+  const TransmittedCosineKernel* fresnel = kernel.isPlainCosine() ? nullptr : &kernel;
+  parallelFor(normals.size(), threads, kNormalGrain, [&](std::size_t begin, std::size_t end) {
+    std::vector<glm::dvec3> acc(end - begin, glm::dvec3(0.0));
+    for (std::size_t j = 0; j < terms.count; j += kChunk) {
+      const std::size_t jEnd = std::min(terms.count, j + kChunk);
+      for (std::size_t i = begin; i < end; ++i) {
+        acc[i - begin] += glm::dvec3(sum(terms, j, jEnd, normals[i], fresnel));
+      }
+    }
+    for (std::size_t i = begin; i < end; ++i) out[i] = glm::vec3(acc[i - begin]);
+    if (progress) progress->advance(end - begin);
+  });
+  return out;
+}
+
+Terms texelTerms(const Cubemap& radiance) {
+  const int n = radiance.size();
+  const std::vector<float> omega = radiance.faceSolidAngles();
+  Terms t;
+  resizeTerms(t, radiance.texelCount(), 6);
+  for (int f = 0; f < 6; ++f) {
+    for (int y = 0; y < n; ++y) {
+      for (int x = 0; x < n; ++x) {
+        const std::size_t i = radiance.index(f, x, y);
+        const glm::vec3 w = radiance.direction(f, x, y);
+        const glm::vec3 l = radiance.at(f, x, y) * omega[y * n + x];
+        for (int k = 0; k < 3; ++k) {
+          t.a[k][i] = w[k];
+          t.a[3 + k][i] = l[k];
+        }
+      }
+    }
+  }
+  return t;
+}
+
+// Per-face summed-area tables of the texel vectors V_c = L_c dw w (9 values) and the luminous
+// flux (1 value), for O(1) sums over any rectangle of texels.
+class FaceSums {
+ public:
+  static constexpr int kValues = 10;
+  explicit FaceSums(const Cubemap& radiance) : n_(radiance.size()) {
+    const std::vector<float> omega = radiance.faceSolidAngles();
+    const std::size_t stride = static_cast<std::size_t>(n_ + 1) * (n_ + 1) * kValues;
+    table_.assign(6 * stride, 0.0);
+    for (int f = 0; f < 6; ++f) {
+      double* s = &table_[f * stride];
+      for (int y = 0; y < n_; ++y) {
+        for (int x = 0; x < n_; ++x) {
+          const glm::dvec3 w(radiance.direction(f, x, y));
+          const glm::dvec3 l = glm::dvec3(radiance.at(f, x, y)) * double(omega[y * n_ + x]);
+          double v[kValues];
+          for (int c = 0; c < 3; ++c) {
+            for (int k = 0; k < 3; ++k) v[3 * c + k] = l[c] * w[k];
+          }
+          v[9] = 0.2126 * l.r + 0.7152 * l.g + 0.0722 * l.b;
+          for (int k = 0; k < kValues; ++k) {
+            s[at(x + 1, y + 1, k)] =
+                v[k] + s[at(x, y + 1, k)] + s[at(x + 1, y, k)] - s[at(x, y, k)];
+          }
+        }
+      }
+    }
+  }
+  // Sums over texels [x0, x1) x [y0, y1) of face f.
+  void sum(int f, int x0, int y0, int x1, int y1, double* out) const {
+    const double* s = &table_[f * static_cast<std::size_t>(n_ + 1) * (n_ + 1) * kValues];
+    for (int k = 0; k < kValues; ++k) {
+      out[k] = s[at(x1, y1, k)] - s[at(x0, y1, k)] - s[at(x1, y0, k)] + s[at(x0, y0, k)];
+    }
+  }
+
+ private:
+  std::size_t at(int x, int y, int k) const {
+    return (static_cast<std::size_t>(y) * (n_ + 1) + x) * kValues + k;
+  }
+  int n_;
+  std::vector<double> table_;
+};
+
+struct Cluster {
+  float v[9];
+  glm::vec3 d;
+};
+
+// The cut: quadtree nodes of each face, refined while flux x angular radius > threshold.
+std::vector<Cluster> buildCut(const Cubemap& radiance, const FaceSums& sums, double threshold) {
+  const int n = radiance.size();
+  const float inv = 1.0f / n;
+  std::vector<Cluster> cut;
+  struct Node {
+    int f, x0, y0, x1, y1;
+  };
+  for (int f = 0; f < 6; ++f) {
+    std::vector<Node> stack{{f, 0, 0, n, n}};
+    while (!stack.empty()) {
+      const Node node = stack.back();
+      stack.pop_back();
+      double v[FaceSums::kValues];
+      sums.sum(node.f, node.x0, node.y0, node.x1, node.y1, v);
+      bool black = true;
+      for (int k = 0; k < 9; ++k) black = black && v[k] == 0.0;
+      if (black) continue;  // contributes nothing
+      const bool single = node.x1 - node.x0 == 1 && node.y1 - node.y0 == 1;
+      const glm::vec3 centre = glm::normalize(Cubemap::unproject(
+          node.f, 0.5f * (node.x0 + node.x1) * inv, 0.5f * (node.y0 + node.y1) * inv));
+      bool refine = false;
+      if (!single) {
+        float minCos = 1.0f;
+        for (int corner = 0; corner < 4; ++corner) {
+          const int cx = corner & 1 ? node.x1 : node.x0, cy = corner & 2 ? node.y1 : node.y0;
+          minCos = std::min(
+              minCos,
+              glm::dot(centre, glm::normalize(Cubemap::unproject(node.f, cx * inv, cy * inv))));
+        }
+        const double radius = std::acos(std::clamp(minCos, -1.0f, 1.0f));
+        refine = v[9] * radius > threshold;
+      }
+      if (refine) {
+        const int xm = (node.x0 + node.x1 + 1) / 2, ym = (node.y0 + node.y1 + 1) / 2;
+        // Children pushed in reverse so that they are emitted in row order.
+        const Node kids[4] = {{node.f, node.x0, node.y0, xm, ym},
+                              {node.f, xm, node.y0, node.x1, ym},
+                              {node.f, node.x0, ym, xm, node.y1},
+                              {node.f, xm, ym, node.x1, node.y1}};
+        for (int k = 3; k >= 0; --k) {
+          if (kids[k].x1 > kids[k].x0 && kids[k].y1 > kids[k].y0) stack.push_back(kids[k]);
+        }
+        continue;
+      }
+      Cluster c;
+      for (int k = 0; k < 9; ++k) c.v[k] = static_cast<float>(v[k]);
+      const glm::dvec3 lum(0.2126 * v[0] + 0.7152 * v[3] + 0.0722 * v[6],
+                           0.2126 * v[1] + 0.7152 * v[4] + 0.0722 * v[7],
+                           0.2126 * v[2] + 0.7152 * v[5] + 0.0722 * v[8]);
+      const double len = glm::length(lum);
+      c.d = len > 0.0 ? glm::vec3(lum / len) : centre;
+      cut.push_back(c);
+    }
+  }
+  return cut;
+}
+
+Terms clusterTerms(const std::vector<Cluster>& cut) {
+  Terms t;
+  resizeTerms(t, cut.size(), 12);
+  for (std::size_t i = 0; i < cut.size(); ++i) {
+    for (int k = 0; k < 9; ++k) t.a[k][i] = cut[i].v[k];
+    for (int k = 0; k < 3; ++k) t.a[9 + k][i] = cut[i].d[k];
+  }
+  return t;
+}
+
+}  // namespace
+
+std::vector<glm::vec3> fibonacciSphere(int count) {
+  std::vector<glm::vec3> dirs(std::max(count, 0));
+  const double golden = M_PI * (3.0 - std::sqrt(5.0));
+  for (int i = 0; i < count; ++i) {
+    const double z = 1.0 - (2.0 * i + 1.0) / count;
+    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+    dirs[i] = glm::vec3(r * std::cos(golden * i), r * std::sin(golden * i), z);
+  }
+  return dirs;
+}
+
+double relativeRmsError(const std::vector<glm::vec3>& approx,
+                        const std::vector<glm::vec3>& reference) {
+  if (approx.size() != reference.size()) throw Error("relativeRmsError: size mismatch");
+  double num = 0.0, den = 0.0;
+  for (std::size_t i = 0; i < approx.size(); ++i) {
+    const glm::dvec3 d = glm::dvec3(approx[i]) - glm::dvec3(reference[i]);
+    num += glm::dot(d, d);
+    den += glm::dot(glm::dvec3(reference[i]), glm::dvec3(reference[i]));
+  }
+  return den > 0.0 ? std::sqrt(num / den) : (num > 0.0 ? INFINITY : 0.0);
+}
+
+std::vector<glm::vec3> irradianceAtNormals(const Cubemap& radiance,
+                                           const std::vector<glm::vec3>& normals, float eta,
+                                           int threads) {
+  if (radiance.empty()) throw Error("cannot integrate an empty cubemap");
+  const TransmittedCosineKernel kernel(eta);
+  return sumAtNormals(texelTerms(radiance), normals, kernel, threads, sumTexels);
+}
+
+BruteForceIrradiance::BruteForceIrradiance(const Cubemap& radiance,
+                                           const BruteForceOptions& options)
+    : options_(options), kernel_(options.eta) {
+  if (radiance.empty()) throw Error("cannot integrate an empty cubemap");
+  stats_.sourceTexels = radiance.texelCount();
+  if (options.tolerance <= 0.0) {
+    exact_ = true;
+    terms_ = texelTerms(radiance);
+    stats_.clusters = radiance.texelCount();
+    return;
+  }
+  std::vector<glm::vec3> ownProbes, ownReference;
+  const std::vector<glm::vec3>* probes = options.probeNormals;
+  const std::vector<glm::vec3>* reference = options.probeReference;
+  if (!probes) {
+    ownProbes = fibonacciSphere(256);
+    probes = &ownProbes;
+    reference = nullptr;
+  }
+  if (!reference) {
+    ownReference = irradianceAtNormals(radiance, *probes, options.eta, options.threads);
+    reference = &ownReference;
+  }
+
+  const FaceSums sums(radiance);
+  double flux = 0.0;
+  for (int f = 0; f < 6; ++f) {
+    double total[FaceSums::kValues];
+    sums.sum(f, 0, 0, radiance.size(), radiance.size(), total);
+    flux += total[9];
+  }
+  // Start from a threshold that usually meets the tolerance at once (calibrated on the sample
+  // environments); tighten it by 4 until the probes agree.
+  double threshold = kInitialThreshold * options.tolerance * flux;
+  for (int round = 0;; ++round) {
+    const std::vector<Cluster> cut = buildCut(radiance, sums, threshold);
+    terms_ = clusterTerms(cut);
+    stats_.clusters = cut.size();
+    stats_.refinements = round;
+    stats_.estimatedError = relativeRmsError(at(*probes), *reference);
+    if (stats_.estimatedError <= options.tolerance || cut.size() >= radiance.texelCount() ||
+        round == 12) {
+      break;
+    }
+    threshold *= 0.25;
+  }
+}
+
+std::vector<glm::vec3> BruteForceIrradiance::at(const std::vector<glm::vec3>& normals) const {
+  // A bar only for long sums (about a second or more: 1e9 terms).
+  std::optional<Progress> progress;
+  if (!options_.quiet && normals.size() * terms_.count > 1'000'000'000) {
+    progress.emplace("irradiance (brute)", normals.size(), false);
+  }
+  Progress* bar = progress ? &*progress : nullptr;
+  return exact_ ? sumAtNormals(terms_, normals, kernel_, options_.threads, sumTexels, bar)
+                : sumAtNormals(terms_, normals, kernel_, options_.threads, sumClusters, bar);
+}
+
+Cubemap BruteForceIrradiance::cubemap(int faceSize) const {
+  if (faceSize <= 0) throw Error("irradiance face size must be positive");
+  Cubemap cube(faceSize);
+  std::vector<glm::vec3> normals(cube.texelCount());
+  for (int f = 0; f < 6; ++f) {
+    for (int y = 0; y < faceSize; ++y) {
+      for (int x = 0; x < faceSize; ++x) normals[cube.index(f, x, y)] = cube.direction(f, x, y);
+    }
+  }
+  const std::vector<glm::vec3> values = at(normals);
+  std::copy(values.begin(), values.end(), cube.data());
+  return cube;
+}
+
+Cubemap bruteForceIrradiance(const Cubemap& radiance, const BruteForceOptions& options,
+                             BruteForceStats* stats) {
+  const BruteForceIrradiance brute(radiance, options);
+  if (stats) *stats = brute.stats();
+  return brute.cubemap(options.faceSize);
+}
+
+}  // namespace sss

@@ -1,0 +1,55 @@
+// Diffuse (optionally Fresnel-transmitted) irradiance cubemaps from a radiance cubemap, choosing
+// between direct summation (brute_force.h, the reference) and spherical harmonics
+// (spherical_harmonics.h) to meet an error tolerance estimated for this very environment:
+// the relative RMS difference from the exact sum over every texel at probe normals spread evenly
+// over the sphere.
+#pragma once
+
+#include <string>
+
+#include "envmap/cubemap.h"
+#include "irradiance/spherical_harmonics.h"
+
+namespace sss {
+
+enum class IrradianceMethod { Auto, Brute, Sh };
+// "auto", "brute", "sh"; throws Error otherwise.
+IrradianceMethod parseIrradianceMethod(const std::string& name);
+const char* irradianceMethodName(IrradianceMethod method);
+
+struct IrradianceOptions {
+  IrradianceMethod method = IrradianceMethod::Auto;
+  int faceSize = 0;  // 0: from the content: the smallest of 16, 32, 64 whose bilinear lookups
+                     // meet the tolerance
+  int shOrder = 2;   // for Sh; Auto tries order 2, then Brute
+  ShWindow window = ShWindow::None;
+  double tolerance = 0.01;  // relative RMS on the sphere
+  float eta = 1.0f;         // relative index of the surface; 1: plain irradiance
+  int threads = 0;          // <= 0: all cores
+  bool quiet = true;        // no progress bar on stderr for long direct sums
+  int probes = 256;         // probe normals for the error estimates
+};
+
+struct IrradianceTimings {
+  double projectionMs = 0;  // radiance -> SH
+  double referenceMs = 0;   // exact sums at the probe normals
+  double evaluationMs = 0;  // the output cubemap (SH evaluation or brute force)
+  double totalMs = 0;
+};
+
+struct IrradianceResult {
+  Cubemap irradiance;
+  IrradianceMethod method = IrradianceMethod::Brute;  // Brute or Sh: what made `irradiance`
+  int shOrder = -1;                                   // the SH order used (Sh), else -1
+  double estimatedError = 0.0;      // relative RMS against the exact sum at the probes
+  std::string reason;               // one line: what was chosen and why
+  SphericalHarmonics radianceSh;    // the radiance projection when SH was computed
+  SphericalHarmonics irradianceSh;  // its convolution (windowed), idem
+  std::size_t bruteClusters = 0;    // Brute: terms summed per output texel
+  std::size_t sourceTexels = 0;
+  IrradianceTimings timings;
+};
+
+IrradianceResult computeIrradiance(const Cubemap& radiance, const IrradianceOptions& options);
+
+}  // namespace sss

@@ -1,0 +1,211 @@
+// The sss-irrmap tool end to end: outputs, reports, and every kind of bad input.
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "envmap/cubemap_io.h"
+#include "envmap/environment.h"
+#include "optics/fresnel.h"
+
+namespace sss {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct ToolRun {
+  int code;
+  std::string err;
+};
+
+class SssIrrmap : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("sss-irrmap-test-" + std::to_string(::getpid()) + "-" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  ToolRun run(const std::string& args) const {
+    const std::string errFile = (dir_.parent_path() / (dir_.filename().string() + ".err")).string();
+    const std::string cmd =
+        std::string(SSS_BINARY_DIR) + "/tools/sss-irrmap " + args + " 2>" + errFile;
+    const int status = std::system(cmd.c_str());
+    std::ifstream in(errFile);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    fs::remove(errFile);
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ss.str()};
+  }
+  std::vector<std::string> files() const {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(dir_))
+      names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+  }
+  // A bad input: exit 1, one error line naming the file and the problem, nothing written.
+  void expectRefused(const std::string& input, const std::string& message) {
+    const auto before = files();
+    const ToolRun r = run(input + " -o " + path("e.exr") + " --radiance " + path("r.exr") +
+                          " --json " + path("r.json"));
+    EXPECT_EQ(r.code, 1) << r.err;
+    EXPECT_EQ(r.err, "sss-irrmap: error: " + message + "\n");
+    EXPECT_EQ(files(), before);
+  }
+  fs::path dir_;
+};
+
+ImageRgb constantImage(int w, int h, glm::vec3 value) {
+  ImageRgb image;
+  image.width = w;
+  image.height = h;
+  image.pixels.assign(static_cast<std::size_t>(w) * h, value);
+  return image;
+}
+
+nlohmann::json readJson(const std::string& file) {
+  std::ifstream in(file);
+  return nlohmann::json::parse(in);
+}
+
+TEST_F(SssIrrmap, SkyToEveryOutput) {
+  const ToolRun r =
+      run("--sky=elevation=30,azimuth=45 --radiance " + path("r.exr") + " -o " + path("e.exr") +
+          " --sh " + path("sh.json") + " --json " + path("report.json"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("sss-irrmap: auto: "), std::string::npos) << r.err;  // says what it chose
+  EXPECT_EQ(files(), (std::vector<std::string>{"e.exr", "e.png", "r.exr", "r.png", "report.json",
+                                               "sh.json"}));
+  const Cubemap radiance = readCubemap(path("r.exr"));
+  EXPECT_EQ(radiance.size(), 128);
+  const Cubemap irradiance = readCubemap(path("e.exr"));
+  const nlohmann::json report = readJson(path("report.json"));
+  EXPECT_EQ(report["irradiance_face_size"], irradiance.size());
+  EXPECT_LE(report["estimated_error"].get<double>(), 0.01);
+  EXPECT_FALSE(report["reason"].get<std::string>().empty());
+  for (const char* stage : {"read", "to_cubemap", "reference", "evaluation", "write", "total"}) {
+    EXPECT_TRUE(report["timings_ms"].contains(stage)) << stage;
+  }
+  const nlohmann::json sh = readJson(path("sh.json"));
+  EXPECT_EQ(sh["order"], 2);
+  EXPECT_EQ(sh["radiance"].size(), 9u);
+  EXPECT_EQ(sh["irradiance"].size(), 9u);
+  // The sky is brighter above than below: so is its irradiance.
+  EXPECT_GT(irradiance.sample({0, 1, 0}).y, 2.0f * irradiance.sample({0, -1, 0}).y);
+  // The quiet run prints nothing.
+  EXPECT_EQ(run("--sky -q -o " + path("e2.exr")).err, "");
+}
+
+TEST_F(SssIrrmap, UniformEquirectGivesPiLBothMethods) {
+  writeImage(path("uniform.exr"), constantImage(128, 64, glm::vec3(2.0f, 1.0f, 0.5f)));
+  for (const char* method : {"sh", "brute"}) {
+    for (float eta : {1.0f, 1.33f}) {
+      const ToolRun r =
+          run(path("uniform.exr") + " --method " + method + " --eta " + std::to_string(eta) +
+              " --tolerance 1e-6 --size 8 --no-preview -q -o " + path("e.exr"));
+      ASSERT_EQ(r.code, 0) << r.err;
+      const Cubemap e = readCubemap(path("e.exr"));
+      const double scale = M_PI * (1.0 - diffuseFresnelReflectance(eta));
+      for (std::size_t i = 0; i < e.texelCount(); ++i) {
+        EXPECT_NEAR(e.data()[i].x, 2.0 * scale, 2e-4 * scale) << method;
+        EXPECT_NEAR(e.data()[i].z, 0.5 * scale, 0.5e-4 * scale) << method;
+      }
+    }
+  }
+}
+
+TEST_F(SssIrrmap, CubemapAndCrossInputsGiveTheSameIrradiance) {
+  ASSERT_EQ(run("--sky -q --radiance-size 32 --no-preview --radiance " + path("r.exr") + " -o " +
+                path("e1.exr") + " --size 16")
+                .code,
+            0);
+  writeImage(path("cross.exr"), cubemapToCross(readCubemap(path("r.exr"))));
+  ASSERT_EQ(run(path("r.exr") + " -q --no-preview -o " + path("e2.exr") + " --size 16").code, 0);
+  ASSERT_EQ(run(path("cross.exr") + " -q --no-preview -o " + path("e3.exr") + " --size 16").code,
+            0);
+  const Cubemap e1 = readCubemap(path("e1.exr")), e2 = readCubemap(path("e2.exr")),
+                e3 = readCubemap(path("e3.exr"));
+  for (std::size_t i = 0; i < e1.texelCount(); ++i) {
+    EXPECT_EQ(e1.data()[i], e2.data()[i]);
+    EXPECT_EQ(e1.data()[i], e3.data()[i]);
+  }
+}
+
+TEST_F(SssIrrmap, MissingAndUnreadableFiles) {
+  expectRefused(path("missing.exr"), path("missing.exr") + ": no such file");
+  std::ofstream(path("junk.exr")) << "not an image";
+  const ToolRun r = run(path("junk.exr") + " -o " + path("e.exr"));
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.err.rfind("sss-irrmap: error: " + path("junk.exr") + ": cannot read image", 0), 0u)
+      << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1);
+  EXPECT_FALSE(fs::exists(path("e.exr")));
+}
+
+TEST_F(SssIrrmap, WrongAspectAndZeroSize) {
+  writeImage(path("wide.exr"), constantImage(100, 30, glm::vec3(1.0f)));
+  expectRefused(path("wide.exr"), path("wide.exr") +
+                                      ": unsupported shape 100x30: expected 2:1 equirect, 4:3 or "
+                                      "3:4 cross, or an N x 6N cubemap stack");
+  std::ofstream(path("zero.pfm"), std::ios::binary) << "PF\n0 0\n-1.0\n";
+  expectRefused(path("zero.pfm"), path("zero.pfm") + ": image has zero size (0x0)");
+}
+
+TEST_F(SssIrrmap, NonFiniteTexelsFailUnlessSanitized) {
+  ImageRgb image = constantImage(64, 32, glm::vec3(1.0f));
+  image.at(10, 3).x = std::numeric_limits<float>::quiet_NaN();
+  image.at(2, 7).y = std::numeric_limits<float>::infinity();
+  writeImage(path("nan.exr"), image);
+  expectRefused(path("nan.exr"), path("nan.exr") +
+                                     ": 2 NaN/Inf texel values, first at (10, 3) (use --sanitize "
+                                     "to replace them by 0)");
+  const ToolRun r = run(path("nan.exr") + " --sanitize -q --no-preview -o " + path("e.exr"));
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("sss-irrmap: warning: "), std::string::npos);
+  EXPECT_TRUE(fs::exists(path("e.exr")));
+}
+
+TEST_F(SssIrrmap, NegativeTexelsAreClampedWithAWarning) {
+  ImageRgb image = constantImage(64, 32, glm::vec3(1.0f));
+  image.at(5, 5) = glm::vec3(-3.0f);
+  writeImage(path("neg.exr"), image);
+  const ToolRun r = run(path("neg.exr") + " -q --no-preview --radiance " + path("r.exr"));
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err,
+            "sss-irrmap: warning: " + path("neg.exr") + ": 3 negative texel values clamped to 0\n");
+  const Cubemap radiance = readCubemap(path("r.exr"));
+  for (std::size_t i = 0; i < radiance.texelCount(); ++i) EXPECT_GE(radiance.data()[i].x, 0.0f);
+}
+
+TEST_F(SssIrrmap, BadOptions) {
+  EXPECT_EQ(run("-o " + path("e.exr")).err,
+            "sss-irrmap: error: no environment: give INPUT (equirect, cross or cubemap image) or "
+            "--sky\n");
+  EXPECT_EQ(
+      run("--sky").err,
+      "sss-irrmap: error: nothing to write: give --radiance, -o/--irradiance, --sh or --json\n");
+  EXPECT_EQ(run("--sky -o " + path("e.png")).err,
+            "sss-irrmap: error: " + path("e.png") + ": --irradiance needs a .exr file\n");
+  EXPECT_EQ(run("--sky=elevation=95 -o " + path("e.exr")).err,
+            "sss-irrmap: error: --sky: elevation must be in [0, 90] degrees\n");
+  EXPECT_EQ(run("--sky --method fast -o " + path("e.exr")).err,
+            "sss-irrmap: error: unknown irradiance method 'fast' (auto, brute, sh)\n");
+  EXPECT_EQ(run("--sky -o " + path("no/such/dir/e.exr")).code, 1);
+  EXPECT_TRUE(files().empty());
+}
+
+}  // namespace
+}  // namespace sss

@@ -1,0 +1,248 @@
+// The diffusion sums of Eq. 7 (lib/bake/diffusion.h) against analytic cases (a plane under
+// uniform light), refinement (a sphere at four subdivision levels), the O(N^2) reference, and
+// thread counts.
+#include "bake/diffusion.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <glm/geometric.hpp>
+#include <limits>
+#include <memory>
+#include <vector>
+
+#include "core/error.h"
+#include "material/diffusion_profile.h"
+#include "material/dipole_profile.h"
+#include "material/material.h"
+#include "mesh/primitives.h"
+#include "mesh/triangle_mesh.h"
+
+namespace sss {
+namespace {
+
+struct Scene {
+  TriangleMesh mesh;
+  std::vector<float> areas;
+  std::vector<glm::vec3> irradiance;
+  DiffusionInput input() const { return {mesh.positions, mesh.normals, areas, irradiance}; }
+};
+
+Scene uniformScene(TriangleMesh mesh) {
+  Scene s{std::move(mesh), {}, {}};
+  s.areas = vertexAreas(s.mesh);
+  s.irradiance.assign(s.mesh.vertexCount(), glm::vec3(1));
+  return s;
+}
+
+// Smooth light from one side plus an ambient floor; with `step`, blue is a hard shadow edge.
+Scene litScene(TriangleMesh mesh, bool step) {
+  Scene s = uniformScene(std::move(mesh));
+  const glm::vec3 light = glm::normalize(glm::vec3(1, 2, 0.5));
+  for (std::size_t i = 0; i < s.irradiance.size(); ++i) {
+    const float c = std::max(0.0f, glm::dot(s.mesh.normals[i], light));
+    s.irradiance[i] =
+        glm::vec3(c * c * c + 0.05f, 0.5f * c + 0.02f, step ? (c > 0.5f ? 1.0f : 0.0f) : c + 0.1f);
+  }
+  return s;
+}
+
+double relativeRms(const std::vector<glm::vec3>& a, const std::vector<glm::vec3>& reference,
+                   std::size_t count) {
+  double num = 0, den = 0;
+  for (std::size_t i = 0; i < count; ++i)
+    for (int c = 0; c < 3; ++c) {
+      const double d = a[i][c] - reference[i][c];
+      num += d * d, den += double(reference[i][c]) * reference[i][c];
+    }
+  return std::sqrt(num / den);
+}
+
+DiffusionResult run(const Scene& s, const DiffusionProfile& profile, DiffusionMethod method,
+                    int threads = 0, double tolerance = 0.01) {
+  DiffusionOptions options;
+  options.method = method, options.threads = threads, options.quiet = true;
+  options.tolerance = tolerance;
+  return diffuse(s.input(), profile, options);
+}
+
+// Dense enough for the O(N^2) reference on a 50 mm plane: diffuse mean free path ~1.8 mm.
+Material denseMaterial() {
+  Material m;
+  m.name = "dense";
+  m.sigmaA = glm::dvec3(0.05, 0.08, 0.12);
+  m.sigmaSPrime = glm::dvec3(2.0, 2.5, 3.0);
+  m.eta = 1.3;
+  return m;
+}
+
+// Interior vertices (farther than `margin` from the border) of a grid plane of side `size`.
+void expectPlaneInteriorMatchesTotal(const Scene& s, const std::vector<glm::vec3>& b,
+                                     const glm::dvec3& total, float size, float margin,
+                                     double tolerance, const char* what) {
+  std::size_t checked = 0;
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    const glm::vec3 p = s.mesh.positions[i];
+    if (std::max(std::abs(p.x), std::abs(p.y)) > 0.5f * size - margin) continue;
+    for (int c = 0; c < 3; ++c)
+      ASSERT_NEAR(b[i][c] / total[c], 1.0, tolerance)
+          << what << " vertex " << i << " channel " << c;
+    ++checked;
+  }
+  EXPECT_GT(checked, 10u) << what;
+}
+
+TEST(Diffusion, PlaneUnderUniformLightGivesTotalReflectanceExact) {
+  const Scene s = uniformScene(makeGridPlane(50, 50));  // 1 mm spacing
+  const DipoleProfile profile(denseMaterial());
+  const DiffusionResult r = run(s, profile, DiffusionMethod::Exact);
+  expectPlaneInteriorMatchesTotal(s, r.exitance, profile.totalReflectance(), 50, 20, 0.01, "exact");
+}
+
+TEST(Diffusion, PlaneUnderUniformLightGivesTotalReflectanceGaussian) {
+  // skin1: 99% of the red energy within 13.7 mm; interior = 30 mm from the border.
+  const Scene s = uniformScene(makeGridPlane(100, 100));
+  const DipoleProfile profile(findMaterialPreset("skin1"));
+  for (DiffusionMethod m : {DiffusionMethod::Gauss, DiffusionMethod::Hierarchical,
+                            DiffusionMethod::Incremental, DiffusionMethod::Auto}) {
+    const DiffusionResult r = run(s, profile, m);
+    expectPlaneInteriorMatchesTotal(s, r.exitance, profile.totalReflectance(), 100, 30, 0.01,
+                                    toString(m).c_str());
+  }
+}
+
+TEST(Diffusion, CoarsePlaneStaysCloseToTotalReflectance) {
+  // 4 mm spacing, 8x skin1's blue transport mean free path: sampling the narrowest Gaussians at
+  // points would multiply B by ~1/(2 pi v) A, over 100 here; the disc terms keep it within 5%.
+  const Scene s = uniformScene(makeGridPlane(30, 120));
+  const DipoleProfile profile(findMaterialPreset("skin1"));
+  for (DiffusionMethod m : {DiffusionMethod::Exact, DiffusionMethod::Gauss,
+                            DiffusionMethod::Hierarchical, DiffusionMethod::Incremental}) {
+    const DiffusionResult r = run(s, profile, m);
+    expectPlaneInteriorMatchesTotal(s, r.exitance, profile.totalReflectance(), 120, 40, 0.05,
+                                    toString(m).c_str());
+  }
+}
+
+TEST(Diffusion, SphereConvergesUnderRefinement) {
+  // 20 mm marble sphere at 162, 642, 2562, 10242 vertices; icosphere subdivision keeps the
+  // coarser vertices first, so levels compare on shared vertices.
+  const DipoleProfile profile(findMaterialPreset("marble"));
+  std::vector<std::vector<glm::vec3>> b;
+  for (int level = 2; level <= 5; ++level) {
+    const Scene s = litScene(makeIcosphere(level, 10), false);
+    b.push_back(run(s, profile, DiffusionMethod::Auto).exitance);
+  }
+  for (const auto& v : b[0])
+    for (int c = 0; c < 3; ++c) ASSERT_TRUE(std::isfinite(v[c]));
+  EXPECT_LT(relativeRms(b[2], b[3], b[2].size()), 0.01);
+  EXPECT_LT(relativeRms(b[0], b[3], b[0].size()), 0.10);
+}
+
+TEST(Diffusion, FastMethodsMatchExactWithinTolerance) {
+  // Marble on a 20 mm sphere: the kernel spans the whole object; blue has a hard shadow edge.
+  const Scene s = litScene(makeIcosphere(4, 10), true);
+  const DipoleProfile profile(findMaterialPreset("marble"));
+  const DiffusionResult exact = run(s, profile, DiffusionMethod::Exact);
+  for (DiffusionMethod m : {DiffusionMethod::Gauss, DiffusionMethod::Hierarchical,
+                            DiffusionMethod::Incremental, DiffusionMethod::Auto}) {
+    const DiffusionResult r = run(s, profile, m);
+    EXPECT_LT(relativeRms(r.exitance, exact.exitance, s.irradiance.size()), 0.01) << toString(m);
+    if (m != DiffusionMethod::Auto) {
+      EXPECT_EQ(r.report.method, m);
+    }
+    EXPECT_GT(r.report.gaussians, 0);
+    EXPECT_EQ(r.report.cutoffs.size(), std::size_t(r.report.gaussians));
+  }
+}
+
+TEST(Diffusion, WideKernelHierarchicalMatchesGauss) {
+  // Skim milk (diffuse mean free path 18 mm) on an 80 mm sphere: gauss sums thousands of points
+  // per vertex, the clusters stand in for most of them.
+  const Scene s = litScene(makeIcosphere(4, 40), true);
+  const DipoleProfile profile(findMaterialPreset("skimmilk"));
+  const DiffusionResult gauss = run(s, profile, DiffusionMethod::Gauss);
+  const DiffusionResult hier = run(s, profile, DiffusionMethod::Hierarchical);
+  EXPECT_LT(relativeRms(hier.exitance, gauss.exitance, s.irradiance.size()), 0.005);
+  EXPECT_LT(hier.report.interactions, gauss.report.interactions / 3);
+}
+
+TEST(Diffusion, OtherProfilesMatchExact) {
+  // Their fits reach about 0.7% (not the 0.5% asked) with 16 Gaussians, one of them a spike of
+  // variance ~1e-7 mm^2 for Burley's 1/r peak: hence 2% here.
+  const Scene s = litScene(makeIcosphere(4, 10), true);
+  for (const char* kind : {"burley", "beam"}) {
+    const auto profile = makeProfile(kind, findMaterialPreset("skin1"));
+    const DiffusionResult exact = run(s, *profile, DiffusionMethod::Exact);
+    for (DiffusionMethod m : {DiffusionMethod::Gauss, DiffusionMethod::Hierarchical}) {
+      const DiffusionResult r = run(s, *profile, m);
+      EXPECT_LT(relativeRms(r.exitance, exact.exitance, s.irradiance.size()), 0.02)
+          << kind << " " << toString(m);
+    }
+  }
+}
+
+TEST(Diffusion, SameResultForOneAndTwoThreads) {
+  const Scene s = litScene(makeIcosphere(3, 10), true);
+  const DipoleProfile profile(findMaterialPreset("marble"));
+  for (DiffusionMethod m : {DiffusionMethod::Exact, DiffusionMethod::Gauss,
+                            DiffusionMethod::Hierarchical, DiffusionMethod::Incremental}) {
+    const DiffusionResult one = run(s, profile, m, 1), two = run(s, profile, m, 2);
+    ASSERT_EQ(one.exitance.size(), two.exitance.size());
+    EXPECT_EQ(0, std::memcmp(one.exitance.data(), two.exitance.data(),
+                             one.exitance.size() * sizeof(glm::vec3)))
+        << toString(m);
+  }
+}
+
+TEST(Diffusion, AutoExplainsItsChoice) {
+  const DipoleProfile profile(findMaterialPreset("marble"));
+  const DiffusionResult small =
+      run(litScene(makeIcosphere(2, 10), false), profile, DiffusionMethod::Auto);
+  EXPECT_EQ(small.report.method, DiffusionMethod::Exact);
+  EXPECT_NE(small.report.reason.find("exact"), std::string::npos);
+  const DiffusionResult large =
+      run(litScene(makeIcosphere(5, 40), false), profile, DiffusionMethod::Auto);
+  EXPECT_EQ(large.report.method, DiffusionMethod::Hierarchical) << large.report.reason;
+  EXPECT_GT(large.report.estimatedError, 0.0);
+  EXPECT_LE(large.report.estimatedError, 0.01);
+}
+
+TEST(Diffusion, RejectsBadInput) {
+  const DipoleProfile profile(findMaterialPreset("marble"));
+  Scene s = litScene(makeIcosphere(1, 10), false);
+  s.areas.pop_back();
+  EXPECT_THROW(run(s, profile, DiffusionMethod::Gauss), Error);
+  s = litScene(makeIcosphere(1, 10), false);
+  s.mesh.positions[3].y = std::numeric_limits<float>::quiet_NaN();
+  try {
+    run(s, profile, DiffusionMethod::Gauss);
+    FAIL() << "NaN position accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("1 non-finite positions"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("vertex 3"), std::string::npos) << e.what();
+  }
+  s = litScene(makeIcosphere(1, 10), false);
+  s.areas[0] = -1;
+  EXPECT_THROW(run(s, profile, DiffusionMethod::Exact), Error);
+  s = litScene(makeIcosphere(1, 10), false);
+  EXPECT_THROW(run(s, profile, DiffusionMethod::Gauss, 0, 0.0), Error);
+  try {
+    parseDiffusionMethod("fast");
+    FAIL() << "unknown method accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("hierarchical"), std::string::npos);
+  }
+  EXPECT_EQ(parseDiffusionMethod("incremental"), DiffusionMethod::Incremental);
+}
+
+TEST(Diffusion, EmptyInputGivesEmptyOutput) {
+  const DipoleProfile profile(findMaterialPreset("marble"));
+  const DiffusionResult r = diffuse({}, profile);
+  EXPECT_TRUE(r.exitance.empty());
+}
+
+}  // namespace
+}  // namespace sss

@@ -1,0 +1,379 @@
+#include "pathtrace/subsurface_path_tracer.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include <glm/geometric.hpp>
+
+#include "core/error.h"
+#include "core/parallel.h"
+#include "core/progress.h"
+#include "core/random.h"
+#include "core/timer.h"
+#include "core/tool.h"
+#include "material/material.h"
+#include "mesh/triangle_mesh.h"
+#include "optics/fresnel.h"
+#include "pathtrace/triangle_scene.h"
+
+namespace sss {
+namespace {
+
+// Walks longer than this (mean scattering events, from a pilot run) earn a warning: a half-space
+// of marble averages ~170, of cream (albedo 0.99997) ~600.
+constexpr double kLongWalkEvents = 500.0;
+constexpr int kPilotWalks = 256;
+// Outside directions cut off by the faceted 1-ring are redrawn at most this often per sample.
+constexpr int kMaxRedraws = 16;
+
+struct WalkStats {
+  uint64_t events = 0;
+  uint64_t boundaryHits = 0;
+  bool truncated = false;
+  bool escaped = false;
+  bool blocked = false;  // left through the start vertex's own triangles before scattering
+};
+
+struct Walker {
+  const TriangleScene& scene;
+  const std::vector<glm::uvec3>& triangles;
+  const Cubemap& environment;
+  glm::dvec3 sigmaS, sigmaT;
+  float eta;
+  double g;
+  bool occlusion;
+  int minOrder;
+  int maxInteractions;
+
+  // Orthonormal basis around a unit vector (Duff et al. 2017).
+  static void basis(const glm::vec3& n, glm::vec3& b1, glm::vec3& b2) {
+    const float sign = std::copysign(1.0f, n.z);
+    const float a = -1.0f / (sign + n.z);
+    const float b = n.x * n.y * a;
+    b1 = glm::vec3(1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x);
+    b2 = glm::vec3(b, sign + n.y * n.y * a, -n.y);
+  }
+
+  // New propagation direction after scattering: Henyey-Greenstein in the cosine to the old
+  // one (symmetric, so the adjoint walk samples it the same way); uniform for g = 0.
+  glm::vec3 scatter(const glm::vec3& d, Pcg32& rng) const {
+    const double u1 = rng.uniformDouble(), u2 = rng.uniformDouble();
+    double cosTheta;
+    if (std::abs(g) < 1e-4) {
+      cosTheta = 1.0 - 2.0 * u1;
+    } else {
+      const double s = (1.0 - g * g) / (1.0 - g + 2.0 * g * u1);
+      cosTheta = std::clamp((1.0 + g * g - s * s) / (2.0 * g), -1.0, 1.0);
+    }
+    const double sinTheta = std::sqrt(std::max(0.0, 1.0 - cosTheta * cosTheta));
+    const double phi = 2.0 * M_PI * u2;
+    glm::vec3 b1, b2;
+    basis(d, b1, b2);
+    return glm::normalize(static_cast<float>(sinTheta * std::cos(phi)) * b1 +
+                          static_cast<float>(sinTheta * std::sin(phi)) * b2 +
+                          static_cast<float>(cosTheta) * d);
+  }
+
+  // Refraction of unit d through a boundary whose unit normal n points to the transmitted side
+  // (dot(d, n) > 0); ratio = n_incident / n_transmitted. Caller excludes total internal reflection.
+  static glm::vec3 refract(const glm::vec3& d, const glm::vec3& n, float ratio) {
+    const float cosI = glm::dot(d, n);
+    const float cosT = std::sqrt(std::max(0.0f, 1.0f - ratio * ratio * (1.0f - cosI * cosI)));
+    return glm::normalize(ratio * d + (cosT - ratio * cosI) * n);
+  }
+
+  // One walk from a point inside along d, started at mesh vertex `start`; returns the
+  // MIS-weighted radiance it brings back per unit starting weight.
+  glm::dvec3 walk(glm::vec3 p, glm::vec3 d, uint32_t start, Pcg32& rng, WalkStats& stats) const {
+    const int hero = std::min(2, static_cast<int>(rng.uniformDouble() * 3.0));
+    const double sigmaTh = sigmaT[hero];
+    glm::dvec3 beta(1.0);  // f_c / p_hero over the path so far
+    glm::dvec3 ru(1.0);    // p_j / p_hero over the path so far
+    const float eps = scene.epsilon();
+    for (int interactions = 0;; ++interactions) {
+      if (interactions >= maxInteractions) {
+        stats.truncated = true;
+        return glm::dvec3(0.0);
+      }
+      const SceneHit hit = scene.intersect(p, d);
+      if (!hit.hit) {
+        stats.escaped = true;
+        return glm::dvec3(0.0);
+      }
+      const double t = sigmaTh > 0.0 ? -std::log(1.0 - rng.uniformDouble()) / sigmaTh
+                                     : std::numeric_limits<double>::infinity();
+      if (t < hit.t) {
+        // Scattering event: f_c = sigma_s,c T_c(t), p_j = sigma_t,j T_j(t), relative to hero.
+        for (int c = 0; c < 3; ++c) {
+          const double ratio = std::exp(-(sigmaT[c] - sigmaTh) * t);
+          beta[c] *= sigmaS[c] / sigmaTh * ratio;
+          ru[c] *= sigmaT[c] / sigmaTh * ratio;
+        }
+        ++stats.events;
+        p += static_cast<float>(t) * d;
+        d = scatter(d, rng);
+        const double m = std::max({beta.x, beta.y, beta.z}) / ((ru.x + ru.y + ru.z) / 3.0);
+        if (!(m > 0.0)) return glm::dvec3(0.0);
+        if (m < 1.0) {  // Russian roulette on the MIS-weighted throughput
+          const double q = std::max(m, 0.05);
+          if (rng.uniformDouble() >= q) return glm::dvec3(0.0);
+          beta /= q;
+        }
+        continue;
+      }
+      if (stats.events == 0 && stats.boundaryHits == 0) {
+        const glm::uvec3 tri = triangles[hit.triangle];
+        if (tri.x == start || tri.y == start || tri.z == start) {
+          stats.blocked = true;
+          return glm::dvec3(0.0);
+        }
+      }
+      // Boundary: f_c = p_j = T(t_hit), relative to hero.
+      for (int c = 0; c < 3; ++c) {
+        const double ratio = std::exp(-(sigmaT[c] - sigmaTh) * static_cast<double>(hit.t));
+        beta[c] *= ratio;
+        ru[c] *= ratio;
+      }
+      ++stats.boundaryHits;
+      const glm::vec3 hitPoint = p + hit.t * d;
+      glm::vec3 n = hit.faceNormal;
+      float cosI = glm::dot(d, n);
+      if (cosI < 0.0f) {  // reached a back face (open or inconsistent mesh): cross it anyway
+        n = -n;
+        cosI = -cosI;
+      }
+      const float fr = fresnelDielectric(cosI, 1.0f / eta);
+      if (rng.uniformDouble() < fr) {  // reflect back inside (total internal reflection: fr = 1)
+        d = glm::normalize(d - 2.0f * cosI * n);
+        p = hitPoint - eps * n;
+        continue;
+      }
+      if (static_cast<int>(stats.events) < minOrder) return glm::dvec3(0.0);
+      const glm::vec3 out = refract(d, n, eta);
+      const glm::vec3 origin = hitPoint + eps * n;
+      if (occlusion && scene.occluded(origin, out)) return glm::dvec3(0.0);
+      const glm::dvec3 radiance(environment.sample(out));
+      return beta * radiance / ((ru.x + ru.y + ru.z) / 3.0);
+    }
+  }
+};
+
+struct Accumulator {
+  glm::dvec3 sum{0.0}, sumSq{0.0};
+  void add(const glm::dvec3& x) {
+    sum += x;
+    sumSq += x * x;
+  }
+  void result(int n, glm::vec3& mean, glm::vec3& stdErr) const {
+    const glm::dvec3 m = sum / double(n);
+    const glm::dvec3 var =
+        n > 1 ? glm::max(glm::dvec3(0.0), (sumSq / double(n) - m * m) * (double(n) / (n - 1)))
+              : glm::dvec3(0.0);
+    mean = glm::vec3(m);
+    stdErr = glm::vec3(glm::sqrt(var / double(n)));
+  }
+};
+
+}  // namespace
+
+PathTraceResult pathTraceSubsurface(const std::vector<glm::vec3>& positions,
+                                    const std::vector<glm::vec3>& normals,
+                                    const std::vector<glm::uvec3>& triangles,
+                                    const Cubemap& environment, const HomogeneousMedium& medium,
+                                    const PathTraceOptions& options) {
+  const Stopwatch clock;
+  if (positions.empty() || triangles.empty()) fail("", "path tracer: empty mesh");
+  if (normals.size() != positions.size()) fail("", "path tracer: one normal per vertex needed");
+  if (environment.empty()) fail("", "path tracer: empty environment");
+  if (!(std::abs(medium.g) < 1.0)) fail("", "path tracer: |g| must be below 1");
+  if (options.samples < 1) fail("", "path tracer: samples must be at least 1");
+  const glm::dvec3 sigmaT = medium.sigmaA + medium.sigmaS;
+  for (int c = 0; c < 3; ++c) {
+    if (!(medium.sigmaA[c] >= 0.0) || !(medium.sigmaS[c] >= 0.0) || !std::isfinite(sigmaT[c]))
+      fail("", "path tracer: coefficients must be finite and non-negative");
+  }
+  if (!(std::max({sigmaT.x, sigmaT.y, sigmaT.z}) > 0.0))
+    fail("", "path tracer: the medium has no extinction");
+  if (!(medium.eta >= 1.0)) fail("", "path tracer: eta must be at least 1");
+
+  const TriangleScene scene(positions, triangles);
+  const Walker walker{scene,
+                      triangles,
+                      environment,
+                      medium.sigmaS,
+                      sigmaT,
+                      static_cast<float>(medium.eta),
+                      medium.g,
+                      options.occlusion,
+                      options.minScatteringOrder,
+                      options.maxScatteringEvents};
+  const float eta = static_cast<float>(medium.eta);
+  const float eps = scene.epsilon();
+  PathTraceResult result;
+  auto warnNow = [&](const std::string& message) {
+    result.warnings.push_back(message);
+    warn(message);
+  };
+
+  // One walk from vertex i leaving (in the light's direction) along outside direction wo.
+  auto walkFrom = [&](std::size_t i, const glm::vec3& n, const glm::vec3& wo, Pcg32& rng,
+                      WalkStats& stats) {
+    const float mu = glm::dot(wo, n);
+    const glm::vec3 inward = Walker::refract(-wo, -n, 1.0f / eta);
+    return double(fresnelTransmittance(mu, eta)) *
+           walker.walk(positions[i] - eps * n, inward, uint32_t(i), rng, stats);
+  };
+  auto cosineDirection = [](const glm::vec3& n, Pcg32& rng) {
+    const double u1 = rng.uniformDouble(), u2 = rng.uniformDouble();
+    const float r = static_cast<float>(std::sqrt(u1));
+    const float phi = static_cast<float>(2.0 * M_PI * u2);
+    glm::vec3 b1, b2;
+    Walker::basis(n, b1, b2);
+    return glm::normalize(r * std::cos(phi) * b1 + r * std::sin(phi) * b2 +
+                          static_cast<float>(std::sqrt(std::max(0.0, 1.0 - u1))) * n);
+  };
+
+  for (uint32_t v : options.vertices)
+    if (v >= positions.size()) fail("", "path tracer: vertex index out of range");
+  const std::size_t n = options.vertices.empty() ? positions.size() : options.vertices.size();
+  auto vertexAt = [&](std::size_t k) -> std::size_t {
+    return options.vertices.empty() ? k : options.vertices[k];
+  };
+
+  // Walk length. Exit times of walks started at a boundary are heavy-tailed (P(T > t) ~ t^-1/2)
+  // up to the absorption time 1 / (1 - albedo) or the time to diffuse across the object, so a
+  // short pilot run sees only the bulk: the expected length is the larger of the pilot's mean
+  // and the model min(3 sqrt(1 / (1 - albedo)), size sigma_t / 2), calibrated on half-spaces
+  // (marble ~170, cream ~600 events) and on spheres without absorption.
+  {
+    const std::size_t probes = std::min<std::size_t>(n, 32);
+    uint64_t events = 0, walks = 0;
+    const Stopwatch pilotClock;
+    for (std::size_t k = 0; k < probes; ++k) {
+      const std::size_t i = vertexAt(k * n / probes);
+      Pcg32 rng(options.seed ^ 0x9E3779B97F4A7C15ULL, i);
+      const glm::vec3 normal = glm::normalize(normals[i]);
+      for (std::size_t s = 0; s < kPilotWalks / probes; ++s, ++walks) {
+        WalkStats stats;
+        walkFrom(i, normal, cosineDirection(normal, rng), rng, stats);
+        events += stats.events;
+      }
+    }
+    const double secondsPerEvent = pilotClock.seconds() / double(std::max<uint64_t>(events, 1));
+    double expected = double(events) / double(walks);
+    for (int c = 0; c < 3; ++c) {
+      if (!(sigmaT[c] > 0.0)) continue;
+      const double absorption = medium.sigmaS[c] < sigmaT[c]
+                                    ? sigmaT[c] / (sigmaT[c] - medium.sigmaS[c])
+                                    : std::numeric_limits<double>::infinity();
+      const double across = 0.5 * double(scene.diagonal()) * sigmaT[c];
+      expected = std::max(expected, std::min(3.0 * std::sqrt(absorption), across));
+    }
+    const int estimates = int(options.estimateExitance) + int(options.estimateRadiance);
+    const double predicted = secondsPerEvent * expected * double(n) * options.samples * estimates /
+                             (options.threads <= 0 ? defaultThreadCount() : options.threads);
+    if (expected > kLongWalkEvents) {
+      char text[256];
+      std::snprintf(text, sizeof text,
+                    "the albedo makes walks long: about %.0f scattering events per walk; "
+                    "expect roughly %.0f s (fewer walks, or a diffusion method, are faster)",
+                    expected, predicted);
+      warnNow(text);
+    }
+  }
+
+  if (options.estimateExitance) {
+    result.exitance.assign(n, glm::vec3(0.0f));
+    result.exitanceStdErr.assign(n, glm::vec3(0.0f));
+  }
+  if (options.estimateRadiance) {
+    result.radiance.assign(n, glm::vec3(0.0f));
+    result.radianceStdErr.assign(n, glm::vec3(0.0f));
+  }
+  std::atomic<uint64_t> totalEvents{0}, totalHits{0}, totalWalks{0}, truncated{0}, escaped{0},
+      redrawnWalks{0};
+  Progress progress("pathtrace", n, options.quiet);
+  parallelFor(n, options.threads, 4, [&](std::size_t begin, std::size_t end) {
+    uint64_t events = 0, hits = 0, walks = 0, trunc = 0, esc = 0, redrawn = 0;
+    for (std::size_t k = begin; k < end; ++k) {
+      const std::size_t i = vertexAt(k);
+      Pcg32 rng(options.seed, i);
+      const glm::vec3 normal = glm::normalize(normals[i]);
+      // One sample: for the exitance, outside directions whose inward ray leaves again through
+      // the vertex's own triangles before scattering (grazing directions the faceted 1-ring
+      // cuts off the smooth surface's hemisphere) are redrawn; see the header.
+      auto run = [&](const glm::vec3* fixedWo, double weight, Accumulator& acc) {
+        glm::dvec3 value(0.0);
+        for (int attempt = 0; attempt < kMaxRedraws; ++attempt) {
+          WalkStats stats;
+          const glm::vec3 wo = fixedWo ? *fixedWo : cosineDirection(normal, rng);
+          value = walkFrom(i, normal, wo, rng, stats);
+          events += stats.events;
+          hits += stats.boundaryHits;
+          trunc += stats.truncated;
+          esc += stats.escaped;
+          ++walks;
+          if (!stats.blocked || fixedWo) break;
+          ++redrawn;
+        }
+        acc.add(weight * value);
+      };
+      if (options.estimateExitance) {
+        Accumulator acc;
+        for (int s = 0; s < options.samples; ++s) run(nullptr, M_PI, acc);
+        acc.result(options.samples, result.exitance[k], result.exitanceStdErr[k]);
+      }
+      if (options.estimateRadiance) {
+        const glm::vec3 wo = options.radianceDirection == RadianceDirection::Normal
+                                 ? normal
+                                 : glm::normalize(options.viewPoint - positions[i]);
+        if (glm::dot(wo, normal) > 0.0f) {
+          Accumulator acc;
+          for (int s = 0; s < options.samples; ++s) run(&wo, 1.0, acc);
+          acc.result(options.samples, result.radiance[k], result.radianceStdErr[k]);
+        }
+      }
+      progress.advance();
+    }
+    totalEvents += events;
+    totalHits += hits;
+    totalWalks += walks;
+    truncated += trunc;
+    escaped += esc;
+    redrawnWalks += redrawn;
+  });
+  progress.finish();
+
+  result.walks = totalWalks;
+  result.truncatedWalks = truncated;
+  result.escapedWalks = escaped;
+  result.redrawnDirections = redrawnWalks;
+  result.meanScatteringEvents = result.walks ? double(totalEvents) / double(result.walks) : 0.0;
+  result.meanBoundaryHits = result.walks ? double(totalHits) / double(result.walks) : 0.0;
+  if (result.truncatedWalks > 0)
+    warnNow(std::to_string(result.truncatedWalks) + " of " + std::to_string(result.walks) +
+            " walks reached the cap of " + std::to_string(options.maxScatteringEvents) +
+            " interactions and were dropped (biased low)");
+  if (result.escapedWalks * 1000 > result.walks)
+    warnNow(std::to_string(result.escapedWalks) + " of " + std::to_string(result.walks) +
+            " walks left through holes in the mesh: is it closed?");
+  result.seconds = clock.seconds();
+  return result;
+}
+
+PathTraceResult pathTraceSubsurface(const TriangleMesh& meshMm, const Cubemap& radiance,
+                                    const Material& material, const PathTraceOptions& options) {
+  validateMaterial(material);
+  HomogeneousMedium medium;
+  medium.sigmaA = material.sigmaA;
+  medium.sigmaS = material.sigmaS();
+  medium.eta = material.eta;
+  medium.g = material.g;
+  return pathTraceSubsurface(meshMm.positions, meshMm.normals, meshMm.triangles, radiance, medium,
+                             options);
+}
+
+}  // namespace sss

@@ -1,0 +1,325 @@
+// The accuracy study of issue 5: every profile x diffusion method x tolerance against the Monte
+// Carlo reference (lib/pathtrace), on small scenes where the reference is affordable, plus the
+// half-space totals of every preset and the guard's cost and effect.
+//
+//   accuracy_study OUT_DIR [--quick] [--only NAME] [--walks N]
+//
+// Writes OUT_DIR/halfspace.csv and OUT_DIR/scenes.csv (see tests/bench/accuracy_study.sh, which
+// draws the charts). Data: SSS_SOURCE_DIR/data/cache (run data/fetch.sh).
+//
+// Error metric: radiance leaving each evaluated vertex along its normal, all three channels,
+//   err = sqrt(sum (L - L_ref)^2) / sqrt(sum L_ref^2)     (normalized RMS over vertices),
+// with the diffusion side's radiance from the exit model L = B F_t(1, eta) / (pi (1 - 2 C_1)).
+// The reference's own noise adds sum SE^2 to the numerator's expectation; `err_L` removes it
+// (sqrt(max(0, raw^2 - noise^2))), `err_L_raw` keeps it and `ref_noise` is the noise alone.
+// `bias_L` = sum L / sum L_ref - 1 (the energy error); `shape_err_L` is err_L after the best
+// global scale of L (what remains when the energy is right); `err_B` compares the exitance B with
+// the reference's (no exit model involved).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "bake/diffusion.h"
+#include "bake/visibility.h"
+#include "core/error.h"
+#include "core/timer.h"
+#include "envmap/environment.h"
+#include "material/diffusion_profile.h"
+#include "material/material.h"
+#include "mesh/load_mesh.h"
+#include "mesh/primitives.h"
+#include "optics/fresnel.h"
+#include "pathtrace/interior_segment_guard.h"
+#include "pathtrace/subsurface_path_tracer.h"
+
+namespace {
+
+using namespace sss;
+
+struct Scene {
+  std::string name;
+  TriangleMesh mesh;  // mm
+  Material material;
+  std::string envName;
+  const Cubemap* env;
+  std::size_t evalVertices;  // evaluate this many vertices, evenly spread
+};
+
+struct Reference {
+  std::vector<uint32_t> vertices;
+  std::vector<glm::vec3> radiance, radianceSe, exitance, exitanceSe;
+  double seconds, events;
+};
+
+double sq(double x) {
+  return x * x;
+}
+
+// Normalized RMS of a - b over the evaluated vertices; noise: the reference's SE, same norm.
+struct ErrorPair {
+  double raw, noise, corrected, bias;  // bias: sum(values) / sum(reference) - 1
+  double shape;  // corrected error after the best global scale (least squares): the error
+                 // that is not energy
+};
+ErrorPair relativeRms(const std::vector<glm::vec3>& values, const Reference& ref,
+                      const std::vector<glm::vec3>& refValues,
+                      const std::vector<glm::vec3>& refSe) {
+  double num = 0, den = 0, noise = 0, sum = 0, refSum = 0;
+  for (std::size_t k = 0; k < ref.vertices.size(); ++k) {
+    for (int c = 0; c < 3; ++c) {
+      sum += values[k][c];
+      refSum += refValues[k][c];
+      num += sq(values[k][c] - refValues[k][c]);
+      den += sq(refValues[k][c]);
+      noise += sq(refSe[k][c]);
+    }
+  }
+  double vv = 0, vr = 0;
+  for (std::size_t k = 0; k < ref.vertices.size(); ++k)
+    for (int c = 0; c < 3; ++c) {
+      vv += sq(values[k][c]);
+      vr += double(values[k][c]) * refValues[k][c];
+    }
+  const double scale = vv > 0 ? vr / vv : 1.0;
+  double scaled = 0;
+  for (std::size_t k = 0; k < ref.vertices.size(); ++k)
+    for (int c = 0; c < 3; ++c) scaled += sq(scale * values[k][c] - refValues[k][c]);
+  const double raw = std::sqrt(num / den), nz = std::sqrt(noise / den);
+  const double shapeRaw = std::sqrt(scaled / den);
+  return {raw, nz, std::sqrt(std::max(0.0, raw * raw - nz * nz)), sum / refSum - 1.0,
+          std::sqrt(std::max(0.0, shapeRaw * shapeRaw - nz * nz))};
+}
+
+double relativeRmsAll(const std::vector<glm::vec3>& a, const std::vector<glm::vec3>& b) {
+  double num = 0, den = 0;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      num += sq(a[i][c] - b[i][c]);
+      den += sq(b[i][c]);
+    }
+  return std::sqrt(num / den);
+}
+
+TriangleMesh loadScaled(const std::string& path, double longestMm) {
+  TriangleMesh mesh = loadMesh(path);
+  glm::vec3 lo(INFINITY), hi(-INFINITY);
+  for (const auto& p : mesh.positions) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  const glm::vec3 ext = hi - lo;
+  scalePositions(mesh, longestMm / std::max({ext.x, ext.y, ext.z}));
+  return mesh;
+}
+
+// Half-space totals: a thick box, uniform radiance 1, the top centre vertex. The Monte Carlo
+// exitance divided by the transmitted irradiance pi (1 - 2 C_1) is the true total diffuse
+// reflectance the profiles' totals approximate.
+void halfSpaceStudy(const std::string& outDir, int walks) {
+  std::ofstream csv(outDir + "/halfspace.csv");
+  csv << "material,channel,reduced_albedo,mc_all,mc_all_se,mc_multiple,mc_multiple_se,dipole,"
+         "beam,burley,exit_ratio_normal\n";
+  const Cubemap uniform(8, glm::vec3(1.0f));
+  for (const Material& m : materialPresets()) {
+    const glm::dvec3 ld = m.diffuseMeanFreePath(), mfp = m.meanFreePath();
+    const double lmax = std::max({ld.x, ld.y, ld.z, mfp.x, mfp.y, mfp.z});
+    const float side = float(60.0 * lmax), depth = float(30.0 * lmax);
+    const TriangleMesh box = makeBox(glm::vec3(side, side, depth), 2);
+    uint32_t top = 0;
+    for (uint32_t i = 0; i < box.positions.size(); ++i)
+      if (box.normals[i].z > 0.999f && std::abs(box.positions[i].x) < 1e-3f * side &&
+          std::abs(box.positions[i].y) < 1e-3f * side)
+        top = i;
+    PathTraceOptions options;
+    options.samples = walks;
+    options.vertices = {top};
+    options.quiet = true;
+    options.minScatteringOrder = 1;
+    const PathTraceResult all = pathTraceSubsurface(box, uniform, m, options);
+    options.minScatteringOrder = 2;
+    const PathTraceResult ms = pathTraceSubsurface(box, uniform, m, options);
+    const float eta = float(m.eta);
+    const double et = M_PI * (1.0 - diffuseFresnelReflectance(eta));
+    glm::dvec3 totals[3];
+    const char* kinds[3] = {"dipole", "beam", "burley"};
+    for (int k = 0; k < 3; ++k) totals[k] = makeProfile(kinds[k], m)->totalReflectance();
+    for (int c = 0; c < 3; ++c) {
+      // Exit model check: the radiance along the normal that L = B F_t/(pi (1 - 2 C_1)) predicts
+      // from the Monte Carlo B, divided into the Monte Carlo radiance.
+      const double model =
+          ms.exitance[0][c] * fresnelTransmittance(1.0f, eta) * exitRadianceScale(eta);
+      char line[512];
+      std::snprintf(line, sizeof line, "%s,%c,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.4f\n",
+                    m.name.c_str(), "rgb"[c], m.reducedAlbedo()[c], all.exitance[0][c] / et,
+                    all.exitanceStdErr[0][c] / et, ms.exitance[0][c] / et,
+                    ms.exitanceStdErr[0][c] / et, totals[0][c], totals[1][c], totals[2][c],
+                    ms.radiance[0][c] / model);
+      csv << line;
+    }
+    std::printf("halfspace %-10s done (%.1f s, %.0f events/walk)\n", m.name.c_str(),
+                all.seconds + ms.seconds, all.meanScatteringEvents);
+    std::fflush(stdout);
+  }
+}
+
+void sceneStudy(const Scene& scene, int walks, int visibilitySamples, std::ofstream& csv) {
+  const TriangleMesh& mesh = scene.mesh;
+  const float eta = float(scene.material.eta);
+  const std::size_t n = mesh.positions.size();
+  // Reference on evenly spread vertices.
+  Reference ref;
+  const std::size_t m = std::min(n, scene.evalVertices);
+  for (std::size_t k = 0; k < m; ++k) ref.vertices.push_back(uint32_t(k * n / m));
+  PathTraceOptions options;
+  options.samples = walks;
+  options.vertices = ref.vertices;
+  options.quiet = true;
+  const PathTraceResult pt = pathTraceSubsurface(mesh, *scene.env, scene.material, options);
+  ref.radiance = pt.radiance;
+  ref.radianceSe = pt.radianceStdErr;
+  ref.exitance = pt.exitance;
+  ref.exitanceSe = pt.exitanceStdErr;
+  std::printf("%s: %zu vertices, reference on %zu x %d walks: %.1f s, %.0f events/walk\n",
+              scene.name.c_str(), n, m, walks, pt.seconds, pt.meanScatteringEvents);
+  std::fflush(stdout);
+
+  // Transmitted irradiance with the mesh's shadows (the bake's default stage).
+  VisibilityOptions vis;
+  vis.samples = visibilitySamples;
+  const Stopwatch visClock;
+  const std::vector<glm::vec3> e = transmittedIrradianceWithVisibility(
+      mesh.positions, mesh.normals, mesh.triangles, *scene.env, eta, vis);
+  const double visSeconds = visClock.seconds();
+  const std::vector<float> areas = vertexAreas(mesh);
+  DiffusionInput input{mesh.positions, mesh.normals, areas, e};
+  const double exitScale = fresnelTransmittance(1.0f, eta) * exitRadianceScale(eta);
+
+  auto record = [&](const std::string& profile, const std::string& method,
+                    const std::string& chosen, double tolerance, int gaussians, double seconds,
+                    const std::vector<glm::vec3>& b, const std::vector<glm::vec3>* exact,
+                    double droppedFraction = 0.0) {
+    std::vector<glm::vec3> bEval, lEval;
+    for (uint32_t v : ref.vertices) {
+      bEval.push_back(b[v]);
+      lEval.push_back(b[v] * float(exitScale));
+    }
+    const ErrorPair errL = relativeRms(lEval, ref, ref.radiance, ref.radianceSe);
+    const ErrorPair errB = relativeRms(bEval, ref, ref.exitance, ref.exitanceSe);
+    const double vsExact = exact ? relativeRmsAll(b, *exact) : 0.0;
+    char line[512];
+    std::snprintf(
+        line, sizeof line,
+        "%s,%s,%s,%s,%s,%g,%d,%zu,%.4f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f\n",
+        scene.name.c_str(), scene.material.name.c_str(), profile.c_str(), method.c_str(),
+        chosen.c_str(), tolerance, gaussians, n, visSeconds, seconds, visSeconds + seconds,
+        errL.corrected, errL.raw, errL.noise, errB.corrected, vsExact, droppedFraction, errL.bias,
+        errL.shape);
+    csv << line;
+    csv.flush();
+  };
+
+  for (const std::string& profileName : listProfiles()) {
+    const auto profile = makeProfile(profileName, scene.material);
+    DiffusionOptions dopt;
+    dopt.quiet = true;
+    dopt.method = DiffusionMethod::Exact;
+    const DiffusionResult exact = diffuse(input, *profile, dopt);
+    record(profileName, "exact", "exact", 0.0, 0, exact.report.totalSeconds, exact.exitance,
+           &exact.exitance);
+    for (double tol : {0.1, 0.03, 0.01, 0.003}) {
+      for (DiffusionMethod method : {DiffusionMethod::Gauss, DiffusionMethod::Incremental,
+                                     DiffusionMethod::Hierarchical, DiffusionMethod::Auto}) {
+        dopt.method = method;
+        dopt.tolerance = tol;
+        const DiffusionResult r = diffuse(input, *profile, dopt);
+        record(profileName, toString(method), toString(r.report.method), tol, r.report.gaussians,
+               r.report.totalSeconds, r.exitance, &exact.exitance);
+      }
+    }
+    for (bool guard : {false, true}) {
+      GuardedSumOptions gopt;
+      gopt.guard = guard;
+      const GuardedSumResult g = diffuseExactGuarded(mesh.positions, mesh.normals, areas, e,
+                                                     mesh.triangles, *profile, gopt);
+      record(profileName, guard ? "exact-guard" : "exact-noguard", guard ? "guard" : "noguard", 0.0,
+             0, g.seconds, g.exitance, &exact.exitance,
+             double(g.droppedPairs) / double(std::max<uint64_t>(g.pairs, 1)));
+    }
+    std::printf("%s: %s done\n", scene.name.c_str(), profileName.c_str());
+    std::fflush(stdout);
+  }
+}
+
+int run(int argc, char** argv) {
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: accuracy_study OUT_DIR [--quick] [--only NAME] [--walks N]\n");
+    return 2;
+  }
+  const std::string outDir = argv[1];
+  bool quick = false;
+  std::string only;
+  int walksArg = 0;
+  for (int i = 2; i < argc; ++i) {
+    if (std::string(argv[i]) == "--quick") quick = true;
+    if (std::string(argv[i]) == "--only" && i + 1 < argc) only = argv[++i];
+    if (std::string(argv[i]) == "--walks" && i + 1 < argc) walksArg = std::atoi(argv[++i]);
+  }
+  std::filesystem::create_directories(outDir);
+  const std::string cache = std::string(SSS_SOURCE_DIR) + "/data/cache";
+  if (!std::filesystem::exists(cache + "/meshes/dragon_res4.ply"))
+    fail(cache, "sample data missing: run data/fetch.sh");
+  const int walks = walksArg > 0 ? walksArg : quick ? 256 : 4096;
+  const std::size_t evalVertices = quick ? 48 : 96;
+
+  if (only.empty() || only == "halfspace") halfSpaceStudy(outDir, quick ? 4000 : 40000);
+
+  // The reference's noise grows with the environment's contrast (the walk picks one direction
+  // per exit), so the scenes use forest.exr area-averaged to 4 x 4 texels per face (a blurred
+  // forest: the diffusion error does not depend on sharp lighting); the strong-sun scene keeps a
+  // 3-degree sun at full resolution.
+  EnvironmentOptions envOptions;
+  envOptions.faceSize = 4;
+  const Cubemap forest = loadEnvironment(cache + "/env/forest.exr", envOptions);
+  SkyParameters sun;
+  sun.sunAngularRadiusDeg = 3.0f;
+  const Cubemap sky = makeSky(sun, 128);
+  const Material marble = findMaterialPreset("marble");
+  const Material ketchup = findMaterialPreset("ketchup");
+  std::vector<Scene> scenes = {
+      {"sphere", makeIcosphere(3, 10.0f), marble, "forest-blur", &forest, evalVertices},
+      {"slab", makeSlab(40.0f, 2.0f, 16), marble, "forest-blur", &forest, evalVertices},
+      {"cube", makeBox(glm::vec3(20.0f), 8), marble, "forest-blur", &forest, evalVertices},
+      {"dragon", loadScaled(cache + "/meshes/dragon_res4.ply", 150.0), marble, "forest-blur",
+       &forest, evalVertices},
+      {"sphere-ketchup", makeIcosphere(3, 10.0f), ketchup, "forest-blur", &forest, evalVertices},
+      {"sphere-coarse", makeIcosphere(1, 10.0f), marble, "forest-blur", &forest, evalVertices},
+      {"sphere-sun", makeIcosphere(3, 10.0f), marble, "sky", &sky, evalVertices},
+  };
+  std::ofstream csv(outDir + "/scenes.csv");
+  csv << "scene,material,profile,method,chosen,tolerance,gaussians,vertices,visibility_s,"
+         "diffusion_s,bake_s,err_L,err_L_raw,ref_noise,err_B,err_vs_exact,dropped_pairs,bias_L,"
+         "shape_err_L\n";
+  for (const Scene& s : scenes) {
+    if (!only.empty() && only != s.name) continue;
+    sceneStudy(s, walks, 128, csv);
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "accuracy_study: error: %s\n", e.what());
+    return 1;
+  }
+}

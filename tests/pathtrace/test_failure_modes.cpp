@@ -1,0 +1,178 @@
+// Where diffusion methods fail, pinned against the Monte Carlo reference (issue 5). Each test
+// states the measured behaviour; if a change to a profile, the diffusion sums or the path tracer
+// moves it, the test says so. Numbers: docs/accuracy (tests/bench/accuracy_study.sh).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "bake/diffusion.h"
+#include "bake/visibility.h"
+#include "envmap/cubemap.h"
+#include "material/diffusion_profile.h"
+#include "material/material.h"
+#include "mesh/primitives.h"
+#include "optics/fresnel.h"
+#include "pathtrace/subsurface_path_tracer.h"
+
+namespace sss {
+namespace {
+
+// Radiance 1 from directions with z > 0, 0 below: light from one side of a slab.
+Cubemap upperHemisphere() {
+  Cubemap c(16);
+  for (int f = 0; f < 6; ++f)
+    for (int y = 0; y < c.size(); ++y)
+      for (int x = 0; x < c.size(); ++x)
+        c.at(f, x, y) = glm::vec3(c.direction(f, x, y).z > 0.0f ? 1.0f : 0.0f);
+  return c;
+}
+
+std::size_t nearestVertex(const TriangleMesh& mesh, const glm::vec3& p) {
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < mesh.positions.size(); ++i)
+    if (glm::length(mesh.positions[i] - p) < glm::length(mesh.positions[best] - p)) best = i;
+  return best;
+}
+
+std::vector<glm::vec3> diffuseExact(const TriangleMesh& mesh, const std::vector<glm::vec3>& e,
+                                    const DiffusionProfile& profile) {
+  const std::vector<float> areas = vertexAreas(mesh);
+  DiffusionOptions options;
+  options.method = DiffusionMethod::Exact;
+  options.quiet = true;
+  return diffuse({mesh.positions, mesh.normals, areas, e}, profile, options).exitance;
+}
+
+// Thin parts: a 1 mm marble slab (2.6 reduced mean free paths) lit from above only. The truth
+// sends much of the light through to the unlit side; the profiles assume a half-space, so the
+// diffusion sum returns that light on the lit side instead. Measured (Monte Carlo / dipole):
+// top 1.67 / 2.46 (+47%), bottom 1.10 / 1.30 (+19%).
+TEST(FailureModes, ThinSlabDiffusionOverestimatesTheLitSide) {
+  const Material marble = findMaterialPreset("marble");
+  const TriangleMesh slab = makeSlab(30.0f, 1.0f, 24);
+  const Cubemap light = upperHemisphere();
+  const uint32_t top = uint32_t(nearestVertex(slab, glm::vec3(0.0f, 0.0f, 0.5f)));
+  const uint32_t bottom = uint32_t(nearestVertex(slab, glm::vec3(0.0f, 0.0f, -0.5f)));
+  PathTraceOptions options;
+  options.samples = 6000;
+  options.vertices = {top, bottom};
+  options.estimateRadiance = false;
+  options.quiet = true;
+  const PathTraceResult pt = pathTraceSubsurface(slab, light, marble, options);
+  VisibilityOptions vis;
+  vis.samples = 64;
+  const std::vector<glm::vec3> e = transmittedIrradianceWithVisibility(
+      slab.positions, slab.normals, slab.triangles, light, float(marble.eta), vis);
+  const auto dipole = makeProfile("dipole", marble);
+  const std::vector<glm::vec3> b = diffuseExact(slab, e, *dipole);
+  const double topRatio = b[top].y / pt.exitance[0].y;
+  const double bottomRatio = b[bottom].y / pt.exitance[1].y;
+  EXPECT_LT(pt.exitanceStdErr[1].y, 0.03 * pt.exitance[1].y);
+  EXPECT_GT(pt.exitance[1].y, 0.5 * pt.exitance[0].y) << "the slab transmits";
+  EXPECT_GT(topRatio, 1.3) << "lit side: dipole / Monte Carlo";
+  EXPECT_LT(topRatio, 1.7);
+  EXPECT_NEAR(bottomRatio, 1.19, 0.12) << "unlit side: dipole / Monte Carlo";
+}
+
+// Low albedo: the exit model L = B F_t / (pi (1 - 2 C_1)) assumes the diffuse angular shape of
+// strongly scattering media. On a half-space (eta 1.3, uniform light, multiple scattering) the
+// Monte Carlo radiance along the normal matches it within 1% at alpha' = 0.99 but is 6% below
+// it at alpha' = 0.5 and 0.05: less scattered light leaves more grazing.
+TEST(FailureModes, ExitModelHoldsAtHighAlbedoOnly) {
+  const TriangleMesh box = makeBox(glm::vec3(120.0f, 120.0f, 60.0f), 2);
+  const uint32_t top = uint32_t(nearestVertex(box, glm::vec3(0.0f, 0.0f, 30.0f)));
+  const Cubemap uniform(8, glm::vec3(1.0f));
+  HomogeneousMedium medium;
+  medium.eta = 1.3;
+  const glm::dvec3 albedo(0.99, 0.5, 0.05);
+  medium.sigmaS = albedo;  // sigma_t = 1 / mm
+  medium.sigmaA = 1.0 - albedo;
+  PathTraceOptions options;
+  options.samples = 40000;
+  options.vertices = {top};
+  options.minScatteringOrder = 2;  // the diffusion part the exit model describes
+  options.quiet = true;
+  const PathTraceResult pt =
+      pathTraceSubsurface(box.positions, box.normals, box.triangles, uniform, medium, options);
+  const double scale = fresnelTransmittance(1.0f, 1.3f) * exitRadianceScale(1.3f);
+  glm::dvec3 ratio;
+  for (int c = 0; c < 3; ++c) ratio[c] = pt.radiance[0][c] / (pt.exitance[0][c] * scale);
+  EXPECT_NEAR(ratio.x, 1.0, 0.03);
+  EXPECT_NEAR(ratio.y, 0.94, 0.035);
+  EXPECT_NEAR(ratio.z, 0.94, 0.05);
+  EXPECT_LT(std::max(ratio.y, ratio.z), 0.975);
+}
+
+// Uniform light on a marble sphere: dipole exitance / Monte Carlo exitance, averaged over vertices.
+double dipoleOverReference(int subdivisions, uint32_t vertices, int walks) {
+  const Material marble = findMaterialPreset("marble");
+  const TriangleMesh sphere = makeIcosphere(subdivisions, 10.0f);
+  const Cubemap uniform(8, glm::vec3(1.0f));
+  PathTraceOptions options;
+  options.samples = walks;
+  options.estimateRadiance = false;
+  options.quiet = true;
+  for (uint32_t k = 0; k < vertices; ++k)
+    options.vertices.push_back(uint32_t(k * sphere.positions.size() / vertices));
+  const PathTraceResult pt = pathTraceSubsurface(sphere, uniform, marble, options);
+  const std::vector<glm::vec3> e(sphere.positions.size(),
+                                 glm::vec3(float(M_PI * (1.0 - diffuseFresnelReflectance(1.3f)))));
+  const auto dipole = makeProfile("dipole", marble);
+  const std::vector<glm::vec3> b = diffuseExact(sphere, e, *dipole);
+  double ptSum = 0, bSum = 0;
+  for (uint32_t k = 0; k < vertices; ++k) {
+    ptSum += pt.exitance[k].y;
+    bSum += b[options.vertices[k]].y;
+    EXPECT_TRUE(std::isfinite(b[options.vertices[k]].y));
+  }
+  return bSum / ptSum;
+}
+
+// Small objects and very coarse meshes. A 10 mm marble sphere is about one diffusion length
+// across: the light a half-space would absorb far away leaves the sphere instead, so the dipole
+// (which assumes a half-space) is 11% low under uniform light on a 642-vertex sphere. Coarsening
+// the mesh to 42 vertices (edges 6 mm, 0.7 diffusion lengths) costs another 4%: the
+// disc-integrated self term keeps B finite and close.
+TEST(FailureModes, SmallObjectsAreUnderestimatedCoarseMeshesAddLittle) {
+  const double fine = dipoleOverReference(3, 42, 300);
+  const double coarse = dipoleOverReference(1, 42, 300);
+  EXPECT_NEAR(fine, 0.89, 0.03);
+  EXPECT_NEAR(coarse / fine, 0.955, 0.03);
+}
+
+// Strong sun: the reference picks one environment direction per exit, so a small bright sun
+// makes it noisy (27% per vertex with 4096 walks in the study's sun scene) and the comparison
+// with diffusion there is limited by that noise. What must hold is that the reported standard
+// errors are honest: two seeds differ by what they claim (mean squared z-score ~ 1).
+TEST(FailureModes, StrongSunStandardErrorsAreHonest) {
+  const Material marble = findMaterialPreset("marble");
+  const TriangleMesh sphere = makeIcosphere(2, 10.0f);
+  Cubemap sun(16, glm::vec3(0.2f));
+  sun.at(int(CubeFace::PosY), 7, 7) = glm::vec3(5000.0f);  // ~0.003 sr, 99% of the energy
+  PathTraceOptions options;
+  options.samples = 128;
+  options.estimateRadiance = false;
+  options.quiet = true;
+  for (uint32_t k = 0; k < 64; ++k) options.vertices.push_back(k * 162 / 64);
+  const PathTraceResult a = pathTraceSubsurface(sphere, sun, marble, options);
+  options.seed = 2;
+  const PathTraceResult b = pathTraceSubsurface(sphere, sun, marble, options);
+  double z2 = 0.0, relSe = 0.0;
+  for (std::size_t k = 0; k < options.vertices.size(); ++k) {
+    const double d = a.exitance[k].y - b.exitance[k].y;
+    const double se2 = a.exitanceStdErr[k].y * a.exitanceStdErr[k].y +
+                       b.exitanceStdErr[k].y * b.exitanceStdErr[k].y;
+    z2 += d * d / se2 / double(options.vertices.size());
+    relSe += a.exitanceStdErr[k].y / a.exitance[k].y / double(options.vertices.size());
+  }
+  EXPECT_GT(relSe, 0.1) << "a sun is noisy for the reference";
+  EXPECT_GT(z2, 0.5);
+  EXPECT_LT(z2, 2.0);
+}
+
+}  // namespace
+}  // namespace sss

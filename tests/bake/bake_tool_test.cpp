@@ -1,0 +1,312 @@
+// sss-bake through its binary: a good bake, determinism across threads, and every bad input of
+// issue 3 (stderr text, exit code, no output file and no temporary left behind).
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "envmap/cubemap_io.h"
+#include "mesh/baked_ply.h"
+#include "mesh/primitives.h"
+#include "optics/fresnel.h"
+
+namespace fs = std::filesystem;
+
+namespace sss {
+namespace {
+
+const std::string kTool = SSS_BINARY_DIR "/tools/sss-bake";
+
+struct RunResult {
+  int exitCode;
+  std::string output;  // stdout and stderr
+};
+
+RunResult run(const std::string& arguments) {
+  const std::string command = kTool + " " + arguments + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  std::string output;
+  char buffer[4096];
+  while (std::size_t n = std::fread(buffer, 1, sizeof buffer, pipe)) output.append(buffer, n);
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
+std::string readFile(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// ASCII PLY with optional normals; faces as given.
+void writeAsciiPly(const fs::path& path, const TriangleMesh& mesh, bool normals) {
+  std::ofstream out(path);
+  out << "ply\nformat ascii 1.0\nelement vertex " << mesh.positions.size()
+      << "\nproperty float x\nproperty float y\nproperty float z\n";
+  if (normals) out << "property float nx\nproperty float ny\nproperty float nz\n";
+  out << "element face " << mesh.triangles.size()
+      << "\nproperty list uchar int vertex_indices\nend_header\n";
+  for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+    const glm::vec3 p = mesh.positions[i];
+    out << p.x << " " << p.y << " " << p.z;
+    if (normals)
+      out << " " << mesh.normals[i].x << " " << mesh.normals[i].y << " " << mesh.normals[i].z;
+    out << "\n";
+  }
+  for (const glm::uvec3& t : mesh.triangles) out << "3 " << t.x << " " << t.y << " " << t.z << "\n";
+}
+
+void writeBinaryPly(const fs::path& path, const TriangleMesh& mesh) {
+  std::ofstream out(path, std::ios::binary);
+  out << "ply\nformat binary_little_endian 1.0\nelement vertex " << mesh.positions.size()
+      << "\nproperty float x\nproperty float y\nproperty float z\nelement face "
+      << mesh.triangles.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
+  for (const glm::vec3& p : mesh.positions) out.write(reinterpret_cast<const char*>(&p), 12);
+  for (const glm::uvec3& t : mesh.triangles) {
+    const unsigned char three = 3;
+    out.write(reinterpret_cast<const char*>(&three), 1);
+    out.write(reinterpret_cast<const char*>(&t), 12);
+  }
+}
+
+class BakeTool : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::path(SSS_BINARY_DIR) / "tests" / "bake" /
+           ("tmp_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    writeCubemap((dir_ / "white.exr").string(), Cubemap(8, glm::vec3(1.0f)));
+    sphere_ = makeIcosphere(2, 10.0f);
+    writeAsciiPly(dir_ / "sphere.ply", sphere_, true);
+  }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  // Common arguments for mesh `name` with output out.ply.
+  std::string args(const std::string& mesh, const std::string& extra, int samples = 16) const {
+    return path(mesh) + " -e " + path("white.exr") + " -o " + path("out.ply") + " --samples " +
+           std::to_string(samples) + " -q " + extra;
+  }
+  // An error: exit code 1, one "sss-bake: error:" line containing `text`, nothing written.
+  void expectError(const RunResult& r, const std::string& text) const {
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_NE(r.output.find("sss-bake: error:"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(text), std::string::npos) << "expected '" << text << "' in:\n"
+                                                      << r.output;
+    EXPECT_FALSE(fs::exists(dir_ / "out.ply"));
+    for (const auto& entry : fs::directory_iterator(dir_)) {
+      EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos)
+          << "left behind: " << entry.path();
+    }
+  }
+
+  fs::path dir_;
+  TriangleMesh sphere_;
+};
+
+TEST_F(BakeTool, BakesASphereUnderUniformLight) {
+  const RunResult r =
+      run(args("sphere.ply", "-m marble --mm-per-unit 1 --json " + path("r.json"), 128));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const BakedPlyContents baked = readBakedPly(path("out.ply"));
+  ASSERT_TRUE(baked.hasIrradiance && baked.hasExitance && baked.hasMaterial && baked.hasUnits);
+  EXPECT_EQ(baked.baked.materialName, "marble");
+  EXPECT_EQ(baked.baked.mmPerUnit, 1.0);
+  ASSERT_EQ(baked.baked.mesh.vertexCount(), sphere_.vertexCount());
+  // Convex, uniform unit radiance: E = pi (1 - 2 C_1(eta)) at every vertex, no shadows.
+  const double expected = M_PI * (1.0 - diffuseFresnelReflectance(1.3f));
+  // Monte Carlo: 128 rays give ~1.5% RMS per vertex; the mean has no bias.
+  double mean = 0.0;
+  for (const glm::vec3& e : baked.baked.irradiance) {
+    ASSERT_NEAR(e.g / expected, 1.0, 0.06);
+    mean += e.g / expected / static_cast<double>(sphere_.vertexCount());
+  }
+  EXPECT_NEAR(mean, 1.0, 0.005);
+  for (const glm::vec3& b : baked.baked.exitance) {
+    ASSERT_TRUE(b.r > 0.0f && b.r < expected);  // total reflectance < 1
+  }
+  const auto report = nlohmann::json::parse(readFile(dir_ / "r.json"));
+  EXPECT_EQ(report["mesh"]["vertices"], sphere_.vertexCount());
+  EXPECT_EQ(report["material"]["name"], "marble");
+  EXPECT_EQ(report["visibility"]["mode"], "rays");
+  EXPECT_EQ(report["visibility"]["occluded_fraction"], 0.0);
+  EXPECT_TRUE(report["exitance"].contains("profile_fit"));
+  // Auto picks exact for so few vertices; every other method reports its fit.
+  const std::string method = report["exitance"]["method"];
+  EXPECT_EQ(report["exitance"]["profile_fit"]["gaussians"].get<int>() > 0, method != "exact");
+  EXPECT_TRUE(report["stages"].contains("irradiance_s"));
+
+  // Without visibility: the irradiance cubemap lookup, within its 1% tolerance.
+  const RunResult none = run(args("sphere.ply", "-m marble --mm-per-unit 1 --visibility none"));
+  ASSERT_EQ(none.exitCode, 0) << none.output;
+  for (const glm::vec3& e : readBakedPly(path("out.ply")).baked.irradiance) {
+    ASSERT_NEAR(e.g / expected, 1.0, 0.01);
+  }
+}
+
+TEST_F(BakeTool, SameOutputForOneAndTwoThreads) {
+  ASSERT_EQ(run(args("sphere.ply", "-m skin1 --unit cm --threads 1")).exitCode, 0);
+  fs::rename(dir_ / "out.ply", dir_ / "one.ply");
+  ASSERT_EQ(run(args("sphere.ply", "-m skin1 --unit cm --threads 2")).exitCode, 0);
+  EXPECT_EQ(readFile(dir_ / "one.ply"), readFile(dir_ / "out.ply"));
+}
+
+TEST_F(BakeTool, PathTraceReferenceWritesTheSameFormat) {
+  const RunResult r = run(args(
+      "sphere.ply", "-m marble --unit mm --method pathtrace --walks 8 --json " + path("r.json")));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const BakedPlyContents baked = readBakedPly(path("out.ply"));
+  ASSERT_TRUE(baked.hasIrradiance && baked.hasExitance);
+  double sumB = 0.0, sumE = 0.0;
+  for (std::size_t v = 0; v < baked.baked.exitance.size(); ++v) {
+    ASSERT_TRUE(std::isfinite(baked.baked.exitance[v].g) && baked.baked.exitance[v].g >= 0.0f);
+    sumB += baked.baked.exitance[v].g;
+    sumE += baked.baked.irradiance[v].g;
+  }
+  // Energy: under uniform light a convex body returns less than enters, but most of it for
+  // marble (albedo ~0.999).
+  EXPECT_GT(sumB / sumE, 0.3);
+  EXPECT_LT(sumB / sumE, 1.0);
+  const auto report = nlohmann::json::parse(readFile(dir_ / "r.json"));
+  EXPECT_EQ(report["exitance"]["method"], "pathtrace");
+  EXPECT_GT(report["exitance"]["estimated_error"].get<double>(), 0.0);
+}
+
+TEST_F(BakeTool, ArtistMaterialUnderTheProceduralSky) {
+  const RunResult r =
+      run(path("sphere.ply") + " --sky=elevation=40 --albedo 0.8,0.6,0.4 --mfp 2 " +
+          "--size-mm 30 --samples 16 -q -o " + path("out.ply") + " --json " + path("r.json"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const auto report = nlohmann::json::parse(readFile(dir_ / "r.json"));
+  EXPECT_EQ(report["environment"]["source"], "sky:elevation=40");
+  EXPECT_DOUBLE_EQ(report["units"]["longest_side_mm"].get<double>(), 30.0);
+  EXPECT_EQ(report["material"]["eta"], 1.3);
+  // The inversion hits the requested diffuse mean free path.
+  EXPECT_NEAR(report["material"]["diffuse_mean_free_path_mm"][1].get<double>(), 2.0, 1e-6);
+  // Sunlit from above: the top of the sphere is brighter than the bottom.
+  const BakedPlyContents baked = readBakedPly(path("out.ply"));
+  float top = 0.0f, bottom = 0.0f;
+  for (std::size_t v = 0; v < baked.baked.mesh.vertexCount(); ++v) {
+    if (baked.baked.mesh.normals[v].y > 0.9f) top = std::max(top, baked.baked.exitance[v].g);
+    if (baked.baked.mesh.normals[v].y < -0.9f) bottom = std::max(bottom, baked.baked.exitance[v].g);
+  }
+  EXPECT_GT(top, 2.0f * bottom);
+}
+
+TEST_F(BakeTool, ListsMaterials) {
+  const RunResult r = run("--list-materials");
+  EXPECT_EQ(r.exitCode, 0);
+  for (const char* name : {"apple", "marble", "skimmilk", "wholemilk", "ketchup"}) {
+    EXPECT_NE(r.output.find(name), std::string::npos) << name;
+  }
+}
+
+TEST_F(BakeTool, MissingUnitsIsAnError) {
+  expectError(run(args("sphere.ply", "-m marble")), "units are missing");
+}
+
+TEST_F(BakeTool, MissingMeshIsAnError) {
+  expectError(run(args("nothere.ply", "-m marble --unit mm")), "nothere.ply");
+}
+
+TEST_F(BakeTool, CorruptMeshIsAnError) {
+  std::ofstream(dir_ / "garbage.ply") << "this is not a mesh\n\x01\x02\x03";
+  expectError(run(args("garbage.ply", "-m marble --unit mm")), "garbage.ply");
+}
+
+TEST_F(BakeTool, TruncatedMeshIsAnError) {
+  writeBinaryPly(dir_ / "full.ply", sphere_);
+  const std::string bytes = readFile(dir_ / "full.ply");
+  std::ofstream(dir_ / "cut.ply", std::ios::binary) << bytes.substr(0, bytes.size() * 2 / 3);
+  expectError(run(args("cut.ply", "-m marble --unit mm")), "cut.ply");
+}
+
+TEST_F(BakeTool, ZeroFacesIsAnError) {
+  TriangleMesh points = sphere_;
+  points.triangles.clear();
+  writeAsciiPly(dir_ / "points.ply", points, false);
+  expectError(run(args("points.ply", "-m marble --unit mm")), "points.ply");
+}
+
+TEST_F(BakeTool, NanCoordinatesAreAnError) {
+  TriangleMesh bad = sphere_;
+  bad.positions[5].y = std::nanf("");
+  writeAsciiPly(dir_ / "nan.ply", bad, false);
+  expectError(run(args("nan.ply", "-m marble --unit mm")), "nan.ply");
+}
+
+TEST_F(BakeTool, DegenerateAndDuplicateFacesAreDroppedWithACount) {
+  TriangleMesh mesh = sphere_;
+  mesh.triangles.push_back(mesh.triangles[0]);    // duplicate
+  mesh.triangles.push_back(glm::uvec3(4, 4, 7));  // degenerate
+  writeAsciiPly(dir_ / "dirty.ply", mesh, false);
+  const RunResult r = run(args("dirty.ply", "-m marble --unit mm --json " + path("r.json")));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("warning"), std::string::npos) << r.output;
+  const auto report = nlohmann::json::parse(readFile(dir_ / "r.json"));
+  EXPECT_EQ(report["mesh"]["dropped_duplicate"], 1);
+  EXPECT_EQ(report["mesh"]["dropped_degenerate"], 1);
+  EXPECT_EQ(report["mesh"]["triangles"], sphere_.triangleCount());
+  EXPECT_TRUE(report["mesh"]["normals_computed"].get<bool>());
+}
+
+TEST_F(BakeTool, NonManifoldMeshGivesAWarning) {
+  TriangleMesh mesh = sphere_;
+  // A fin: a third triangle on an existing edge.
+  const glm::uvec3 t = mesh.triangles[0];
+  mesh.positions.push_back(mesh.positions[t.x] * 1.5f);
+  mesh.normals.push_back(mesh.normals[t.x]);
+  mesh.triangles.push_back(glm::uvec3(t.x, t.y, static_cast<unsigned>(mesh.positions.size() - 1)));
+  writeAsciiPly(dir_ / "fin.ply", mesh, true);
+  const RunResult r = run(args("fin.ply", "-m marble --unit mm --json " + path("r.json")));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("non-manifold"), std::string::npos) << r.output;
+  EXPECT_GT(nlohmann::json::parse(readFile(dir_ / "r.json"))["mesh"]["non_manifold_edges"], 0);
+}
+
+TEST_F(BakeTool, InsideOutMeshIsFlippedWithAWarning) {
+  TriangleMesh mesh = sphere_;
+  for (glm::uvec3& t : mesh.triangles) std::swap(t.y, t.z);
+  writeAsciiPly(dir_ / "inverted.ply", mesh, false);
+  const RunResult r = run(args("inverted.ply", "-m marble --unit mm --json " + path("r.json")));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("warning"), std::string::npos) << r.output;
+  EXPECT_TRUE(
+      nlohmann::json::parse(readFile(dir_ / "r.json"))["mesh"]["orientation_flipped"].get<bool>());
+}
+
+TEST_F(BakeTool, BadCoefficientsAreErrors) {
+  expectError(run(args("sphere.ply", "--sigma-a -0.1,0.1,0.1 --sigma-s 1 --unit mm")), "negative");
+  expectError(run(args("sphere.ply", "--sigma-a 1e9 --sigma-s 1 --unit mm")), "material");
+  expectError(run(args("sphere.ply", "-m marble --eta 0.9 --unit mm")), "eta");
+  expectError(run(args("sphere.ply", "--sigma-a 0.1,x,0.1 --sigma-s 1 --unit mm")), "--sigma-a");
+  expectError(run(args("sphere.ply", "--sigma-a 0.1 --unit mm")), "--sigma-s");
+}
+
+TEST_F(BakeTool, BadChoicesAreErrors) {
+  expectError(run(args("sphere.ply", "-m jelly --unit mm")), "marble");
+  expectError(run(args("sphere.ply", "-m marble --unit furlong")), "furlong");
+  expectError(run(args("sphere.ply", "-m marble --mm-per-unit -2")), "--mm-per-unit");
+  expectError(run(args("sphere.ply", "-m marble --unit mm --method fastest")), "fastest");
+  expectError(run(args("sphere.ply", "-m marble --unit mm --visibility some")), "some");
+  expectError(run(args("sphere.ply", "-m marble --unit mm", 1)), "--samples");
+  expectError(run(args("sphere.ply", "-m marble --unit mm --tolerance 0")), "--tolerance");
+  expectError(run(path("sphere.ply") + " -m marble --unit mm -o " + path("out.ply")), "-e ENV");
+}
+
+TEST_F(BakeTool, BadEnvironmentIsAnError) {
+  std::ofstream(dir_ / "env.exr") << "not an image";
+  expectError(run(path("sphere.ply") + " -e " + path("env.exr") + " -m marble --unit mm -q -o " +
+                  path("out.ply")),
+              "env.exr");
+}
+
+}  // namespace
+}  // namespace sss

@@ -1,0 +1,67 @@
+// The speed target: the dragon with ~100K vertices (dragon_res2, scaled to 150 mm),
+// marble, forest environment, 64 visibility rays per vertex, 1% diffusion tolerance: the whole
+// bake (load, environment, visibility, diffusion; not the PLY write) <= 5 s on 2 cores, peak
+// memory <= 1 GB. Counters: stage seconds from the bake's report and the process's peak RSS.
+// Run with --benchmark_repetitions=5 --benchmark_report_aggregates_only=true for medians.
+#include <benchmark/benchmark.h>
+#include <sys/resource.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "bake/bake.h"
+#include "core/tool.h"
+
+namespace {
+
+const std::string kData = SSS_SOURCE_DIR "/data/cache";
+
+void BM_BakeDragon(benchmark::State& state, const char* mesh, const char* visibility) {
+  const std::string meshPath = kData + "/meshes/" + mesh + ".ply";
+  if (!std::filesystem::exists(meshPath)) {
+    state.SkipWithError(("missing " + meshPath + ": run data/fetch.sh").c_str());
+    return;
+  }
+  sss::BakeSettings settings;
+  settings.meshPath = meshPath;
+  settings.environment = kData + "/env/forest.exr";
+  settings.material = sss::findMaterialPreset("marble");
+  settings.sizeMm = 150.0;
+  settings.visibility = sss::parseVisibilityMode(visibility);
+  settings.samples = 64;
+  settings.tolerance = 0.01;
+  settings.threads = static_cast<int>(state.range(0));
+  settings.quiet = true;
+  nlohmann::json report;
+  for (auto _ : state) {
+    sss::BakeOutput out = sss::bake(settings);
+    report = nlohmann::json::parse(out.reportJson);
+    benchmark::DoNotOptimize(out.baked.exitance.data());
+  }
+  for (const auto& [stage, seconds] : report["stages"].items()) {
+    state.counters[stage] = seconds.get<double>();
+  }
+  state.counters["vertices"] = report["mesh"]["vertices"].get<double>();
+  state.SetLabel(report["exitance"]["method"].get<std::string>());
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  state.counters["peak_rss_mb"] = static_cast<double>(usage.ru_maxrss) / 1024.0;
+}
+
+BENCHMARK_CAPTURE(BM_BakeDragon, res2_rays, "dragon_res2", "rays")
+    ->Arg(2)
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_BakeDragon, res2_none, "dragon_res2", "none")
+    ->Arg(2)
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1)
+    ->UseRealTime();
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,14 +1,11 @@
 #!/usr/bin/env bash
 # The default pipeline (run by command 1): environment -> cubemaps (sss-irrmap, on the sample
 # environment forest.exr and on the procedural --sky), marble bunny baked under forest.exr
-# (sss-bake), rendered to a PNG (sss-render). Writes everything to out/ and lists the pictures.
+# (sss-bake), rendered to a PNG (sss-render); then the paper's figures and Table 1
+# (tools/paper-figures.sh, into out/paper). Writes everything to out/ and lists the pictures.
 # Needs a Release build in build/ (SSS_BUILD_DIR overrides) and data/fetch.sh's sample data.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
-
-# TEMPORARY, while the tools are being written: a step whose binary is not built yet is skipped
-# with a message instead of failing. Set to 0 (and drop this fallback) once every tool builds.
-skip_unbuilt_tools=1
 
 bin=${SSS_BUILD_DIR:-build}/tools
 out=out
@@ -26,15 +23,11 @@ mkdir -p "$out"
 started=$(mktemp)
 trap 'rm -f "$started"' EXIT
 
-# Runs tool ARGS... from the build, or skips it (see skip_unbuilt_tools) when it is not built.
+# Runs tool ARGS... from the build.
 run() {
   local tool=$1
   shift
   if [[ ! -x $bin/$tool ]]; then
-    if [[ $skip_unbuilt_tools == 1 ]]; then
-      echo "run-pipeline: $bin/$tool is not built yet: skipping $tool $*"
-      return
-    fi
     echo "run-pipeline: error: $bin/$tool is missing: build it (tools/setup.sh)" >&2
     exit 1
   fi
@@ -48,16 +41,10 @@ run sss-irrmap --sky --radiance "$out/sky_radiance.exr" -o "$out/sky_irradiance.
   --json "$out/sky_irrmap.json"
 run sss-bake "$mesh" -e "$env" -m marble --mm-per-unit "$bunny_mm_per_unit" \
   -o "$out/bunny_marble.ply" --json "$out/bunny_marble_bake.json"
-if [[ -x $bin/sss-bake || $skip_unbuilt_tools == 0 ]]; then
-  run sss-render "$out/bunny_marble.ply" -e "$env" -o "$out/bunny_marble.png"
-else
-  echo "run-pipeline: sss-bake is not built yet: skipping sss-render"
-fi
+run sss-render "$out/bunny_marble.ply" -e "$env" -o "$out/bunny_marble.png" --exposure -1
+SSS_BUILD_DIR=${SSS_BUILD_DIR:-build} bash tools/paper-figures.sh "$out/paper"
 
-pictures=$(find "$out" -maxdepth 1 -name '*.png' -newer "$started" | sort)
-if [[ -n $pictures ]]; then
-  echo "Pictures in $(pwd)/$out:"
-  while read -r picture; do echo "  $picture"; done <<<"$pictures"
-else
-  echo "run-pipeline: no pictures written (the tools above are not built yet)"
-fi
+echo "Pictures in $(pwd)/$out:"
+find "$out" -name '*.png' -newer "$started" | sort | while read -r picture; do
+  echo "  $picture"
+done

@@ -12,6 +12,7 @@
 
 #include "core/atomic_output.h"
 #include "core/error.h"
+#include "core/file_extension.h"
 #include "core/timer.h"
 #include "core/tool.h"
 #include "envmap/cubemap_io.h"
@@ -32,16 +33,10 @@ struct Arguments {
   float eta = 1.0f;
 };
 
-std::string lowerExtension(const std::string& path) {
-  std::string ext = fs::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
-
 // Refuses an output whose folder is missing or whose extension is wrong, before any work.
 void checkOutput(const std::string& path, const std::string& ext, const char* option) {
   if (path.empty()) return;
-  if (lowerExtension(path) != ext) fail(path, std::string(option) + " needs a " + ext + " file");
+  if (lowerExtension(path) != ext) fail(path, std::string(option) + " needs a ." + ext + " file");
   const fs::path dir = fs::path(path).parent_path();
   if (!dir.empty() && !fs::is_directory(dir))
     fail(path, "folder " + dir.string() + " does not exist");
@@ -91,10 +86,10 @@ int run(const Arguments& a) {
   if (a.radiance.empty() && a.irradiance.empty() && a.sh.empty() && a.json.empty()) {
     throw Error("nothing to write: give --radiance, -o/--irradiance, --sh or --json");
   }
-  checkOutput(a.radiance, ".exr", "--radiance");
-  checkOutput(a.irradiance, ".exr", "--irradiance");
-  checkOutput(a.sh, ".json", "--sh");
-  checkOutput(a.json, ".json", "--json");
+  checkOutput(a.radiance, "exr", "--radiance");
+  checkOutput(a.irradiance, "exr", "--irradiance");
+  checkOutput(a.sh, "json", "--sh");
+  checkOutput(a.json, "json", "--json");
   if (a.size < 0 || a.radianceSize < 0)
     throw Error("--size and --radiance-size must not be negative");
   if (!(a.tolerance >= 0.0) || !std::isfinite(a.tolerance)) throw Error("--tolerance must be >= 0");

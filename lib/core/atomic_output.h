@@ -16,7 +16,6 @@ class AtomicOutput {
   // Where to write. Keeps the final name's extension (writers such as OpenImageIO pick the
   // format from it): "dir/.name.12345.tmp.exr".
   const std::string& tempPath() const { return temp_; }
-  const std::string& finalPath() const { return final_; }
   // Renames the temporary file to the final name; throws Error on failure.
   void commit();
 

@@ -1,6 +1,5 @@
 #include "envmap/image.h"
 
-#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -10,17 +9,11 @@
 
 #include "core/atomic_output.h"
 #include "core/error.h"
+#include "core/file_extension.h"
 #include "core/tool.h"
 
 namespace sss {
 namespace {
-
-std::string lowerExtension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return std::tolower(c); });
-  return ext;
-}
 
 float srgbToLinear(float c) {
   return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
@@ -98,7 +91,7 @@ void writeImage(const std::string& path, const ImageRgb& image, const ImageAttri
   if (image.width <= 0 || image.height <= 0) fail(path, "refusing to write an empty image");
   const std::string ext = lowerExtension(path);
   const bool isFloat =
-      ext == ".exr" || ext == ".hdr" || ext == ".pfm" || ext == ".tif" || ext == ".tiff";
+      ext == "exr" || ext == "hdr" || ext == "pfm" || ext == "tif" || ext == "tiff";
   AtomicOutput output(path);
   auto out = OIIO::ImageOutput::create(output.tempPath());
   if (!out) fail(path, "no image writer for this extension (" + OIIO::geterror() + ")");

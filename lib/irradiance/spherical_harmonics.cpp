@@ -100,17 +100,6 @@ ShWindow parseShWindow(const std::string& name) {
   throw Error("unknown SH window '" + name + "' (none, hann, lanczos)");
 }
 
-const char* shWindowName(ShWindow window) {
-  switch (window) {
-    case ShWindow::Hann:
-      return "hann";
-    case ShWindow::Lanczos:
-      return "lanczos";
-    default:
-      return "none";
-  }
-}
-
 double shWindowWeight(ShWindow window, int l, int order) {
   const double x = M_PI * l / (order + 1.0);
   switch (window) {

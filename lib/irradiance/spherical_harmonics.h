@@ -22,7 +22,6 @@ namespace sss {
 enum class ShWindow { None, Hann, Lanczos };
 // "none", "hann", "lanczos"; throws Error otherwise.
 ShWindow parseShWindow(const std::string& name);
-const char* shWindowName(ShWindow window);
 // Weight of band l when truncating at `order`: 1 for None.
 double shWindowWeight(ShWindow window, int l, int order);
 

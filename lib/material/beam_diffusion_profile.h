@@ -17,7 +17,7 @@
 // channel is scaled to halfSpaceDiffuseAlbedo(alpha', eta) (halfspace_albedo.h): the Monte Carlo
 // half-space albedo under diffuse light with the Fresnel boundary. totalReflectance() is that
 // value. The classic dipole's totals differ from it by -4.8% to +7.1% over the presets
-// (eta 1.3; docs/material/totals.csv), by -40% to -2% at eta 1.
+// (eta 1.3; tests/bench/results/material/totals.csv), by -40% to -2% at eta 1.
 // Tabulated per channel on 160 log-spaced radii from 1e-4 mean free paths to
 // max(min(64 / sigma_tr, 1e4 / sigma_t'), 40 / sigma_t'), 256 depth samples each, interpolated
 // log-log; the tail beyond the table is dropped. integrateDisc integrates the log-log

@@ -10,7 +10,7 @@
 // l = 1/sigma_t'): applied to our reduced coefficients they put the 50% radius at about half
 // of both the dipole's and the beam's for every preset (marble red: 0.69 mm vs 1.43 / 1.35 mm);
 // their Monte Carlo setup is not the one our bake and reference use. burleyShapeFactor keeps the
-// diffuse-transmission fit for comparison (docs/material).
+// diffuse-transmission fit for comparison (tests/bench/results/material).
 // Closed forms: total = A, disc = A (1 - e^{-s rho}/4 - 3/4 e^{-s rho/3}).
 // R ~ 1/r at 0: evaluate clamps r to 1e-6 mm; the bake's self term uses integrateDisc.
 #pragma once

@@ -22,7 +22,7 @@
 // the integrals in dr):
 //   e_c = sqrt( int (r (S(r) - R(r)))^2 dr / int (r R(r))^2 dr ),  error = max_c e_c.
 // Measured at 1%: dipole K = 6-8, beam 9-12, burley 9-13 over the 11 presets, 2-50 ms per fit
-// (docs/material/fits.csv). Tolerance 0.5% needs a few more.
+// (tests/bench/results/material/fits.csv). Tolerance 0.5% needs a few more.
 #pragma once
 
 #include <string>

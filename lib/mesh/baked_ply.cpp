@@ -10,6 +10,7 @@
 
 #include "core/atomic_output.h"
 #include "core/error.h"
+#include "core/file_extension.h"
 #include "mesh/ply_format.h"
 
 namespace sss {
@@ -166,10 +167,7 @@ void writeBakedPly(const std::string& path, const BakedMesh& baked) {
 
 BakedPlyContents readBakedPly(const std::string& path) {
   BakedPlyContents result;
-  const std::size_t dot = path.find_last_of('.');
-  std::string ext = dot == std::string::npos ? "" : path.substr(dot + 1);
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (ext != "ply") {
+  if (lowerExtension(path) != "ply") {
     result.baked.mesh = loadMesh(path, &result.report);
     return result;
   }

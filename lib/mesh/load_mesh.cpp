@@ -9,21 +9,13 @@
 #include <glm/geometric.hpp>
 
 #include "core/error.h"
+#include "core/file_extension.h"
 #include "mesh/openmesh_reader.h"
 #include "mesh/ply_format.h"
 
 namespace sss {
 
 namespace {
-
-std::string lowerExtension(const std::string& path) {
-  const std::size_t slash = path.find_last_of('/');
-  const std::size_t dot = path.find_last_of('.');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-  std::string ext = path.substr(dot + 1);
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
 
 // Union-find with path halving; deterministic.
 class DisjointSets {

@@ -54,7 +54,9 @@ inline double fresnelMoment(float eta, int n) {
 }
 
 // Diffuse (cosine-weighted hemispherical) Fresnel reflectance: 2 C_1(eta).
-inline double diffuseFresnelReflectance(float eta) { return 2.0 * fresnelMoment(eta, 1); }
+inline double diffuseFresnelReflectance(float eta) {
+  return 2.0 * fresnelMoment(eta, 1);
+}
 
 // Exit model: exitance B (W/m^2 leaving through the boundary) becomes radiance towards an
 // outside direction with cosine mu_o as

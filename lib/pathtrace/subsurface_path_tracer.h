@@ -60,7 +60,7 @@
 
 namespace sss {
 
-struct TriangleMesh;  // lib/mesh/mesh.h
+struct TriangleMesh;  // lib/mesh/triangle_mesh.h
 struct Material;      // lib/material/material.h
 
 // Where the radiance estimate looks from.

@@ -1,27 +1,14 @@
 #include "render/image_output.h"
 
-#include <algorithm>
-#include <cctype>
 #include <memory>
 
 #include <OpenImageIO/imageio.h>
 
 #include "core/atomic_output.h"
 #include "core/error.h"
+#include "core/file_extension.h"
 
 namespace sss {
-
-namespace {
-std::string lowerExtension(const std::string& path) {
-  const auto slash = path.find_last_of('/');
-  const auto dot = path.find_last_of('.');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-  std::string ext = path.substr(dot + 1);
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
-}
-}  // namespace
 
 bool isLinearImagePath(const std::string& path) {
   const std::string ext = lowerExtension(path);

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# Draws the accuracy charts from docs/accuracy/{scenes,halfspace}.csv (accuracy_study output).
+# Draws the accuracy charts from tests/bench/results/accuracy/{scenes,halfspace}.csv (accuracy_study output).
 #   tests/bench/accuracy_charts.sh [DIR]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
-dir=${1:-$root/docs/accuracy}
+dir=${1:-$root/tests/bench/results/accuracy}
 scenes=$(tail -n +2 "$dir/scenes.csv" | cut -d, -f1 | sort -u)
 for scene in $scenes; do
   gnuplot <<GP

@@ -1,5 +1,5 @@
 # The diffusion sums of Eq. 7: methods x tolerances on the dragons (diffusion_sweep.sh runs it and
-# draws docs/diffusion/*.png).
+# draws tests/bench/results/diffusion/*.png).
 if(TARGET sss_bake AND TARGET sss_mesh)
   sss_add_benchmark(diffusion_bench SOURCES ${CMAKE_CURRENT_LIST_DIR}/diffusion_bench.cpp
                     LIBS sss_bake sss_mesh sss_material)

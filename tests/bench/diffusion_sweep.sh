@@ -1,6 +1,6 @@
 #!/bin/sh
 # Diffusion sums on the dragons (methods x tolerances, median of 3 runs) and the resolution study
-# on spheres -> docs/diffusion/{benchmark.csv,sweep.csv,resolution.csv,error_vs_time.png,
+# on spheres -> tests/bench/results/diffusion/{benchmark.csv,sweep.csv,resolution.csv,error_vs_time.png,
 # time_vs_n.png,resolution.png}. Usage: tests/bench/diffusion_sweep.sh BUILD_DIR
 # (a Release build with benchmarks; run data/fetch.sh first). Takes several minutes on 2 cores.
 # SKIP_RUN=1 redraws the charts from the existing benchmark.csv and resolution.csv.
@@ -9,7 +9,7 @@
 set -eu
 root=$(cd "$(dirname "$0")/../.." && pwd)
 build=${1:?usage: diffusion_sweep.sh BUILD_DIR}
-out="$root/docs/diffusion"
+out="$root/tests/bench/results/diffusion"
 mkdir -p "$out"
 bench=$(find "$build" -name diffusion_bench -type f | head -n 1)
 resolution=$(find "$build" -name diffusion_resolution -type f | head -n 1)

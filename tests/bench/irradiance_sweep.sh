@@ -1,11 +1,11 @@
 #!/bin/sh
-# Irradiance methods x sizes on the eight sample HDRs -> docs/irradiance/{sweep.csv,
+# Irradiance methods x sizes on the eight sample HDRs -> tests/bench/results/irradiance/{sweep.csv,
 # benchmark.csv, error_vs_time.png}. Usage: tests/bench/irradiance_sweep.sh BUILD_DIR
 # (a Release build with benchmarks; run data/fetch.sh first).
 set -eu
 root=$(cd "$(dirname "$0")/../.." && pwd)
 build=${1:?usage: irradiance_sweep.sh BUILD_DIR}
-out="$root/docs/irradiance"
+out="$root/tests/bench/results/irradiance"
 mkdir -p "$out"
 bench=$(find "$build" -name irradiance_bench -type f | head -n 1)
 sweep=$(find "$build" -name irradiance_sweep -type f | head -n 1)

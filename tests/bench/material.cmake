@@ -1,5 +1,5 @@
 # Profiles and their Gaussian fits: fit speed (Google Benchmark) and the tables/charts of
-# docs/material (material_charts.sh runs material_profiles and gnuplot).
+# tests/bench/results/material (material_charts.sh runs material_profiles and gnuplot).
 sss_add_benchmark(bench_material SOURCES ${CMAKE_CURRENT_SOURCE_DIR}/bench_material.cpp
                   LIBS sss_material)
 sss_add_benchmark(material_profiles SOURCES ${CMAKE_CURRENT_SOURCE_DIR}/material_profiles.cpp

@@ -1,7 +1,7 @@
-// Writes the CSV tables behind docs/material: every preset x profile with its total reflectance
-// and Gaussian fit, the dipole's totals against the half-space albedo (totals.csv), (K, error,
-// time) at several tolerances, and sampled profiles 2 pi r^2 R_d(r) (energy per ln r) with their
-// fits for charts. Usage: material_profiles OUT_DIR
+// Writes the CSV tables behind tests/bench/results/material: every preset x profile with its total
+// reflectance and Gaussian fit, the dipole's totals against the half-space albedo (totals.csv), (K,
+// error, time) at several tolerances, and sampled profiles 2 pi r^2 R_d(r) (energy per ln r) with
+// their fits for charts. Usage: material_profiles OUT_DIR
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

@@ -6,15 +6,12 @@
 
 #include "envmap/cubemap.h"
 #include "envmap/equirect.h"
+#include "expect_near.h"
 
 namespace sss {
 namespace {
 
-void expectNear(const glm::vec3& a, const glm::vec3& b, float eps) {
-  EXPECT_NEAR(a.x, b.x, eps);
-  EXPECT_NEAR(a.y, b.y, eps);
-  EXPECT_NEAR(a.z, b.z, eps);
-}
+using test::expectNear;
 
 // OpenGL 4.5 table 8.19, read backwards: the (s, t) = (0, 0) corner of every face.
 TEST(Cubemap, FaceCornersFollowOpenGl) {

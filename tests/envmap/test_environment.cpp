@@ -7,15 +7,12 @@
 #include "core/error.h"
 #include "envmap/environment.h"
 #include "envmap/equirect.h"
+#include "expect_near.h"
 
 namespace sss {
 namespace {
 
-void expectNear(const glm::vec3& a, const glm::vec3& b, float eps) {
-  EXPECT_NEAR(a.x, b.x, eps);
-  EXPECT_NEAR(a.y, b.y, eps);
-  EXPECT_NEAR(a.z, b.z, eps);
-}
+using test::expectNear;
 
 // Colour by direction: +X red, +Y green, +Z blue; the negative axes are dimmer mixes, so that
 // every axis has its own colour.

@@ -1,31 +1,24 @@
 // Image and cubemap files: round trips and every kind of bad input readImage must refuse.
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <fstream>
 #include <limits>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "core/error.h"
 #include "envmap/cubemap_io.h"
 #include "envmap/image.h"
+#include "support/tool_test.h"
 
 namespace sss {
 namespace {
 
-namespace fs = std::filesystem;
-
 class ImageIo : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("sss-envmap-test-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
-            "-" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string path(const std::string& name) const { return scratch_.path(name); }
   // Error message of readImage(file), or "" when it succeeds.
   static std::string readError(const std::string& file, bool sanitize = false) {
     try {
@@ -35,7 +28,7 @@ class ImageIo : public ::testing::Test {
     }
     return "";
   }
-  fs::path dir_;
+  test::ScratchDir scratch_;
 };
 
 ImageRgb gradient(int w, int h) {
@@ -66,9 +59,7 @@ TEST_F(ImageIo, FloatFormatsRoundTripExactly) {
     }
   }
   // No temporary file is left beside the outputs.
-  int files = 0;
-  for (const auto& entry : fs::directory_iterator(dir_)) files += entry.is_regular_file();
-  EXPECT_EQ(files, 3);
+  EXPECT_EQ(scratch_.fileNames(), (std::vector<std::string>{"a.exr", "a.hdr", "a.tif"}));
 }
 
 TEST_F(ImageIo, PfmIsReadTopRowFirst) {

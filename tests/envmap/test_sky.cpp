@@ -32,6 +32,7 @@ TEST(Sky, BadSpecsAreRefused) {
   }
   try {
     parseSkySpec("colour=3");
+    ADD_FAILURE() << "no error";
   } catch (const Error& e) {
     EXPECT_EQ(std::string(e.what()).rfind("--sky: unknown key 'colour'", 0), 0u);
   }

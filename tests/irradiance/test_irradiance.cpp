@@ -177,11 +177,12 @@ TEST(Irradiance, FaceSizeFollowsTheTolerance) {
   o.method = IrradianceMethod::Brute;
   o.tolerance = 0.05;
   const IrradianceResult loose = computeIrradiance(env, o);
-  o.tolerance = 0.002;
+  // At 2e-4 the 16-texel faces' bilinear lookups (~3e-4 here) no longer do: a larger face.
+  o.tolerance = 2e-4;
   const IrradianceResult tight = computeIrradiance(env, o);
-  EXPECT_LE(loose.irradiance.size(), tight.irradiance.size());
+  EXPECT_LT(loose.irradiance.size(), tight.irradiance.size());
   EXPECT_LE(loose.estimatedError, 0.05);
-  EXPECT_LE(tight.estimatedError, 0.002);
+  EXPECT_LE(tight.estimatedError, 2e-4);
   EXPECT_THROW(parseIrradianceMethod("fast"), Error);
 }
 

@@ -1,13 +1,11 @@
 // The sss-irrmap tool end to end: outputs, reports, and every kind of bad input.
-#include <sys/wait.h>
-
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <limits>
-#include <sstream>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -15,57 +13,33 @@
 #include "envmap/cubemap_io.h"
 #include "envmap/environment.h"
 #include "optics/fresnel.h"
+#include "support/tool_test.h"
 
 namespace sss {
 namespace {
 
 namespace fs = std::filesystem;
 
-struct ToolRun {
-  int code;
-  std::string err;
-};
+using test::Capture;
+using test::ToolRun;
 
 class SssIrrmap : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("sss-irrmap-test-" + std::to_string(::getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-
+  std::string path(const std::string& name) const { return scratch_.path(name); }
+  std::vector<std::string> files() const { return scratch_.fileNames(); }
   ToolRun run(const std::string& args) const {
-    const std::string errFile = (dir_.parent_path() / (dir_.filename().string() + ".err")).string();
-    const std::string cmd =
-        std::string(SSS_BINARY_DIR) + "/tools/sss-irrmap " + args + " 2>" + errFile;
-    const int status = std::system(cmd.c_str());
-    std::ifstream in(errFile);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    fs::remove(errFile);
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ss.str()};
-  }
-  std::vector<std::string> files() const {
-    std::vector<std::string> names;
-    for (const auto& e : fs::directory_iterator(dir_))
-      names.push_back(e.path().filename().string());
-    std::sort(names.begin(), names.end());
-    return names;
+    return test::runTool("sss-irrmap", args, Capture::Stderr);
   }
   // A bad input: exit 1, one error line naming the file and the problem, nothing written.
   void expectRefused(const std::string& input, const std::string& message) {
     const auto before = files();
     const ToolRun r = run(input + " -o " + path("e.exr") + " --radiance " + path("r.exr") +
                           " --json " + path("r.json"));
-    EXPECT_EQ(r.code, 1) << r.err;
-    EXPECT_EQ(r.err, "sss-irrmap: error: " + message + "\n");
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_EQ(r.output, "sss-irrmap: error: " + message + "\n");
     EXPECT_EQ(files(), before);
   }
-  fs::path dir_;
+  test::ScratchDir scratch_;
 };
 
 ImageRgb constantImage(int w, int h, glm::vec3 value) {
@@ -85,8 +59,9 @@ TEST_F(SssIrrmap, SkyToEveryOutput) {
   const ToolRun r =
       run("--sky=elevation=30,azimuth=45 --radiance " + path("r.exr") + " -o " + path("e.exr") +
           " --sh " + path("sh.json") + " --json " + path("report.json"));
-  ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(r.err.find("sss-irrmap: auto: "), std::string::npos) << r.err;  // says what it chose
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("sss-irrmap: auto: "), std::string::npos)
+      << r.output;  // says what it chose
   EXPECT_EQ(files(), (std::vector<std::string>{"e.exr", "e.png", "r.exr", "r.png", "report.json",
                                                "sh.json"}));
   const Cubemap radiance = readCubemap(path("r.exr"));
@@ -106,7 +81,7 @@ TEST_F(SssIrrmap, SkyToEveryOutput) {
   // The sky is brighter above than below: so is its irradiance.
   EXPECT_GT(irradiance.sample({0, 1, 0}).y, 2.0f * irradiance.sample({0, -1, 0}).y);
   // The quiet run prints nothing.
-  EXPECT_EQ(run("--sky -q -o " + path("e2.exr")).err, "");
+  EXPECT_EQ(run("--sky -q -o " + path("e2.exr")).output, "");
 }
 
 TEST_F(SssIrrmap, UniformEquirectGivesPiLBothMethods) {
@@ -116,7 +91,7 @@ TEST_F(SssIrrmap, UniformEquirectGivesPiLBothMethods) {
       const ToolRun r =
           run(path("uniform.exr") + " --method " + method + " --eta " + std::to_string(eta) +
               " --tolerance 1e-6 --size 8 --no-preview -q -o " + path("e.exr"));
-      ASSERT_EQ(r.code, 0) << r.err;
+      ASSERT_EQ(r.exitCode, 0) << r.output;
       const Cubemap e = readCubemap(path("e.exr"));
       const double scale = M_PI * (1.0 - diffuseFresnelReflectance(eta));
       for (std::size_t i = 0; i < e.texelCount(); ++i) {
@@ -130,12 +105,13 @@ TEST_F(SssIrrmap, UniformEquirectGivesPiLBothMethods) {
 TEST_F(SssIrrmap, CubemapAndCrossInputsGiveTheSameIrradiance) {
   ASSERT_EQ(run("--sky -q --radiance-size 32 --no-preview --radiance " + path("r.exr") + " -o " +
                 path("e1.exr") + " --size 16")
-                .code,
+                .exitCode,
             0);
   writeImage(path("cross.exr"), cubemapToCross(readCubemap(path("r.exr"))));
-  ASSERT_EQ(run(path("r.exr") + " -q --no-preview -o " + path("e2.exr") + " --size 16").code, 0);
-  ASSERT_EQ(run(path("cross.exr") + " -q --no-preview -o " + path("e3.exr") + " --size 16").code,
+  ASSERT_EQ(run(path("r.exr") + " -q --no-preview -o " + path("e2.exr") + " --size 16").exitCode,
             0);
+  ASSERT_EQ(
+      run(path("cross.exr") + " -q --no-preview -o " + path("e3.exr") + " --size 16").exitCode, 0);
   const Cubemap e1 = readCubemap(path("e1.exr")), e2 = readCubemap(path("e2.exr")),
                 e3 = readCubemap(path("e3.exr"));
   for (std::size_t i = 0; i < e1.texelCount(); ++i) {
@@ -148,10 +124,10 @@ TEST_F(SssIrrmap, MissingAndUnreadableFiles) {
   expectRefused(path("missing.exr"), path("missing.exr") + ": no such file");
   std::ofstream(path("junk.exr")) << "not an image";
   const ToolRun r = run(path("junk.exr") + " -o " + path("e.exr"));
-  EXPECT_EQ(r.code, 1);
-  EXPECT_EQ(r.err.rfind("sss-irrmap: error: " + path("junk.exr") + ": cannot read image", 0), 0u)
-      << r.err;
-  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1);
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_EQ(r.output.rfind("sss-irrmap: error: " + path("junk.exr") + ": cannot read image", 0), 0u)
+      << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1);
   EXPECT_FALSE(fs::exists(path("e.exr")));
 }
 
@@ -173,8 +149,8 @@ TEST_F(SssIrrmap, NonFiniteTexelsFailUnlessSanitized) {
                                      ": 2 NaN/Inf texel values, first at (10, 3) (use --sanitize "
                                      "to replace them by 0)");
   const ToolRun r = run(path("nan.exr") + " --sanitize -q --no-preview -o " + path("e.exr"));
-  EXPECT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(r.err.find("sss-irrmap: warning: "), std::string::npos);
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("sss-irrmap: warning: "), std::string::npos);
   EXPECT_TRUE(fs::exists(path("e.exr")));
 }
 
@@ -183,27 +159,27 @@ TEST_F(SssIrrmap, NegativeTexelsAreClampedWithAWarning) {
   image.at(5, 5) = glm::vec3(-3.0f);
   writeImage(path("neg.exr"), image);
   const ToolRun r = run(path("neg.exr") + " -q --no-preview --radiance " + path("r.exr"));
-  EXPECT_EQ(r.code, 0) << r.err;
-  EXPECT_EQ(r.err,
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_EQ(r.output,
             "sss-irrmap: warning: " + path("neg.exr") + ": 3 negative texel values clamped to 0\n");
   const Cubemap radiance = readCubemap(path("r.exr"));
   for (std::size_t i = 0; i < radiance.texelCount(); ++i) EXPECT_GE(radiance.data()[i].x, 0.0f);
 }
 
 TEST_F(SssIrrmap, BadOptions) {
-  EXPECT_EQ(run("-o " + path("e.exr")).err,
+  EXPECT_EQ(run("-o " + path("e.exr")).output,
             "sss-irrmap: error: no environment: give INPUT (equirect, cross or cubemap image) or "
             "--sky\n");
   EXPECT_EQ(
-      run("--sky").err,
+      run("--sky").output,
       "sss-irrmap: error: nothing to write: give --radiance, -o/--irradiance, --sh or --json\n");
-  EXPECT_EQ(run("--sky -o " + path("e.png")).err,
+  EXPECT_EQ(run("--sky -o " + path("e.png")).output,
             "sss-irrmap: error: " + path("e.png") + ": --irradiance needs a .exr file\n");
-  EXPECT_EQ(run("--sky=elevation=95 -o " + path("e.exr")).err,
+  EXPECT_EQ(run("--sky=elevation=95 -o " + path("e.exr")).output,
             "sss-irrmap: error: --sky: elevation must be in [0, 90] degrees\n");
-  EXPECT_EQ(run("--sky --method fast -o " + path("e.exr")).err,
+  EXPECT_EQ(run("--sky --method fast -o " + path("e.exr")).output,
             "sss-irrmap: error: unknown irradiance method 'fast' (auto, brute, sh)\n");
-  EXPECT_EQ(run("--sky -o " + path("no/such/dir/e.exr")).code, 1);
+  EXPECT_EQ(run("--sky -o " + path("no/such/dir/e.exr")).exitCode, 1);
   EXPECT_TRUE(files().empty());
 }
 

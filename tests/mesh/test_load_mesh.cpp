@@ -14,6 +14,7 @@ namespace sss {
 namespace {
 
 using test::expectError;
+using test::expectLoadRefused;
 using test::ScratchDir;
 using test::writeFile;
 
@@ -31,6 +32,13 @@ std::string asciiPly(const std::string& extraHeader = "") {
          "element vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
          "element face 2\nproperty list uchar int vertex_indices\nend_header\n"
          "0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n";
+}
+
+// asciiPly() with the first `from` replaced by `to`: one defect in an otherwise good file.
+std::string asciiPlyWith(const std::string& from, const std::string& to) {
+  std::string text = asciiPly();
+  text.replace(text.find(from), from.size(), to);
+  return text;
 }
 
 TEST(MeshClean, DropsDegenerateAndDuplicateFacesWithCounts) {
@@ -187,9 +195,7 @@ TEST(MeshPlyReader, TruncatedAsciiIsAnError) {
     writeFile(path, full.substr(0, full.size() - cut));
     EXPECT_THROW(loadMesh(path), Error) << cut;
   }
-  const std::string path = dir.path("cut.ply");
-  writeFile(path, full.substr(0, full.size() - 8));  // ends inside face 1
-  expectError([&] { loadMesh(path); }, path, "truncated");
+  expectLoadRefused(dir, "cut.ply", full.substr(0, full.size() - 8), "truncated");  // in face 1
 }
 
 TEST(MeshPlyReader, TruncatedBinaryIsAnError) {
@@ -207,12 +213,8 @@ TEST(MeshPlyReader, TruncatedBinaryIsAnError) {
   const std::string good = dir.path("good.ply");
   writeFile(good, header + body);
   EXPECT_EQ(loadMesh(good).triangleCount(), 1u);
-  const std::string cut = dir.path("cut.ply");
-  writeFile(cut, header + body.substr(0, body.size() - 3));
-  expectError([&] { loadMesh(cut); }, cut, "truncated");
-  const std::string cutVertices = dir.path("cutv.ply");
-  writeFile(cutVertices, header + body.substr(0, 20));
-  expectError([&] { loadMesh(cutVertices); }, cutVertices, "truncated");
+  expectLoadRefused(dir, "cut.ply", header + body.substr(0, body.size() - 3), "truncated");
+  expectLoadRefused(dir, "cutv.ply", header + body.substr(0, 20), "truncated");
 }
 
 TEST(MeshPlyReader, LyingHeaderFailsFastWithoutAllocating) {
@@ -237,57 +239,32 @@ TEST(MeshPlyReader, LyingHeaderFailsFastWithoutAllocating) {
 
 TEST(MeshPlyReader, GarbageEmptyAndMalformedFiles) {
   ScratchDir dir;
-  const std::string empty = dir.path("empty.ply");
-  writeFile(empty, "");
-  expectError([&] { loadMesh(empty); }, empty, "empty file");
-  const std::string garbage = dir.path("garbage.ply");
+  expectLoadRefused(dir, "empty.ply", "", "empty file");
   std::string bytes(5000, '\0');
   for (std::size_t i = 0; i < bytes.size(); ++i) bytes[i] = static_cast<char>((i * 7919) % 251);
-  writeFile(garbage, bytes);
-  expectError([&] { loadMesh(garbage); }, garbage, "not a PLY file");
-  const std::string noEnd = dir.path("noend.ply");
-  writeFile(noEnd, "ply\nformat ascii 1.0\nelement vertex 1\n" + std::string(70000, '\n'));
-  expectError([&] { loadMesh(noEnd); }, noEnd, "end_header");
-  const std::string badNumber = dir.path("badnumber.ply");
-  std::string text = asciiPly();
-  text.replace(text.find("1 1 0"), 5, "1 x 0");
-  writeFile(badNumber, text);
-  expectError([&] { loadMesh(badNumber); }, badNumber, "bad number 'x'");
-  const std::string badType = dir.path("badtype.ply");
-  text = asciiPly();
-  text.replace(text.find("property float y"), 16, "property quad y");
-  writeFile(badType, text);
-  expectError([&] { loadMesh(badType); }, badType, "bad type 'quad'");
+  expectLoadRefused(dir, "garbage.ply", bytes, "not a PLY file");
+  expectLoadRefused(dir, "noend.ply",
+                    "ply\nformat ascii 1.0\nelement vertex 1\n" + std::string(70000, '\n'),
+                    "end_header");
+  expectLoadRefused(dir, "badnumber.ply", asciiPlyWith("1 1 0", "1 x 0"), "bad number 'x'");
+  expectLoadRefused(dir, "badtype.ply", asciiPlyWith("property float y", "property quad y"),
+                    "bad type 'quad'");
   const std::string missing = dir.path("missing.ply");
   expectError([&] { loadMesh(missing); }, missing, "cannot open");
-  const std::string unknown = dir.path("mesh.xyz");
-  writeFile(unknown, "1 2 3\n");
-  expectError([&] { loadMesh(unknown); }, unknown, "unknown mesh format");
+  expectLoadRefused(dir, "mesh.xyz", "1 2 3\n", "unknown mesh format");
 }
 
 TEST(MeshPlyReader, ZeroFacesNanAndBadIndexInFiles) {
   ScratchDir dir;
-  const std::string zero = dir.path("zero.ply");
-  writeFile(zero,
-            "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
-            "property float z\nelement face 0\nproperty list uchar int vertex_indices\n"
-            "end_header\n0 0 0\n1 1 1\n");
-  expectError([&] { loadMesh(zero); }, zero, "no faces");
-  const std::string nan = dir.path("nan.ply");
-  std::string text = asciiPly();
-  text.replace(text.find("1 1 0"), 5, "1 nan 0");
-  writeFile(nan, text);
-  expectError([&] { loadMesh(nan); }, nan, "vertex 2 has a non-finite coordinate");
-  const std::string index = dir.path("index.ply");
-  text = asciiPly();
-  text.replace(text.find("3 0 2 3"), 7, "3 0 2 7");
-  writeFile(index, text);
-  expectError([&] { loadMesh(index); }, index, "refers to vertex 7");
-  const std::string negative = dir.path("negative.ply");
-  text = asciiPly();
-  text.replace(text.find("3 0 2 3"), 7, "3 0 2 -1");
-  writeFile(negative, text);
-  expectError([&] { loadMesh(negative); }, negative, "out of range");
+  expectLoadRefused(dir, "zero.ply",
+                    "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+                    "property float z\nelement face 0\nproperty list uchar int vertex_indices\n"
+                    "end_header\n0 0 0\n1 1 1\n",
+                    "no faces");
+  expectLoadRefused(dir, "nan.ply", asciiPlyWith("1 1 0", "1 nan 0"),
+                    "vertex 2 has a non-finite coordinate");
+  expectLoadRefused(dir, "index.ply", asciiPlyWith("3 0 2 3", "3 0 2 7"), "refers to vertex 7");
+  expectLoadRefused(dir, "negative.ply", asciiPlyWith("3 0 2 3", "3 0 2 -1"), "out of range");
 }
 
 TEST(MeshPlyReader, BigEndianMatchesLittleEndian) {

@@ -15,6 +15,7 @@ namespace sss {
 namespace {
 
 using test::expectError;
+using test::expectLoadRefused;
 using test::readFile;
 using test::ScratchDir;
 using test::writeFile;
@@ -101,21 +102,15 @@ TEST(MeshFormatErrors, TruncatedOffAndStlAndGarbage) {
   writeFile(binary, bytes.substr(0, bytes.size() - 10));
   expectError([&] { loadMesh(binary); }, binary, "not an STL file");
 
-  const std::string liar = dir.path("liar.off");
-  writeFile(liar, "OFF\n2000000000 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
-  expectError([&] { loadMesh(liar); }, liar, "more than the file can hold");
-  const std::string short_ = dir.path("short.off");
-  writeFile(short_, "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n          \n");
-  expectError([&] { loadMesh(short_); }, short_, "truncated");
-  const std::string garbage = dir.path("garbage.off");
-  writeFile(garbage, std::string(1000, 'z'));
-  expectError([&] { loadMesh(garbage); }, garbage, "not an OFF file");
+  expectLoadRefused(dir, "liar.off", "OFF\n2000000000 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+                    "more than the file can hold");
+  expectLoadRefused(dir, "short.off",
+                    "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n          \n", "truncated");
+  expectLoadRefused(dir, "garbage.off", std::string(1000, 'z'), "not an OFF file");
   const std::string obj = dir.path("garbage.obj");
   writeFile(obj, "this is not\na mesh at all\n");
   EXPECT_THROW(loadMesh(obj), Error);
-  const std::string empty = dir.path("empty.obj");
-  writeFile(empty, "");
-  expectError([&] { loadMesh(empty); }, empty, "empty file");
+  expectLoadRefused(dir, "empty.obj", "", "empty file");
 }
 
 TEST(MeshFormatErrors, ObjWithNanAndNonManifoldFaces) {

@@ -1,38 +1,16 @@
-// Helpers for the mesh tests: a scratch directory, raw file writing, error matching.
+// Helpers for the mesh tests: raw file writing, error matching (and the shared ScratchDir).
 #pragma once
 
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-#include <filesystem>
 #include <fstream>
 #include <string>
 
 #include "core/error.h"
+#include "mesh/load_mesh.h"
+#include "support/tool_test.h"
 
 namespace sss::test {
-
-// A fresh directory per test, removed afterwards.
-class ScratchDir {
- public:
-  ScratchDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ =
-        std::filesystem::temp_directory_path() / ("sss-mesh-" + std::to_string(::getpid()) + "-" +
-                                                  info->test_suite_name() + "-" + info->name());
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
-  ~ScratchDir() { std::filesystem::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  std::size_t fileCount() const {
-    return static_cast<std::size_t>(std::distance(std::filesystem::directory_iterator(dir_),
-                                                  std::filesystem::directory_iterator()));
-  }
-
- private:
-  std::filesystem::path dir_;
-};
 
 inline void writeFile(const std::string& path, const std::string& bytes) {
   std::ofstream out(path, std::ios::binary);
@@ -55,6 +33,16 @@ void expectError(F&& f, const std::string& path, const std::string& part) {
     EXPECT_EQ(message.rfind(path + ": ", 0), 0u) << message;
     EXPECT_NE(message.find(part), std::string::npos) << message;
   }
+}
+
+// Writes `bytes` to `name` in `dir` and expects loadMesh to refuse the file with an sss::Error
+// whose message starts with its path and contains `part`.
+inline void expectLoadRefused(const ScratchDir& dir, const std::string& name,
+                              const std::string& bytes, const std::string& part) {
+  SCOPED_TRACE(name);
+  const std::string file = dir.path(name);
+  writeFile(file, bytes);
+  expectError([&] { loadMesh(file); }, file, part);
 }
 
 }  // namespace sss::test

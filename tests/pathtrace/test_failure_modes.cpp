@@ -1,6 +1,7 @@
 // Where diffusion methods fail, pinned against the Monte Carlo reference (issue 5). Each test
 // states the measured behaviour; if a change to a profile, the diffusion sums or the path tracer
-// moves it, the test says so. Numbers: docs/accuracy (tests/bench/accuracy_study.sh).
+// moves it, the test says so. Numbers: tests/bench/results/accuracy
+// (tests/bench/accuracy_study.sh).
 #include <gtest/gtest.h>
 
 #include <algorithm>

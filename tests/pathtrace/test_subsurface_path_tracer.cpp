@@ -17,6 +17,13 @@
 namespace sss {
 namespace {
 
+// The array overload on a whole mesh: a medium given by its coefficients, not a Material.
+PathTraceResult traceMedium(const TriangleMesh& mesh, const Cubemap& radiance,
+                            const HomogeneousMedium& medium, const PathTraceOptions& options) {
+  return pathTraceSubsurface(mesh.positions, mesh.normals, mesh.triangles, radiance, medium,
+                             options);
+}
+
 // Gauss-Legendre nodes and weights on [0, 1] (Newton on P_n).
 void gaussLegendre01(int n, std::vector<double>& x, std::vector<double>& w) {
   x.resize(n);
@@ -103,8 +110,7 @@ TEST(PathTracer, HalfSpaceAlbedoMatchesChandrasekhar) {
   options.minScatteringOrder = 0;  // the whole albedo: with eta = 1 nothing reflects specularly
   options.quiet = true;
   const Cubemap uniform(8, glm::vec3(1.0f));
-  const PathTraceResult r =
-      pathTraceSubsurface(box.positions, box.normals, box.triangles, uniform, medium, options);
+  const PathTraceResult r = traceMedium(box, uniform, medium, options);
   ASSERT_EQ(r.exitance.size(), 1u);
   for (int c = 0; c < 3; ++c) {
     const double exact = M_PI * (1.0 - 2.0 * std::sqrt(1.0 - a[c]) * chandrasekharH(a[c]).h1);
@@ -130,8 +136,7 @@ TEST(PathTracer, ConservesEnergyWithoutAbsorption) {
   options.samples = 16;
   options.quiet = true;
   const Cubemap uniform(8, glm::vec3(1.0f));
-  const PathTraceResult r = pathTraceSubsurface(sphere.positions, sphere.normals, sphere.triangles,
-                                                uniform, medium, options);
+  const PathTraceResult r = traceMedium(sphere, uniform, medium, options);
   double sum = 0.0;
   for (std::size_t i = 0; i < sphere.positions.size(); ++i) {
     sum += r.exitance[i].x;
@@ -155,8 +160,7 @@ TEST(PathTracer, ConservesEnergyThroughFresnelBoundary) {
   options.minScatteringOrder = 0;
   options.quiet = true;
   const Cubemap uniform(8, glm::vec3(1.0f));
-  const PathTraceResult r = pathTraceSubsurface(sphere.positions, sphere.normals, sphere.triangles,
-                                                uniform, medium, options);
+  const PathTraceResult r = traceMedium(sphere, uniform, medium, options);
   const double entered = M_PI * (1.0 - diffuseFresnelReflectance(1.3f));
   for (std::size_t k = 0; k < options.vertices.size(); ++k) {
     for (int c = 0; c < 3; ++c) {
@@ -179,8 +183,7 @@ TEST(PathTracer, NoScatteringGivesNoSubsurfaceExitance) {
   options.samples = 32;
   options.quiet = true;
   const Cubemap uniform(8, glm::vec3(1.0f));
-  const PathTraceResult r = pathTraceSubsurface(sphere.positions, sphere.normals, sphere.triangles,
-                                                uniform, medium, options);
+  const PathTraceResult r = traceMedium(sphere, uniform, medium, options);
   for (std::size_t i = 0; i < sphere.positions.size(); ++i) {
     ASSERT_EQ(r.exitance[i], glm::vec3(0.0f));
     ASSERT_EQ(r.radiance[i], glm::vec3(0.0f));
@@ -189,8 +192,7 @@ TEST(PathTracer, NoScatteringGivesNoSubsurfaceExitance) {
   // fail.
   options.minScatteringOrder = 0;
   options.vertices = {0};
-  const PathTraceResult direct = pathTraceSubsurface(sphere.positions, sphere.normals,
-                                                     sphere.triangles, uniform, medium, options);
+  const PathTraceResult direct = traceMedium(sphere, uniform, medium, options);
   EXPECT_GT(direct.exitance[0].x, 0.1f);
 }
 
@@ -207,17 +209,14 @@ TEST(PathTracer, SameResultForAnyThreadCountAndVertexSubset) {
   options.quiet = true;
   const Cubemap uniform(8, glm::vec3(0.5f, 1.0f, 2.0f));
   options.threads = 1;
-  const PathTraceResult one = pathTraceSubsurface(sphere.positions, sphere.normals,
-                                                  sphere.triangles, uniform, medium, options);
+  const PathTraceResult one = traceMedium(sphere, uniform, medium, options);
   options.threads = 2;
-  const PathTraceResult two = pathTraceSubsurface(sphere.positions, sphere.normals,
-                                                  sphere.triangles, uniform, medium, options);
+  const PathTraceResult two = traceMedium(sphere, uniform, medium, options);
   EXPECT_EQ(one.exitance, two.exitance);
   EXPECT_EQ(one.radiance, two.radiance);
   EXPECT_EQ(one.exitanceStdErr, two.exitanceStdErr);
   options.vertices = {5, 3};
-  const PathTraceResult subset = pathTraceSubsurface(sphere.positions, sphere.normals,
-                                                     sphere.triangles, uniform, medium, options);
+  const PathTraceResult subset = traceMedium(sphere, uniform, medium, options);
   EXPECT_EQ(subset.exitance[0], one.exitance[5]);
   EXPECT_EQ(subset.radiance[1], one.radiance[3]);
 }
@@ -242,10 +241,8 @@ TEST(PathTracer, HenyeyGreensteinFollowsTheSimilarityRelation) {
   options.estimateRadiance = false;
   options.quiet = true;
   const Cubemap uniform(8, glm::vec3(1.0f));
-  const PathTraceResult iso =
-      pathTraceSubsurface(box.positions, box.normals, box.triangles, uniform, isotropic, options);
-  const PathTraceResult hg =
-      pathTraceSubsurface(box.positions, box.normals, box.triangles, uniform, forward, options);
+  const PathTraceResult iso = traceMedium(box, uniform, isotropic, options);
+  const PathTraceResult hg = traceMedium(box, uniform, forward, options);
   EXPECT_NEAR(hg.exitance[0].x / iso.exitance[0].x, 1.0, 0.08);
   EXPECT_GT(hg.meanScatteringEvents, 3.0 * iso.meanScatteringEvents);
 }
@@ -261,13 +258,11 @@ TEST(PathTracer, WarnsWhenWalksAreLong) {
   options.vertices = {0};
   options.quiet = true;
   const Cubemap uniform(4, glm::vec3(1.0f));
-  const PathTraceResult r = pathTraceSubsurface(sphere.positions, sphere.normals, sphere.triangles,
-                                                uniform, medium, options);
+  const PathTraceResult r = traceMedium(sphere, uniform, medium, options);
   ASSERT_FALSE(r.warnings.empty());
   EXPECT_NE(r.warnings[0].find("walks long"), std::string::npos) << r.warnings[0];
   medium.sigmaA = glm::dvec3(5.0);  // albedo 0.8: short walks, no warning
-  const PathTraceResult shortWalks = pathTraceSubsurface(
-      sphere.positions, sphere.normals, sphere.triangles, uniform, medium, options);
+  const PathTraceResult shortWalks = traceMedium(sphere, uniform, medium, options);
   EXPECT_TRUE(shortWalks.warnings.empty());
 }
 
@@ -288,8 +283,7 @@ TEST(PathTracer, MaterialOverloadAndViewerDirection) {
   options.quiet = true;
   const Cubemap env(8, glm::vec3(1.0f, 0.5f, 0.25f));
   const PathTraceResult a = pathTraceSubsurface(sphere, env, material, options);
-  const PathTraceResult b =
-      pathTraceSubsurface(sphere.positions, sphere.normals, sphere.triangles, env, medium, options);
+  const PathTraceResult b = traceMedium(sphere, env, medium, options);
   EXPECT_EQ(a.exitance, b.exitance);
   EXPECT_EQ(a.radiance, b.radiance);
   EXPECT_GT(a.radiance[0].x, 0.0f);
@@ -308,10 +302,7 @@ TEST(PathTracer, RejectsBadInput) {
   HomogeneousMedium medium;
   PathTraceOptions options;
   options.quiet = true;
-  auto run = [&] {
-    pathTraceSubsurface(sphere.positions, sphere.normals, sphere.triangles, uniform, medium,
-                        options);
-  };
+  auto run = [&] { traceMedium(sphere, uniform, medium, options); };
   EXPECT_THROW(run(), Error);  // no extinction
   medium.sigmaS = glm::dvec3(1.0);
   medium.g = 1.0;

@@ -68,6 +68,25 @@ Cubemap directionColouredCubemap(int size) {
   return env;
 }
 
+// One frame of the unit icosphere at `subdivisions`, with the constant value `exitance`, under
+// `env`, seen by `camera`.
+RenderedImage renderUnitSphere(const ShadingOptions& shading, const FrameOptions& frame,
+                               int subdivisions, glm::vec3 exitance, const Cubemap& env,
+                               const Camera& camera) {
+  Renderer renderer(ShaderSources(), frame, shading);
+  renderer.setMesh(toRenderMesh(makeIcosphere(subdivisions, 1.0f), exitance));
+  renderer.setEnvironment(env, nullptr);
+  renderer.setCamera(camera);
+  renderer.draw();
+  return renderer.readBack();
+}
+
+// The unit sphere framed from (azimuth, elevation) in degrees, 35 degree field of view.
+Camera unitSphereCamera(float azimuthDeg, float elevationDeg) {
+  return orbitCamera(BoundingSphere{glm::vec3(0.0f), 1.0f}, azimuthDeg, elevationDeg, 0.0f, 35.0f,
+                     1.0f);
+}
+
 FrameOptions linearFrame(int size) {
   FrameOptions frame;
   frame.width = frame.height = size;
@@ -95,14 +114,9 @@ TEST_P(ExitModelTest, SphereWithConstantExitanceMatchesTheExitModel) {
   shading.tonemap = Tonemap::None;
   shading.backgroundColor = glm::vec3(0.0f);
   const FrameOptions frame = linearFrame(128);
-  Renderer renderer(ShaderSources(), frame, shading);
-  renderer.setMesh(toRenderMesh(makeIcosphere(5, 1.0f), exitance));
-  renderer.setEnvironment(Cubemap(16, envRadiance), nullptr);
-  const Camera camera =
-      orbitCamera(BoundingSphere{glm::vec3(0.0f), 1.0f}, 20.0f, 10.0f, 0.0f, 35.0f, 1.0f);
-  renderer.setCamera(camera);
-  renderer.draw();
-  const RenderedImage image = renderer.readBack();
+  const Camera camera = unitSphereCamera(20.0f, 10.0f);
+  const RenderedImage image =
+      renderUnitSphere(shading, frame, 5, exitance, Cubemap(16, envRadiance), camera);
 
   int checked = 0;
   for (int y = 0; y < frame.height; ++y) {
@@ -144,14 +158,9 @@ TEST_F(RenderTest, MirrorShowsTheEnvironmentAlongTheReflectedRay) {
   shading.tonemap = Tonemap::None;
   shading.backgroundColor = glm::vec3(0.0f);
   const FrameOptions frame = linearFrame(128);
-  Renderer renderer(ShaderSources(), frame, shading);
-  renderer.setMesh(toRenderMesh(makeIcosphere(5, 1.0f), glm::vec3(0.0f)));
-  renderer.setEnvironment(directionColouredCubemap(64), nullptr);
-  const Camera camera =
-      orbitCamera(BoundingSphere{glm::vec3(0.0f), 1.0f}, 60.0f, 25.0f, 0.0f, 35.0f, 1.0f);
-  renderer.setCamera(camera);
-  renderer.draw();
-  const RenderedImage image = renderer.readBack();
+  const Camera camera = unitSphereCamera(60.0f, 25.0f);
+  const RenderedImage image =
+      renderUnitSphere(shading, frame, 5, glm::vec3(0.0f), directionColouredCubemap(64), camera);
   int checked = 0;
   for (int y = 0; y < frame.height; ++y) {
     for (int x = 0; x < frame.width; ++x) {
@@ -253,15 +262,9 @@ TEST_F(RenderTest, NormalsViewAndCounterClockwiseFrontFaces) {
   ShadingOptions shading;
   shading.mode = ShadingMode::Normals;
   shading.backgroundColor = glm::vec3(0.0f);
-  const FrameOptions frame = linearFrame(64);
-  Renderer renderer(ShaderSources(), frame, shading);
-  renderer.setMesh(toRenderMesh(makeIcosphere(3, 1.0f), glm::vec3(0.0f)));
-  renderer.setEnvironment(Cubemap(4, glm::vec3(1.0f)), nullptr);
-  const Camera camera =
-      orbitCamera(BoundingSphere{glm::vec3(0.0f), 1.0f}, 0.0f, 0.0f, 0.0f, 35.0f, 1.0f);
-  renderer.setCamera(camera);
-  renderer.draw();
-  const RenderedImage image = renderer.readBack();
+  const RenderedImage image =
+      renderUnitSphere(shading, linearFrame(64), 3, glm::vec3(0.0f), Cubemap(4, glm::vec3(1.0f)),
+                       unitSphereCamera(0.0f, 0.0f));
   const glm::vec3 middle = 0.5f * (pixel(image, 31, 31) + pixel(image, 32, 32));
   EXPECT_NEAR(middle.x, 0.5f, 0.03f);
   EXPECT_NEAR(middle.y, 0.5f, 0.03f);

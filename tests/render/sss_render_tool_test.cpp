@@ -1,11 +1,9 @@
 // sss-render end to end on llvmpipe: output formats, brdf vs sss, and every bad input.
-#include <sys/wait.h>
-
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
@@ -16,51 +14,27 @@
 #include "mesh/baked_ply.h"
 #include "mesh/primitives.h"
 #include "optics/fresnel.h"
+#include "support/tool_test.h"
 
 namespace fs = std::filesystem;
 
 namespace sss {
 namespace {
 
-struct ToolRun {
-  int exitCode = -1;
-  std::string output;  // stdout and stderr
-};
+using test::Capture;
+using test::ToolRun;
 
 class SssRenderTool : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::path(SSS_BINARY_DIR) / "tests/render/tmp" /
-           ::testing::UnitTest::GetInstance()->current_test_info()->name();
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string path(const std::string& name) const { return scratch_.path(name); }
 
   ToolRun run(const std::string& args, const std::string& environment = "") const {
-    const std::string command =
-        environment + " " SSS_BINARY_DIR "/tools/sss-render " + args + " 2>&1";
-    ToolRun result;
-    FILE* pipe = popen(command.c_str(), "r");
-    if (!pipe) return result;
-    char buffer[4096];
-    for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;) {
-      result.output.append(buffer, n);
-    }
-    const int status = pclose(pipe);
-    result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return result;
+    return test::runTool("sss-render", args, Capture::StdoutAndStderr, environment);
   }
 
   // Only the inputs are left: no output, no temporary file.
   void expectOnlyInputs(std::size_t inputs) const {
-    std::size_t files = 0;
-    for (const auto& entry : fs::directory_iterator(dir_)) {
-      (void)entry;
-      ++files;
-    }
-    EXPECT_EQ(files, inputs) << "a failed run left a file behind";
+    EXPECT_EQ(scratch_.fileCount(), inputs) << "a failed run left a file behind";
   }
 
   void writeUniformEnvironment(const std::string& name, glm::vec3 radiance) const {
@@ -71,10 +45,11 @@ class SssRenderTool : public ::testing::Test {
     writeImage(path(name), image);
   }
 
-  static BakedMesh bakedSphere() {
+  // `mesh` baked in marble (eta 1.3, 1 mm per unit) with a constant exitance, unit irradiance.
+  static BakedMesh marbleBake(TriangleMesh mesh, glm::vec3 exitance) {
     BakedMesh baked;
-    baked.mesh = makeIcosphere(4, 10.0f);
-    baked.exitance.assign(baked.mesh.positions.size(), glm::vec3(0.8f, 0.5f, 0.3f));
+    baked.mesh = std::move(mesh);
+    baked.exitance.assign(baked.mesh.positions.size(), exitance);
     baked.irradiance.assign(baked.mesh.positions.size(), glm::vec3(1.0f));
     baked.materialName = "marble";
     baked.sigmaA = glm::dvec3(0.0021, 0.0041, 0.0071);
@@ -82,6 +57,10 @@ class SssRenderTool : public ::testing::Test {
     baked.eta = 1.3;
     baked.mmPerUnit = 1.0;
     return baked;
+  }
+
+  static BakedMesh bakedSphere() {
+    return marbleBake(makeIcosphere(4, 10.0f), glm::vec3(0.8f, 0.5f, 0.3f));
   }
 
   // A mesh file with positions and faces only, as a scanner or modeller writes it.
@@ -96,7 +75,7 @@ class SssRenderTool : public ::testing::Test {
       out << "3 " << t.x << " " << t.y << " " << t.z << "\n";
   }
 
-  fs::path dir_;
+  test::ScratchDir scratch_;
 };
 
 TEST_F(SssRenderTool, WritesAPngOfTheRequestedSizeWithThreeChannels) {
@@ -126,21 +105,16 @@ TEST_F(SssRenderTool, BrdfAndSssAgreeOnAFlatUniformRegionAndDifferInAShadow) {
   const float eta = 1.5f;
   const glm::vec3 radiance(0.5f, 0.4f, 0.3f);
   writeUniformEnvironment("env.exr", radiance);
-  BakedMesh baked;
-  baked.mesh = makeGridPlane(32, 2.0f);
-  baked.materialName = "marble";
-  baked.sigmaA = glm::dvec3(0.0021, 0.0041, 0.0071);
-  baked.sigmaSPrime = glm::dvec3(2.19, 2.62, 3.00);
+  BakedMesh baked = marbleBake(makeGridPlane(32, 2.0f), glm::vec3(0.0f));
   baked.eta = eta;
   const double transmitted = M_PI * (1.0 - diffuseFresnelReflectance(eta));
-  for (const glm::vec3& p : baked.mesh.positions) {
-    glm::vec3 b;
-    for (int c = 0; c < 3; ++c) {
-      const double alpha = baked.sigmaSPrime[c] / (baked.sigmaSPrime[c] + baked.sigmaA[c]);
-      b[c] = static_cast<float>(dipoleTotalReflectance(alpha, eta) * transmitted * radiance[c]);
-    }
-    baked.exitance.push_back(p.x < 0.0f ? 0.3f * b : b);  // the left half lies in a shadow
-    baked.irradiance.push_back(glm::vec3(1.0f));
+  glm::vec3 b;
+  for (int c = 0; c < 3; ++c) {
+    const double alpha = baked.sigmaSPrime[c] / (baked.sigmaSPrime[c] + baked.sigmaA[c]);
+    b[c] = static_cast<float>(dipoleTotalReflectance(alpha, eta) * transmitted * radiance[c]);
+  }
+  for (std::size_t i = 0; i < baked.mesh.positions.size(); ++i) {
+    baked.exitance[i] = baked.mesh.positions[i].x < 0.0f ? 0.3f * b : b;  // left half: a shadow
   }
   writeBakedPly(path("plane.ply"), baked);
   const std::string common = path("plane.ply") + " -e " + path("env.exr") +
@@ -173,15 +147,7 @@ TEST_F(SssRenderTool, BrdfAndSssAgreeOnAFlatUniformRegionAndDifferInAShadow) {
 // An open mesh is drawn from both sides unless culling is asked for: seen from behind, the
 // plane covers the middle of the picture with --cull auto and vanishes with --cull back.
 TEST_F(SssRenderTool, CullingIsAutomaticForOpenMeshes) {
-  BakedMesh baked;
-  baked.mesh = makeGridPlane(8, 2.0f);
-  baked.exitance.assign(baked.mesh.positions.size(), glm::vec3(1.0f));
-  baked.irradiance.assign(baked.mesh.positions.size(), glm::vec3(1.0f));
-  baked.materialName = "marble";
-  baked.sigmaA = glm::dvec3(0.0021, 0.0041, 0.0071);
-  baked.sigmaSPrime = glm::dvec3(2.19, 2.62, 3.00);
-  baked.eta = 1.3;
-  writeBakedPly(path("plane.ply"), baked);
+  writeBakedPly(path("plane.ply"), marbleBake(makeGridPlane(8, 2.0f), glm::vec3(1.0f)));
   writeUniformEnvironment("env.exr", glm::vec3(0.5f));
   const std::string common = path("plane.ply") + " -e " + path("env.exr") +
                              " --eye 0,0,-3 --target 0,0,0 --size 16x16 --samples 1"

@@ -1,0 +1,83 @@
+// Helpers for tests that write files or run the tools: a fresh scratch directory per test, and a
+// tool run that returns the exit code and what the tool printed.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <system_error>
+#include <vector>
+
+namespace sss::test {
+
+// A fresh directory per test under the system temp directory, removed afterwards. The process id
+// and the test's name keep parallel test processes apart.
+class ScratchDir {
+ public:
+  ScratchDir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    std::string name = "sss-test-" + std::to_string(::getpid()) + "-" + info->test_suite_name() +
+                       "-" + info->name();
+    std::replace(name.begin(), name.end(), '/', '_');  // parameterized tests: Suite/Name/0
+    dir_ = std::filesystem::temp_directory_path() / name;
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+  }
+  ~ScratchDir() {
+    std::error_code ignored;
+    std::filesystem::remove_all(dir_, ignored);
+  }
+  ScratchDir(const ScratchDir&) = delete;
+  ScratchDir& operator=(const ScratchDir&) = delete;
+
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  // Names of everything in the directory, sorted: what a failed run must leave unchanged.
+  std::vector<std::string> fileNames() const {
+    std::vector<std::string> names;
+    for (const auto& entry : std::filesystem::directory_iterator(dir_))
+      names.push_back(entry.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+  }
+  std::size_t fileCount() const { return fileNames().size(); }
+
+ private:
+  std::filesystem::path dir_;
+};
+
+struct ToolRun {
+  int exitCode = -1;   // -1 when the tool did not exit normally
+  std::string output;  // the captured streams
+};
+
+enum class Capture {
+  Stderr,           // stdout goes to the test's stderr, out of the way of exact message checks
+  StdoutAndStderr,  // both, interleaved
+};
+
+// Runs SSS_BINARY_DIR/tools/<tool> with `args` (shell words); `environment` (VAR=value ...) is
+// set for the tool only.
+inline ToolRun runTool(const std::string& tool, const std::string& args, Capture capture,
+                       const std::string& environment = "") {
+  const std::string redirect = capture == Capture::Stderr ? " 3>&2 2>&1 1>&3 3>&-" : " 2>&1";
+  const std::string command =
+      environment + " " + std::string(SSS_BINARY_DIR) + "/tools/" + tool + " " + args + redirect;
+  ToolRun result;
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (!pipe) return result;
+  char buffer[4096];
+  for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;)
+    result.output.append(buffer, n);
+  const int status = ::pclose(pipe);
+  result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+}  // namespace sss::test

@@ -57,7 +57,7 @@ int main(int argc, char** argv) {
     CLI::App app{"Bake per-vertex subsurface scattering (irradiance E and exitance B) into a PLY."};
     sss::BakeSettings s;
     std::string output, jsonPath, materialName, sigmaA, sigmaS, albedo, mfp, unit, sky;
-    std::string visibility = "rays";
+    std::string visibility = "rays", samples = "auto";
     double eta = 0.0, mmPerUnit = 0.0;
     bool listMaterials = false;
     std::vector<std::string> methods = sss::listDiffusionMethods();
@@ -85,7 +85,9 @@ int main(int argc, char** argv) {
     app.add_option("--size-mm", s.sizeMm, "Scale the longest bounding-box side to this many mm");
     app.add_option("--visibility", visibility, "none | rays (Embree shadows)")
         ->capture_default_str();
-    app.add_option("--samples", s.samples, "Visibility rays per vertex")->capture_default_str();
+    app.add_option("--samples", samples,
+                   "Visibility rays per vertex, or auto (from --tolerance and a pilot)")
+        ->capture_default_str();
     app.add_option("--seed", s.seed, "Random seed")->capture_default_str();
     app.add_option("--method", s.method, joined(methods))->capture_default_str();
     app.add_option("--profile", s.profile, joined(sss::listProfiles()))->capture_default_str();
@@ -156,6 +158,20 @@ int main(int argc, char** argv) {
     }
     s.material.g = g;
     s.visibility = sss::parseVisibilityMode(visibility);
+    if (samples != "auto") {
+      std::size_t used = 0;
+      int count = 0;
+      try {
+        count = std::stoi(samples, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != samples.size() || samples.empty()) {
+        sss::fail("", "--samples: '" + samples + "' is neither auto nor an integer");
+      }
+      if (count < 2) sss::fail("", "--samples must be at least 2 (or auto)");
+      s.samples = count;
+    }
 
     const sss::Stopwatch clock;
     sss::BakeOutput result = sss::bake(s);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <string>
 
@@ -97,7 +98,7 @@ class OcclusionScene {
   void build(std::span<const glm::vec3> positions, std::span<const glm::uvec3> triangles) {
     scene_ = rtcNewScene(device_);
     // Medium (binned SAH) quality: the high-quality build (spatial splits) costs more time than
-    // it saves on ~5M rays (measured: docs/bake).
+    // it saves on ~5M rays (measured: tests/bench/results/bake).
     rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_MEDIUM);
     RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
     // Copied into Embree-allocated (padded) buffers: Embree reads vertices with 16-byte loads.
@@ -152,7 +153,7 @@ struct Candidate {
 
 // Occlusion of one vertex's rays as an Embree ray stream (rtcOccluded1M, incoherent). Measured
 // on the 100K-vertex dragon, 64 samples, one thread: 1.6 s for the stream against 2.0 s for
-// single rays, 1.75 s for packets of 16 and 2.0 s for packets of 8 (docs/bake).
+// single rays, 1.75 s for packets of 16 and 2.0 s for packets of 8 (tests/bench/results/bake).
 void traceOcclusion(RTCScene scene, RTCIntersectContext* context, const glm::vec3& origin,
                     float tnear, const std::vector<glm::vec3>& directions,
                     std::vector<RTCRay>& rays, std::vector<char>& visible) {
@@ -283,6 +284,166 @@ glm::vec3 EnvironmentSampler::radiance(const glm::vec3& direction) const {
   return cubemap_->data()[texelIndex(direction)];
 }
 
+namespace {
+
+struct VertexEstimate {
+  glm::vec3 irradiance;
+  float relativeVariance;  // per-technique estimate; < 0: unlit
+  uint32_t rays, occluded;
+};
+
+// One vertex's MIS estimate of E with `samples` rays; everything it needs but per-thread buffers.
+class VertexEstimator {
+ public:
+  VertexEstimator(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
+                  const EnvironmentSampler& sampler, RTCScene scene, float eta, float extent)
+      : positions_(positions),
+        normals_(normals),
+        sampler_(sampler),
+        scene_(scene),
+        eta_(eta),
+        extent_(extent) {
+    rtcInitIntersectContext(&context_);
+    context_.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+  }
+
+  // rng supplies the four rotations of the two Hammersley sets.
+  VertexEstimate estimate(std::size_t v, int samples, Pcg32& rng) {
+    const uint32_t envCount = static_cast<uint32_t>((samples + 1) / 2);
+    const uint32_t cosCount = static_cast<uint32_t>(samples) - envCount;
+    const float nEnv = static_cast<float>(envCount), nCos = static_cast<float>(cosCount);
+    const float invPi = static_cast<float>(1.0 / M_PI);
+    const glm::vec3 n = normals_[v];
+    const glm::vec3 p = positions_[v];
+    const float r0 = rng.uniform(), r1 = rng.uniform(), r2 = rng.uniform(), r3 = rng.uniform();
+    glm::vec3 tangent, bitangent;
+    basis(n, tangent, bitangent);
+    const float scale = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z), extent_});
+    const float offset = 2e-5f * scale;
+    const glm::vec3 origin = p + offset * n;
+
+    // Candidate rays: direction and unoccluded contribution f / (n_env p_env + n_cos p_cos).
+    directions_.clear();
+    candidates_.clear();
+    auto add = [&](const glm::vec3& w, float cosine, const glm::vec3& l, float pdfEnv, int tech) {
+      const glm::vec3 f = fresnelTransmittance(cosine, eta_) * cosine * l;
+      if (f.r <= 0.0f && f.g <= 0.0f && f.b <= 0.0f) return;
+      directions_.push_back(w);
+      candidates_.push_back({f / (nEnv * pdfEnv + nCos * cosine * invPi), tech});
+    };
+    for (uint32_t j = 0; j < envCount; ++j) {
+      float u1, u2;
+      hammersley(j, envCount, r0, r1, u1, u2);
+      const EnvironmentSampler::Sample s = sampler_.sample(u1, u2);
+      const float cosine = glm::dot(s.direction, n);
+      if (cosine > 0.0f) add(s.direction, cosine, s.radiance, s.pdf, 0);
+    }
+    for (uint32_t j = 0; j < cosCount; ++j) {
+      float u1, u2;
+      hammersley(j, cosCount, r2, r3, u1, u2);
+      const glm::vec3 local = cosineHemisphere(u1, u2);
+      const float cosine = local.z;
+      if (cosine <= 0.0f) continue;
+      const glm::vec3 w = glm::normalize(local.x * tangent + local.y * bitangent + local.z * n);
+      add(w, cosine, sampler_.radiance(w), sampler_.pdf(w), 1);
+    }
+    traceOcclusion(scene_, &context_, origin, offset, directions_, rayStream_, visible_);
+
+    VertexEstimate result{glm::vec3(0.0f), -1.0f, static_cast<uint32_t>(directions_.size()), 0};
+    double sum[2] = {0.0, 0.0}, sumSq[2] = {0.0, 0.0};
+    for (std::size_t k = 0; k < candidates_.size(); ++k) {
+      if (!visible_[k]) {
+        ++result.occluded;
+        continue;
+      }
+      const glm::vec3 c = candidates_[k].contribution;
+      result.irradiance += c;
+      const double y = luminance(c);
+      sum[candidates_[k].technique] += y;
+      sumSq[candidates_[k].technique] += y * y;
+    }
+    // Var(sum of n iid terms) = n Var(term); per technique, zeros included.
+    double variance = 0.0;
+    const double counts[2] = {nEnv, nCos};
+    for (int t = 0; t < 2; ++t) {
+      if (counts[t] < 2) continue;
+      const double mean = sum[t] / counts[t];
+      variance += counts[t] / (counts[t] - 1.0) * std::max(0.0, sumSq[t] - counts[t] * mean * mean);
+    }
+    const double y = luminance(result.irradiance);
+    if (y > 0.0) result.relativeVariance = static_cast<float>(variance / (y * y));
+    return result;
+  }
+
+ private:
+  std::span<const glm::vec3> positions_, normals_;
+  const EnvironmentSampler& sampler_;
+  RTCScene scene_;
+  float eta_, extent_;
+  RTCIntersectContext context_;
+  std::vector<glm::vec3> directions_;
+  std::vector<Candidate> candidates_;
+  std::vector<RTCRay> rayStream_;
+  std::vector<char> visible_;
+};
+
+// Pilot replicas draw their rotations from their own stream family, apart from the full pass.
+constexpr uint64_t kPilotSeedOffset = 0x9E3779B97F4A7C15ull;
+
+VisibilityPilot runPilot(std::size_t vertexCount, const VisibilityPilotOptions& options,
+                         uint64_t seed, int threads, const std::function<VertexEstimator()>& make) {
+  if (options.coarseRays < 2 || options.fineRays <= options.coarseRays || options.replicas < 2) {
+    fail("", "visibility pilot: at least 2 replicas of 2 rays, coarse < fine");
+  }
+  Stopwatch clock;
+  VisibilityPilot pilot;
+  pilot.replicas = options.replicas;
+  pilot.coarseRays = options.coarseRays;
+  pilot.fineRays = options.fineRays;
+  const std::size_t wanted = std::max<std::size_t>(options.maxVertices, 1);
+  const std::size_t stride = (vertexCount + wanted - 1) / wanted;
+  for (std::size_t v = stride / 2; v < vertexCount; v += stride) {
+    pilot.vertices.push_back(static_cast<uint32_t>(v));
+  }
+  const std::size_t m = pilot.vertices.size();
+  pilot.irradiance.assign(m, glm::vec3(0.0f));
+  pilot.coarseVariance.assign(m, glm::vec3(0.0f));
+  pilot.fineVariance.assign(m, glm::vec3(0.0f));
+  std::atomic<uint64_t> totalRays{0};
+  parallelFor(m, threads, 16, [&](std::size_t begin, std::size_t end) {
+    VertexEstimator estimator = make();
+    uint64_t rays = 0;
+    std::vector<glm::dvec3> values(static_cast<std::size_t>(options.replicas));
+    // Mean and variance (per channel) of `replicas` estimates with `count` rays each.
+    auto level = [&](uint32_t v, int count, Pcg32& rng, glm::vec3& variance) {
+      glm::dvec3 mean(0.0);
+      for (glm::dvec3& value : values) {
+        const VertexEstimate e = estimator.estimate(v, count, rng);
+        value = glm::dvec3(e.irradiance);
+        mean += value;
+        rays += e.rays;
+      }
+      mean /= static_cast<double>(values.size());
+      glm::dvec3 sum(0.0);
+      for (const glm::dvec3& value : values) sum += (value - mean) * (value - mean);
+      variance = glm::vec3(sum / static_cast<double>(values.size() - 1));
+      return glm::vec3(mean);
+    };
+    for (std::size_t k = begin; k < end; ++k) {
+      const uint32_t v = pilot.vertices[k];
+      Pcg32 rng(seed + kPilotSeedOffset, v);
+      level(v, options.coarseRays, rng, pilot.coarseVariance[k]);
+      pilot.irradiance[k] = level(v, options.fineRays, rng, pilot.fineVariance[k]);
+    }
+    totalRays += rays;
+  });
+  pilot.rays = totalRays;
+  pilot.seconds = clock.seconds();
+  return pilot;
+}
+
+}  // namespace
+
 std::vector<glm::vec3> transmittedIrradianceWithVisibility(std::span<const glm::vec3> positions,
                                                            std::span<const glm::vec3> normals,
                                                            std::span<const glm::uvec3> triangles,
@@ -291,7 +452,7 @@ std::vector<glm::vec3> transmittedIrradianceWithVisibility(std::span<const glm::
                                                            VisibilityReport* report) {
   const std::size_t vertexCount = positions.size();
   if (normals.size() != vertexCount) fail("", "visibility: one normal per vertex required");
-  if (options.samples < 2) fail("", "--samples must be at least 2");
+  if (!options.chooseSamples && options.samples < 2) fail("", "--samples must be at least 2");
   if (triangles.empty()) fail("", "visibility: the mesh has no triangles");
   for (const glm::uvec3& t : triangles) {
     if (t.x >= vertexCount || t.y >= vertexCount || t.z >= vertexCount) {
@@ -311,11 +472,16 @@ std::vector<glm::vec3> transmittedIrradianceWithVisibility(std::span<const glm::
     hi = glm::max(hi, p);
   }
   const float extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+  const auto makeEstimator = [&]() {
+    return VertexEstimator(positions, normals, sampler, scene.scene(), eta, extent);
+  };
 
-  const uint32_t envCount = static_cast<uint32_t>((options.samples + 1) / 2);
-  const uint32_t cosCount = static_cast<uint32_t>(options.samples) - envCount;
-  const float nEnv = static_cast<float>(envCount), nCos = static_cast<float>(cosCount);
-  const float invPi = static_cast<float>(1.0 / M_PI);
+  VisibilityPilot pilot;
+  if (options.pilot.replicas > 0) {
+    pilot = runPilot(vertexCount, options.pilot, options.seed, options.threads, makeEstimator);
+  }
+  const int samples = options.chooseSamples ? options.chooseSamples(pilot) : options.samples;
+  if (samples < 2) fail("", "--samples must be at least 2");
 
   std::vector<glm::vec3> irradiance(vertexCount, glm::vec3(0.0f));
   std::vector<float> relativeVariance(vertexCount, -1.0f);  // < 0: unlit vertex
@@ -324,78 +490,15 @@ std::vector<glm::vec3> transmittedIrradianceWithVisibility(std::span<const glm::
 
   Stopwatch traceClock;
   parallelFor(vertexCount, options.threads, 256, [&](std::size_t begin, std::size_t end) {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
-    std::vector<glm::vec3> directions;
-    std::vector<Candidate> candidates;
-    std::vector<RTCRay> rayStream;
-    std::vector<char> visible;
+    VertexEstimator estimator = makeEstimator();
     uint64_t rays = 0, occluded = 0;
     for (std::size_t v = begin; v < end; ++v) {
-      const glm::vec3 n = normals[v];
-      const glm::vec3 p = positions[v];
       Pcg32 rng(options.seed, v);
-      const float r0 = rng.uniform(), r1 = rng.uniform(), r2 = rng.uniform(), r3 = rng.uniform();
-      glm::vec3 tangent, bitangent;
-      basis(n, tangent, bitangent);
-      const float scale = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z), extent});
-      const float offset = 2e-5f * scale;
-      const glm::vec3 origin = p + offset * n;
-
-      // Candidate rays: direction and unoccluded contribution f / (n_env p_env + n_cos p_cos).
-      directions.clear();
-      candidates.clear();
-      auto add = [&](const glm::vec3& w, float cosine, const glm::vec3& l, float pdfEnv, int tech) {
-        const glm::vec3 f = fresnelTransmittance(cosine, eta) * cosine * l;
-        if (f.r <= 0.0f && f.g <= 0.0f && f.b <= 0.0f) return;
-        directions.push_back(w);
-        candidates.push_back({f / (nEnv * pdfEnv + nCos * cosine * invPi), tech});
-      };
-      for (uint32_t j = 0; j < envCount; ++j) {
-        float u1, u2;
-        hammersley(j, envCount, r0, r1, u1, u2);
-        const EnvironmentSampler::Sample s = sampler.sample(u1, u2);
-        const float cosine = glm::dot(s.direction, n);
-        if (cosine > 0.0f) add(s.direction, cosine, s.radiance, s.pdf, 0);
-      }
-      for (uint32_t j = 0; j < cosCount; ++j) {
-        float u1, u2;
-        hammersley(j, cosCount, r2, r3, u1, u2);
-        const glm::vec3 local = cosineHemisphere(u1, u2);
-        const float cosine = local.z;
-        if (cosine <= 0.0f) continue;
-        const glm::vec3 w = glm::normalize(local.x * tangent + local.y * bitangent + local.z * n);
-        add(w, cosine, sampler.radiance(w), sampler.pdf(w), 1);
-      }
-      traceOcclusion(scene.scene(), &context, origin, offset, directions, rayStream, visible);
-      rays += directions.size();
-
-      double sum[2] = {0.0, 0.0}, sumSq[2] = {0.0, 0.0};
-      glm::vec3 total(0.0f);
-      for (std::size_t k = 0; k < candidates.size(); ++k) {
-        if (!visible[k]) {
-          ++occluded;
-          continue;
-        }
-        const glm::vec3 c = candidates[k].contribution;
-        total += c;
-        const double y = luminance(c);
-        sum[candidates[k].technique] += y;
-        sumSq[candidates[k].technique] += y * y;
-      }
-      irradiance[v] = total;
-      // Var(sum of n iid terms) = n Var(term); per technique, zeros included.
-      double variance = 0.0;
-      const double counts[2] = {nEnv, nCos};
-      for (int t = 0; t < 2; ++t) {
-        if (counts[t] < 2) continue;
-        const double mean = sum[t] / counts[t];
-        variance +=
-            counts[t] / (counts[t] - 1.0) * std::max(0.0, sumSq[t] - counts[t] * mean * mean);
-      }
-      const double y = luminance(total);
-      if (y > 0.0) relativeVariance[v] = static_cast<float>(variance / (y * y));
+      const VertexEstimate e = estimator.estimate(v, samples, rng);
+      irradiance[v] = e.irradiance;
+      relativeVariance[v] = e.relativeVariance;
+      rays += e.rays;
+      occluded += e.occluded;
     }
     totalRays += rays;
     totalOccluded += occluded;
@@ -418,6 +521,8 @@ std::vector<glm::vec3> transmittedIrradianceWithVisibility(std::span<const glm::
       }
     }
     report->relativeStdError = lit > 0 ? std::sqrt(sum / static_cast<double>(lit)) : 0.0;
+    report->samples = samples;
+    report->pilot = std::move(pilot);
   }
   return irradiance;
 }

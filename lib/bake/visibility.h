@@ -21,14 +21,15 @@
 //
 // Rays: Embree (medium-quality BVH), each vertex's rays as one incoherent stream
 // (rtcOccluded1M); on the 100K-vertex dragon this beat single rays and packets of 8 or 16, and the
-// high-quality build cost more than it saved (docs/bake). Texels are drawn by inverting the CDF
-// through a guide table (O(1) expected, stratification kept).
+// high-quality build cost more than it saved (tests/bench/results/bake). Texels are drawn by
+// inverting the CDF through a guide table (O(1) expected, stratification kept).
 //
 // Units: E has the units of the cubemap's radiance times steradians; positions in any unit.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -68,11 +69,38 @@ class EnvironmentSampler {
   std::vector<float> pdfScale_;  // per texel: p_i N^2 / 4 (times |d|^3 per steradian)
 };
 
+// Pilot: on an evenly strided subset of vertices, `replicas` independent estimates of E at each
+// of two ray counts (the same estimator, other rotations of the point set, seeded per vertex).
+// The spread between replicas measures the variance of E honestly, stratification included,
+// which the per-technique variance of one estimate does not (an upper bound, 2.5-4x too high);
+// the two levels give the convergence rate (stratified sets beat 1/n: variance ~ n^-1.3 on the
+// dragon under forest), so the noise model (bake.h) extrapolates to n rays without overshooting.
+struct VisibilityPilot {
+  int replicas = 0;
+  int coarseRays = 0, fineRays = 0;       // rays per replica of the two levels
+  std::vector<uint32_t> vertices;         // the sampled vertex indices, ascending
+  std::vector<glm::vec3> irradiance;      // per sampled vertex: mean of the fine replicas
+  std::vector<glm::vec3> coarseVariance;  // per sampled vertex and channel: of one replica
+  std::vector<glm::vec3> fineVariance;    // the same at fineRays
+  uint64_t rays = 0;                      // occlusion rays the pilot traced
+  double seconds = 0.0;
+};
+
+struct VisibilityPilotOptions {
+  int coarseRays = 8, fineRays = 32;  // rays per replica, >= 2, coarse < fine
+  int replicas = 4;                   // >= 2; 0: no pilot
+  std::size_t maxVertices = 1024;     // subset size (all vertices if fewer)
+};
+
 struct VisibilityOptions {
   int samples = 64;  // rays per vertex (half environment, half cosine); >= 2
   uint64_t seed = 1;
-  int threads = 0;    // <= 0: all cores
-  bool quiet = true;  // no progress bar
+  int threads = 0;                        // <= 0: all cores
+  bool quiet = true;                      // no progress bar
+  VisibilityPilotOptions pilot{0, 0, 0};  // replicas 0: no pilot
+  // Called with the pilot (if one runs) before the full pass; returns the rays per vertex to use
+  // (>= 2). Empty: `samples`.
+  std::function<int(const VisibilityPilot&)> chooseSamples;
 };
 
 struct VisibilityReport {
@@ -83,6 +111,8 @@ struct VisibilityReport {
   // Root mean square over lit vertices of the estimated relative standard error of the
   // luminance of E (per-technique sample variance; stratification makes it an overestimate).
   double relativeStdError = 0.0;
+  int samples = 0;        // rays per vertex of the full pass
+  VisibilityPilot pilot;  // empty if none ran
 };
 
 // Per-vertex transmitted irradiance with shadows from the mesh itself. `normals` are unit vertex

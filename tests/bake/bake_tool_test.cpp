@@ -156,6 +156,13 @@ TEST_F(BakeTool, SameOutputForOneAndTwoThreads) {
   fs::rename(dir_ / "out.ply", dir_ / "one.ply");
   ASSERT_EQ(run(args("sphere.ply", "-m skin1 --unit cm --threads 2")).exitCode, 0);
   EXPECT_EQ(readFile(dir_ / "one.ply"), readFile(dir_ / "out.ply"));
+  // Auto samples: the pilot and the count it picks do not depend on the threads either.
+  const std::string autoArgs =
+      path("sphere.ply") + " --sky -m skin1 --unit cm -q -o " + path("out.ply") + " --threads ";
+  ASSERT_EQ(run(autoArgs + "1").exitCode, 0);
+  fs::rename(dir_ / "out.ply", dir_ / "one.ply");
+  ASSERT_EQ(run(autoArgs + "2").exitCode, 0);
+  EXPECT_EQ(readFile(dir_ / "one.ply"), readFile(dir_ / "out.ply"));
 }
 
 TEST_F(BakeTool, PathTraceReferenceWritesTheSameFormat) {
@@ -198,6 +205,50 @@ TEST_F(BakeTool, ArtistMaterialUnderTheProceduralSky) {
     if (baked.baked.mesh.normals[v].y < -0.9f) bottom = std::max(bottom, baked.baked.exitance[v].g);
   }
   EXPECT_GT(top, 2.0f * bottom);
+}
+
+TEST_F(BakeTool, AutoSamplesFollowTheTolerance) {
+  // Default --samples auto: a pilot predicts the visibility noise in B and picks the rays.
+  auto bake = [&](const std::string& tolerance) {
+    const RunResult r =
+        run(path("sphere.ply") + " --sky=elevation=40 -m ketchup --size-mm 30 -q -o " +
+            path("out.ply") + " --json " + path("r.json") + " --tolerance " + tolerance);
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    return nlohmann::json::parse(readFile(dir_ / "r.json"));
+  };
+  const auto loose = bake("0.2");
+  const auto tight = bake("0.005");
+  EXPECT_EQ(loose["visibility"]["samples_requested"], "auto");
+  const int looseSamples = loose["visibility"]["samples"].get<int>();
+  const int tightSamples = tight["visibility"]["samples"].get<int>();
+  EXPECT_LT(looseSamples, tightSamples);
+  EXPECT_GE(looseSamples, 16);
+  EXPECT_LE(tightSamples, 1024);
+  for (const auto& report : {loose, tight}) {
+    const double tolerance = report["estimated_error"]["tolerance"].get<double>();
+    const double visibility = report["visibility"]["estimated_error"].get<double>();
+    const double exitance = report["exitance"]["estimated_error"].get<double>();
+    EXPECT_DOUBLE_EQ(report["estimated_error"]["visibility"].get<double>(), visibility);
+    EXPECT_NEAR(report["estimated_error"]["total"].get<double>(), std::hypot(visibility, exitance),
+                1e-12);
+    // Visibility takes at most 0.9 of the budget (unless capped), the diffusion sum the rest in
+    // quadrature, so the total meets the tolerance.
+    if (report["visibility"]["samples"].get<int>() < 1024) {
+      EXPECT_LE(visibility, 0.9 * tolerance);
+      EXPECT_NEAR(report["exitance"]["tolerance"].get<double>(),
+                  std::sqrt(tolerance * tolerance - visibility * visibility), 1e-12);
+      EXPECT_LE(report["estimated_error"]["total"].get<double>(), tolerance);
+    }
+    EXPECT_FALSE(report["visibility"]["samples_reason"].get<std::string>().empty());
+  }
+  // A forced count is kept, and its predicted noise is reported.
+  const RunResult r =
+      run(args("sphere.ply", "-m ketchup --size-mm 30 --json " + path("r.json"), 32));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const auto forced = nlohmann::json::parse(readFile(dir_ / "r.json"));
+  EXPECT_EQ(forced["visibility"]["samples"], 32);
+  EXPECT_EQ(forced["visibility"]["samples_requested"], 32);
+  EXPECT_GT(forced["visibility"]["estimated_error"].get<double>(), 0.0);
 }
 
 TEST_F(BakeTool, ListsMaterials) {
@@ -297,6 +348,9 @@ TEST_F(BakeTool, BadChoicesAreErrors) {
   expectError(run(args("sphere.ply", "-m marble --unit mm --method fastest")), "fastest");
   expectError(run(args("sphere.ply", "-m marble --unit mm --visibility some")), "some");
   expectError(run(args("sphere.ply", "-m marble --unit mm", 1)), "--samples");
+  expectError(run(path("sphere.ply") + " -e " + path("white.exr") + " -o " + path("out.ply") +
+                  " -m marble --unit mm --samples many"),
+              "--samples");
   expectError(run(args("sphere.ply", "-m marble --unit mm --tolerance 0")), "--tolerance");
   expectError(run(path("sphere.ply") + " -m marble --unit mm -o " + path("out.ply")), "-e ENV");
 }

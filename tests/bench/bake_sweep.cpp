@@ -7,7 +7,10 @@
 // Usage: bake_sweep [--out F.csv] [--threads N] [--repeats R] [--exact-limit N]
 //                   [--slow-limit N] [--reference-tol T] MESH...
 // With --visibility-out F.csv, instead, the visibility sample count against its own noise: E and B
-// (hierarchical at 1%) with 16..256 rays per vertex against 1024 rays, per mesh.
+// (hierarchical at 1%) with 16..1024 rays per vertex against --reference-samples rays (default
+// 4096, another seed), per mesh, beside the errors the pilot's noise model (bake.h) predicts.
+// --env NAME picks data/cache/env/NAME.exr (default forest), --size-mm L the mesh's length (150);
+// a MESH ending in .ply is a path, else a sample mesh name.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -18,6 +21,7 @@
 
 #include <glm/common.hpp>
 
+#include "bake/bake.h"
 #include "bake/diffusion.h"
 #include "bake/visibility.h"
 #include "core/timer.h"
@@ -44,7 +48,9 @@ double relativeRms(const std::vector<glm::vec3>& b, const std::vector<glm::vec3>
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string out = "bake_sweep.csv", visibilityOut;
+  std::string out = "bake_sweep.csv", visibilityOut, envName = "forest";
+  double sizeMm = 150.0;
+  int referenceSamples = 4096;
   int threads = 2, repeats = 1;
   std::size_t exactLimit = 30000, slowLimit = 150000;
   double referenceTolerance = 0.001;
@@ -55,6 +61,12 @@ int main(int argc, char** argv) {
       out = argv[++i];
     else if (a == "--visibility-out" && i + 1 < argc)
       visibilityOut = argv[++i];
+    else if (a == "--env" && i + 1 < argc)
+      envName = argv[++i];
+    else if (a == "--size-mm" && i + 1 < argc)
+      sizeMm = std::atof(argv[++i]);
+    else if (a == "--reference-samples" && i + 1 < argc)
+      referenceSamples = std::atoi(argv[++i]);
     else if (a == "--slow-limit" && i + 1 < argc)
       slowLimit = std::stoul(argv[++i]);
     else if (a == "--threads" && i + 1 < argc)
@@ -72,14 +84,14 @@ int main(int argc, char** argv) {
   const sss::Material marble = sss::findMaterialPreset("marble");
   const auto profile = sss::makeProfile("dipole", marble);
   sss::Stopwatch clock;
-  const sss::Cubemap env = sss::loadEnvironment(data + "/env/forest.exr");
+  const sss::Cubemap env = sss::loadEnvironment(data + "/env/" + envName + ".exr");
   const double envSeconds = clock.seconds();
 
   std::ofstream visibilityCsv;
   if (!visibilityOut.empty()) {
     visibilityCsv.open(visibilityOut);
-    visibilityCsv << "mesh,vertices,samples,visibility_s,rel_rms_error_E,rel_rms_error_B,"
-                     "estimated_error_E\n";
+    visibilityCsv << "mesh,env,vertices,samples,visibility_s,rel_rms_error_E,rel_rms_error_B,"
+                     "error_bound_E,predicted_E,predicted_B,predicted_B_vs_reference\n";
   }
   std::ofstream csv;
   if (visibilityOut.empty()) csv.open(out);
@@ -87,13 +99,14 @@ int main(int argc, char** argv) {
          "rel_rms_error,reference,estimated_error,gaussians\n";
   for (const std::string& name : meshes) {
     clock.restart();
-    sss::TriangleMesh mesh = sss::loadMesh(data + "/meshes/" + name + ".ply");
+    const bool isPath = name.size() > 4 && name.substr(name.size() - 4) == ".ply";
+    sss::TriangleMesh mesh = sss::loadMesh(isPath ? name : data + "/meshes/" + name + ".ply");
     glm::vec3 lo = mesh.positions[0], hi = lo;
     for (const glm::vec3& p : mesh.positions) {
       lo = glm::min(lo, p);
       hi = glm::max(hi, p);
     }
-    sss::scalePositions(mesh, 150.0 / std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}));
+    sss::scalePositions(mesh, sizeMm / std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}));
     const std::vector<float> areas = sss::vertexAreas(mesh);
     const double loadSeconds = clock.seconds() + envSeconds;
 
@@ -115,24 +128,41 @@ int main(int argc, char** argv) {
       o.threads = threads;
       o.quiet = true;
       sss::VisibilityOptions ro = vo;
-      ro.samples = 1024;
+      ro.samples = referenceSamples;
       ro.seed = 99;
       const auto eRef = sss::transmittedIrradianceWithVisibility(mesh.positions, mesh.normals,
                                                                  mesh.triangles, env, 1.3f, ro);
       const auto bRef = sss::diffuse({mesh.positions, mesh.normals, areas, eRef}, *profile, o);
-      for (int samples : {16, 32, 64, 128, 256}) {
+      for (int samples : {16, 32, 64, 128, 256, 512, 1024}) {
         ro.samples = samples;
         ro.seed = 1;
+        ro.pilot = sss::VisibilityPilotOptions{};
+        sss::VisibilityNoiseModel model;
+        ro.chooseSamples = [&](const sss::VisibilityPilot& pilot) {
+          model = sss::visibilityNoiseModel(pilot, mesh.positions, areas, *profile);
+          return samples;
+        };
         sss::VisibilityReport report;
         clock.restart();
         const auto eS = sss::transmittedIrradianceWithVisibility(
             mesh.positions, mesh.normals, mesh.triangles, env, 1.3f, ro, &report);
         const double seconds = clock.seconds();
         const auto bS = sss::diffuse({mesh.positions, mesh.normals, areas, eS}, *profile, o);
-        char line[256];
-        std::snprintf(line, sizeof line, "%s,%zu,%d,%.4f,%.5g,%.5g,%.5g\n", name.c_str(),
-                      mesh.vertexCount(), samples, seconds, relativeRms(eS, eRef),
-                      relativeRms(bS.exitance, bRef.exitance), report.relativeStdError);
+        double eVar = 0.0, eSq = 0.0;
+        for (std::size_t k = 0; k < report.pilot.vertices.size(); ++k) {
+          const glm::vec3 v = report.pilot.fineVariance[k], e = report.pilot.irradiance[k];
+          eVar += double(v.r + v.g + v.b) *
+                  std::pow(double(report.pilot.fineRays) / samples, model.rate);
+          eSq += double(e.r) * e.r + double(e.g) * e.g + double(e.b) * e.b;
+        }
+        // The reference has noise too: the measured error is sqrt(err_N^2 + err_ref^2).
+        const double predicted = model.errorAt(samples);
+        const double predictedVsRef = std::hypot(predicted, model.errorAt(referenceSamples));
+        char line[320];
+        std::snprintf(line, sizeof line, "%s,%s,%zu,%d,%.4f,%.5g,%.5g,%.5g,%.5g,%.5g,%.5g\n",
+                      name.c_str(), envName.c_str(), mesh.vertexCount(), samples, seconds,
+                      relativeRms(eS, eRef), relativeRms(bS.exitance, bRef.exitance),
+                      report.relativeStdError, std::sqrt(eVar / eSq), predicted, predictedVsRef);
         visibilityCsv << line;
         visibilityCsv.flush();
         std::fprintf(stderr, "  %s", line);

@@ -12,9 +12,9 @@
 #include "bake/bake.h"
 #include "bake/diffusion.h"
 #include "bake/visibility.h"
+#include "floor_and_wall.h"
 #include "material/diffusion_profile.h"
 #include "material/material.h"
-#include "mesh/primitives.h"
 #include "mesh/triangle_mesh.h"
 
 namespace sss {
@@ -32,19 +32,6 @@ Cubemap sunAndSky(int size) {
     for (int x = c - 3; x < c - 1; ++x)
       env.at(static_cast<int>(CubeFace::PosY), x, y) = glm::vec3(300.0f, 250.0f, 200.0f);
   return env;
-}
-
-// Floor (z = 0, 10 x 10) and a wall over one edge of it: half the floor is in partial shadow.
-TriangleMesh floorAndWall(int n) {
-  TriangleMesh mesh = makeGridPlane(n, 10.0f);
-  const TriangleMesh floor = mesh;
-  const unsigned offset = static_cast<unsigned>(mesh.positions.size());
-  for (const glm::vec3& p : floor.positions) {
-    mesh.positions.push_back(glm::vec3(-5.0f, p.x, p.y + 5.0f));
-    mesh.normals.push_back(glm::vec3(1.0f, 0.0f, 0.0f));
-  }
-  for (const glm::uvec3& t : floor.triangles) mesh.triangles.push_back(t + glm::uvec3(offset));
-  return mesh;
 }
 
 // sqrt(sum |B - R|^2 / sum |R|^2) over vertices and channels, as the benchmarks measure it.

@@ -11,6 +11,7 @@
 #include <glm/geometric.hpp>
 
 #include "core/error.h"
+#include "floor_and_wall.h"
 #include "mesh/primitives.h"
 #include "optics/fresnel.h"
 
@@ -57,20 +58,6 @@ glm::dvec3 texelSum(const Cubemap& env, const glm::vec3& n) {
 
 double luminance(const glm::dvec3& c) {
   return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b;
-}
-
-// Floor z = 0 (x, y in [-5, 5], normal +Z) and a wall x = -5 (y in [-5, 5], z in [0, 10],
-// normal +X), as separate sheets.
-TriangleMesh floorAndWall(int n) {
-  TriangleMesh floor = makeGridPlane(n, 10.0f);
-  TriangleMesh mesh = floor;
-  const unsigned offset = static_cast<unsigned>(mesh.positions.size());
-  for (const glm::vec3& p : floor.positions) {
-    mesh.positions.push_back(glm::vec3(-5.0f, p.x, p.y + 5.0f));
-    mesh.normals.push_back(glm::vec3(1.0f, 0.0f, 0.0f));
-  }
-  for (const glm::uvec3& t : floor.triangles) mesh.triangles.push_back(t + glm::uvec3(offset));
-  return mesh;
 }
 
 // Transmitted irradiance at floor point p under uniform unit radiance with the wall above,

@@ -1,13 +1,10 @@
 #include "bake/visibility.h"
 
-#include <embree3/rtcore.h>
-
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <functional>
 #include <limits>
-#include <string>
 
 #include <glm/geometric.hpp>
 
@@ -17,6 +14,7 @@
 #include "core/random.h"
 #include "core/timer.h"
 #include "optics/fresnel.h"
+#include "raytrace/triangle_scene.h"
 
 namespace sss {
 
@@ -73,110 +71,10 @@ void basis(const glm::vec3& n, glm::vec3& t, glm::vec3& b) {
   b = glm::vec3(c, sign + n.y * n.y * a, -n.y);
 }
 
-// Owns the Embree device and scene of one triangle mesh.
-class OcclusionScene {
- public:
-  OcclusionScene(std::span<const glm::vec3> positions, std::span<const glm::uvec3> triangles,
-                 int threads) {
-    const std::string config = "threads=" + std::to_string(threads <= 0 ? 0 : threads);
-    device_ = rtcNewDevice(config.c_str());
-    if (!device_) fail("", "Embree: cannot create a device");
-    try {
-      build(positions, triangles);
-    } catch (...) {
-      release();
-      throw;
-    }
-  }
-  ~OcclusionScene() { release(); }
-  OcclusionScene(const OcclusionScene&) = delete;
-  OcclusionScene& operator=(const OcclusionScene&) = delete;
-
-  RTCScene scene() const { return scene_; }
-
- private:
-  void build(std::span<const glm::vec3> positions, std::span<const glm::uvec3> triangles) {
-    scene_ = rtcNewScene(device_);
-    // Medium (binned SAH) quality: the high-quality build (spatial splits) costs more time than
-    // it saves on ~5M rays (measured: tests/bench/results/bake).
-    rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_MEDIUM);
-    RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-    // Copied into Embree-allocated (padded) buffers: Embree reads vertices with 16-byte loads.
-    auto* vertices = static_cast<float*>(
-        rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                3 * sizeof(float), positions.size()));
-    auto* indices = static_cast<unsigned*>(
-        rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                3 * sizeof(unsigned), triangles.size()));
-    if (!vertices || !indices) {
-      rtcReleaseGeometry(geometry);
-      checkDevice("allocating buffers");
-      fail("", "Embree: cannot allocate geometry buffers");
-    }
-    for (std::size_t i = 0; i < positions.size(); ++i) {
-      vertices[3 * i] = positions[i].x;
-      vertices[3 * i + 1] = positions[i].y;
-      vertices[3 * i + 2] = positions[i].z;
-    }
-    for (std::size_t i = 0; i < triangles.size(); ++i) {
-      indices[3 * i] = triangles[i].x;
-      indices[3 * i + 1] = triangles[i].y;
-      indices[3 * i + 2] = triangles[i].z;
-    }
-    rtcCommitGeometry(geometry);
-    rtcAttachGeometry(scene_, geometry);
-    rtcReleaseGeometry(geometry);
-    rtcCommitScene(scene_);
-    checkDevice("building the BVH");
-  }
-  void release() {
-    if (scene_) rtcReleaseScene(scene_);
-    if (device_) rtcReleaseDevice(device_);
-    scene_ = nullptr;
-    device_ = nullptr;
-  }
-  void checkDevice(const char* what) const {
-    const RTCError error = rtcGetDeviceError(device_);
-    if (error != RTC_ERROR_NONE) {
-      fail("", std::string("Embree error ") + std::to_string(static_cast<int>(error)) + " " + what);
-    }
-  }
-
-  RTCDevice device_ = nullptr;
-  RTCScene scene_ = nullptr;
-};
-
 struct Candidate {
   glm::vec3 contribution;  // if unoccluded
   int technique;           // 0: environment, 1: cosine
 };
-
-// Occlusion of one vertex's rays as an Embree ray stream (rtcOccluded1M, incoherent). Measured
-// on the 100K-vertex dragon, 64 samples, one thread: 1.6 s for the stream against 2.0 s for
-// single rays, 1.75 s for packets of 16 and 2.0 s for packets of 8 (tests/bench/results/bake).
-void traceOcclusion(RTCScene scene, RTCIntersectContext* context, const glm::vec3& origin,
-                    float tnear, const std::vector<glm::vec3>& directions,
-                    std::vector<RTCRay>& rays, std::vector<char>& visible) {
-  rays.resize(directions.size());
-  for (std::size_t k = 0; k < directions.size(); ++k) {
-    RTCRay& ray = rays[k];
-    ray.org_x = origin.x;
-    ray.org_y = origin.y;
-    ray.org_z = origin.z;
-    ray.dir_x = directions[k].x;
-    ray.dir_y = directions[k].y;
-    ray.dir_z = directions[k].z;
-    ray.tnear = tnear;
-    ray.tfar = std::numeric_limits<float>::infinity();
-    ray.time = 0.0f;
-    ray.mask = 0xFFFFFFFFu;
-    ray.id = static_cast<unsigned>(k);
-    ray.flags = 0;
-  }
-  rtcOccluded1M(scene, context, rays.data(), static_cast<unsigned>(rays.size()), sizeof(RTCRay));
-  visible.resize(directions.size());
-  for (std::size_t k = 0; k < directions.size(); ++k) visible[k] = rays[k].tfar >= 0.0f;
-}
 
 }  // namespace
 
@@ -296,16 +194,14 @@ struct VertexEstimate {
 class VertexEstimator {
  public:
   VertexEstimator(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
-                  const EnvironmentSampler& sampler, RTCScene scene, float eta, float extent)
+                  const EnvironmentSampler& sampler, const TriangleScene& scene, float eta,
+                  float extent)
       : positions_(positions),
         normals_(normals),
         sampler_(sampler),
         scene_(scene),
         eta_(eta),
-        extent_(extent) {
-    rtcInitIntersectContext(&context_);
-    context_.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
-  }
+        extent_(extent) {}
 
   // rng supplies the four rotations of the two Hammersley sets.
   VertexEstimate estimate(std::size_t v, int samples, Pcg32& rng) {
@@ -323,12 +219,12 @@ class VertexEstimator {
     const glm::vec3 origin = p + offset * n;
 
     // Candidate rays: direction and unoccluded contribution f / (n_env p_env + n_cos p_cos).
-    directions_.clear();
+    rays_.clear();
     candidates_.clear();
     auto add = [&](const glm::vec3& w, float cosine, const glm::vec3& l, float pdfEnv, int tech) {
       const glm::vec3 f = fresnelTransmittance(cosine, eta_) * cosine * l;
       if (f.r <= 0.0f && f.g <= 0.0f && f.b <= 0.0f) return;
-      directions_.push_back(w);
+      rays_.push_back({origin, w, offset, std::numeric_limits<float>::infinity()});
       candidates_.push_back({f / (nEnv * pdfEnv + nCos * cosine * invPi), tech});
     };
     for (uint32_t j = 0; j < envCount; ++j) {
@@ -347,12 +243,12 @@ class VertexEstimator {
       const glm::vec3 w = glm::normalize(local.x * tangent + local.y * bitangent + local.z * n);
       add(w, cosine, sampler_.radiance(w), sampler_.pdf(w), 1);
     }
-    traceOcclusion(scene_, &context_, origin, offset, directions_, rayStream_, visible_);
+    scene_.occluded(rays_, blocked_);
 
-    VertexEstimate result{glm::vec3(0.0f), -1.0f, static_cast<uint32_t>(directions_.size()), 0};
+    VertexEstimate result{glm::vec3(0.0f), -1.0f, static_cast<uint32_t>(rays_.size()), 0};
     double sum[2] = {0.0, 0.0}, sumSq[2] = {0.0, 0.0};
     for (std::size_t k = 0; k < candidates_.size(); ++k) {
-      if (!visible_[k]) {
+      if (blocked_[k]) {
         ++result.occluded;
         continue;
       }
@@ -378,13 +274,11 @@ class VertexEstimator {
  private:
   std::span<const glm::vec3> positions_, normals_;
   const EnvironmentSampler& sampler_;
-  RTCScene scene_;
+  const TriangleScene& scene_;
   float eta_, extent_;
-  RTCIntersectContext context_;
-  std::vector<glm::vec3> directions_;
+  std::vector<OcclusionRay> rays_;
   std::vector<Candidate> candidates_;
-  std::vector<RTCRay> rayStream_;
-  std::vector<char> visible_;
+  std::vector<char> blocked_;
 };
 
 // Pilot replicas draw their rotations from their own stream family, apart from the full pass.
@@ -462,7 +356,14 @@ std::vector<glm::vec3> transmittedIrradianceWithVisibility(std::span<const glm::
   const EnvironmentSampler sampler(radiance);
 
   Stopwatch buildClock;
-  const OcclusionScene scene(positions, triangles, options.threads);
+  // Medium (binned SAH) quality: the high-quality build (spatial splits) costs more time than it
+  // saves on ~5M rays (measured: tests/bench/results/bake). Not robust: the rays leave from an
+  // offset origin, and the cheaper traversal is the one those measurements used.
+  TriangleSceneOptions sceneOptions;
+  sceneOptions.quality = TriangleSceneOptions::BuildQuality::Medium;
+  sceneOptions.robust = false;
+  sceneOptions.threads = options.threads;
+  const TriangleScene scene(positions, triangles, sceneOptions);
   const double buildSeconds = buildClock.seconds();
 
   glm::vec3 lo(0.0f), hi(0.0f);
@@ -473,7 +374,7 @@ std::vector<glm::vec3> transmittedIrradianceWithVisibility(std::span<const glm::
   }
   const float extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
   const auto makeEstimator = [&]() {
-    return VertexEstimator(positions, normals, sampler, scene.scene(), eta, extent);
+    return VertexEstimator(positions, normals, sampler, scene, eta, extent);
   };
 
   VisibilityPilot pilot;

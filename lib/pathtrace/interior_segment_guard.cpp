@@ -10,7 +10,7 @@
 #include "core/parallel.h"
 #include "core/timer.h"
 #include "material/diffusion_profile.h"
-#include "pathtrace/triangle_scene.h"
+#include "raytrace/triangle_scene.h"
 
 namespace sss {
 
@@ -18,9 +18,7 @@ InteriorSegmentGuard::InteriorSegmentGuard(std::span<const glm::vec3> positions,
                                            std::span<const glm::vec3> normals,
                                            std::span<const float> areas,
                                            std::span<const glm::uvec3> triangles)
-    : scene_(std::make_unique<TriangleScene>(
-          std::vector<glm::vec3>(positions.begin(), positions.end()),
-          std::vector<glm::uvec3>(triangles.begin(), triangles.end()))) {
+    : scene_(std::make_unique<TriangleScene>(positions, triangles)) {
   if (normals.size() != positions.size() || areas.size() != positions.size())
     fail("", "interior-segment guard: per-vertex arrays differ in length");
   // A tenth of the vertex's disc radius: inside the medium, well within the triangles around it.

@@ -23,7 +23,7 @@
 namespace sss {
 
 class DiffusionProfile;  // material/diffusion_profile.h
-class TriangleScene;     // pathtrace/triangle_scene.h
+class TriangleScene;     // raytrace/triangle_scene.h
 
 // The pair test on its own, for any diffusion sum that wants it (one Embree occlusion ray per
 // call; thread-safe). Endpoints: each vertex moved inward along its normal by a tenth of the

@@ -17,7 +17,7 @@
 #include "material/material.h"
 #include "mesh/triangle_mesh.h"
 #include "optics/fresnel.h"
-#include "pathtrace/triangle_scene.h"
+#include "raytrace/triangle_scene.h"
 
 namespace sss {
 namespace {

@@ -1,8 +1,9 @@
-#include "pathtrace/triangle_scene.h"
+#include "raytrace/triangle_scene.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <string>
 
 #include <embree3/rtcore.h>
 #include <glm/geometric.hpp>
@@ -10,6 +11,17 @@
 #include "core/error.h"
 
 namespace sss {
+
+namespace {
+
+void checkDevice(RTCDevice device, const char* what) {
+  const RTCError error = rtcGetDeviceError(device);
+  if (error != RTC_ERROR_NONE) {
+    fail("", std::string("Embree error ") + std::to_string(static_cast<int>(error)) + " " + what);
+  }
+}
+
+}  // namespace
 
 struct TriangleScene::Impl {
   RTCDevice device = nullptr;
@@ -20,17 +32,21 @@ struct TriangleScene::Impl {
   }
 };
 
-TriangleScene::TriangleScene(const std::vector<glm::vec3>& positions,
-                             const std::vector<glm::uvec3>& triangles)
+TriangleScene::TriangleScene(std::span<const glm::vec3> positions,
+                             std::span<const glm::uvec3> triangles,
+                             const TriangleSceneOptions& options)
     : impl_(std::make_unique<Impl>()) {
-  if (positions.empty() || triangles.empty()) fail("", "path tracer: empty mesh");
-  impl_->device = rtcNewDevice(nullptr);
+  if (positions.empty() || triangles.empty()) fail("", "triangle scene: empty mesh");
+  const std::string config = "threads=" + std::to_string(std::max(options.threads, 0));
+  impl_->device = rtcNewDevice(config.c_str());
   if (!impl_->device) fail("", "Embree: cannot create a device");
   impl_->scene = rtcNewScene(impl_->device);
-  // Robust mode: watertight hits on edges and vertices (a walk through a vertex must not leak).
-  rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
-  rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
+  if (options.robust) rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(impl_->scene, options.quality == TriangleSceneOptions::BuildQuality::High
+                                            ? RTC_BUILD_QUALITY_HIGH
+                                            : RTC_BUILD_QUALITY_MEDIUM);
   RTCGeometry geometry = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  // Copied into Embree-allocated (padded) buffers: Embree reads vertices with 16-byte loads.
   auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
       geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), positions.size()));
   auto* f = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0,
@@ -38,15 +54,18 @@ TriangleScene::TriangleScene(const std::vector<glm::vec3>& positions,
                                                            triangles.size()));
   if (!v || !f) {
     rtcReleaseGeometry(geometry);
+    checkDevice(impl_->device, "allocating the mesh buffers");
     fail("", "Embree: cannot allocate the mesh buffers");
   }
+  static_assert(sizeof(glm::vec3) == 3 * sizeof(float) &&
+                sizeof(glm::uvec3) == 3 * sizeof(unsigned));
   std::memcpy(v, positions.data(), positions.size() * sizeof(glm::vec3));
   std::memcpy(f, triangles.data(), triangles.size() * sizeof(glm::uvec3));
   rtcCommitGeometry(geometry);
   rtcAttachGeometry(impl_->scene, geometry);
   rtcReleaseGeometry(geometry);
   rtcCommitScene(impl_->scene);
-  if (rtcGetDeviceError(impl_->device) != RTC_ERROR_NONE) fail("", "Embree: scene build failed");
+  checkDevice(impl_->device, "building the BVH");
 
   glm::vec3 lo(INFINITY), hi(-INFINITY);
   float maxAbs = 0.0f;
@@ -68,23 +87,33 @@ TriangleScene::TriangleScene(const std::vector<glm::vec3>& positions,
 
 TriangleScene::~TriangleScene() = default;
 
+namespace {
+
+RTCRay makeRay(const glm::vec3& o, const glm::vec3& d, float tNear, float tFar, unsigned id) {
+  RTCRay ray;
+  ray.org_x = o.x;
+  ray.org_y = o.y;
+  ray.org_z = o.z;
+  ray.dir_x = d.x;
+  ray.dir_y = d.y;
+  ray.dir_z = d.z;
+  ray.tnear = tNear;
+  ray.tfar = tFar;
+  ray.time = 0.0f;
+  ray.mask = 0xFFFFFFFFu;
+  ray.id = id;
+  ray.flags = 0;
+  return ray;
+}
+
+}  // namespace
+
 SceneHit TriangleScene::intersect(const glm::vec3& o, const glm::vec3& d, float tNear,
                                   float tFar) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit rh;
-  rh.ray.org_x = o.x;
-  rh.ray.org_y = o.y;
-  rh.ray.org_z = o.z;
-  rh.ray.dir_x = d.x;
-  rh.ray.dir_y = d.y;
-  rh.ray.dir_z = d.z;
-  rh.ray.tnear = tNear;
-  rh.ray.tfar = tFar;
-  rh.ray.time = 0.0f;
-  rh.ray.mask = 0xFFFFFFFFu;
-  rh.ray.id = 0;
-  rh.ray.flags = 0;
+  rh.ray = makeRay(o, d, tNear, tFar, 0);
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(impl_->scene, &context, &rh);
@@ -101,21 +130,28 @@ bool TriangleScene::occluded(const glm::vec3& o, const glm::vec3& d, float tNear
                              float tFar) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  RTCRay ray;
-  ray.org_x = o.x;
-  ray.org_y = o.y;
-  ray.org_z = o.z;
-  ray.dir_x = d.x;
-  ray.dir_y = d.y;
-  ray.dir_z = d.z;
-  ray.tnear = tNear;
-  ray.tfar = tFar;
-  ray.time = 0.0f;
-  ray.mask = 0xFFFFFFFFu;
-  ray.id = 0;
-  ray.flags = 0;
+  RTCRay ray = makeRay(o, d, tNear, tFar, 0);
   rtcOccluded1(impl_->scene, &context, &ray);
   return ray.tfar < 0.0f;  // Embree sets tfar = -inf on a hit
+}
+
+// Measured on the 100K-vertex dragon, 64 rays per vertex, one thread: 1.6 s for the stream
+// against 2.0 s for single rays, 1.75 s for packets of 16 and 2.0 s for packets of 8
+// (tests/bench/results/bake).
+void TriangleScene::occluded(std::span<const OcclusionRay> rays, std::vector<char>& blocked) const {
+  thread_local std::vector<RTCRay> stream;  // reused across calls: no allocation per batch
+  stream.resize(rays.size());
+  for (std::size_t k = 0; k < rays.size(); ++k) {
+    stream[k] = makeRay(rays[k].origin, rays[k].direction, rays[k].tNear, rays[k].tFar,
+                        static_cast<unsigned>(k));
+  }
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+  rtcOccluded1M(impl_->scene, &context, stream.data(), static_cast<unsigned>(stream.size()),
+                sizeof(RTCRay));
+  blocked.resize(rays.size());
+  for (std::size_t k = 0; k < rays.size(); ++k) blocked[k] = stream[k].tfar < 0.0f;
 }
 
 }  // namespace sss

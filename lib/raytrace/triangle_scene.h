@@ -1,0 +1,75 @@
+// An Embree 3 BVH over one triangle mesh, shared by the visibility pass of the bake (streams of
+// occlusion rays per vertex) and the Monte Carlo walks and interior-segment guard of the path
+// tracer (nearest hit with its face normal, single occlusion rays). Embree stays out of this
+// header.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+namespace sss {
+
+struct SceneHit {
+  float t = 0.0f;              // distance along the (unit) direction; only valid when hit
+  glm::vec3 faceNormal{0.0f};  // unit, by the triangle's winding (outward for a CCW-out mesh)
+  uint32_t triangle = 0;       // index of the triangle hit
+  bool hit = false;
+};
+
+// One ray of an occlusion stream: blocked if the mesh meets it within (tNear, tFar).
+struct OcclusionRay {
+  glm::vec3 origin{0.0f};
+  glm::vec3 direction{0.0f};
+  float tNear = 0.0f;
+  float tFar = std::numeric_limits<float>::infinity();
+};
+
+struct TriangleSceneOptions {
+  enum class BuildQuality { Medium, High };
+  // High: spatial-split SAH, the better tree for many rays per build; Medium: binned SAH, faster
+  // to build.
+  BuildQuality quality = BuildQuality::High;
+  // Robust (watertight) traversal: no ray slips between triangles through an edge or a vertex.
+  bool robust = true;
+  // Embree device threads for the build; <= 0: all cores.
+  int threads = 0;
+};
+
+class TriangleScene {
+ public:
+  // Throws Error on an empty mesh or if Embree cannot build the scene. Triangle indices must be
+  // in range (the caller checks).
+  TriangleScene(std::span<const glm::vec3> positions, std::span<const glm::uvec3> triangles,
+                const TriangleSceneOptions& options = {});
+  ~TriangleScene();
+  TriangleScene(const TriangleScene&) = delete;
+  TriangleScene& operator=(const TriangleScene&) = delete;
+
+  // Thread-safe queries; direction must be unit length.
+  SceneHit intersect(const glm::vec3& origin, const glm::vec3& direction, float tNear = 0.0f,
+                     float tFar = 1e30f) const;
+  bool occluded(const glm::vec3& origin, const glm::vec3& direction, float tNear = 0.0f,
+                float tFar = 1e30f) const;
+  // Occlusion of a batch of incoherent rays as one Embree stream (rtcOccluded1M), cheaper than
+  // one query per ray; blocked[k] = 1 if rays[k] is occluded, else 0. Thread-safe.
+  void occluded(std::span<const OcclusionRay> rays, std::vector<char>& blocked) const;
+
+  // A length for ray offsets: 4e-6 of the larger of the bounding box diagonal and the largest
+  // coordinate magnitude (~70 float spacings there).
+  float epsilon() const { return epsilon_; }
+  float diagonal() const { return diagonal_; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  std::vector<glm::vec3> faceNormals_;
+  float epsilon_ = 0.0f;
+  float diagonal_ = 0.0f;
+};
+
+}  // namespace sss

@@ -13,6 +13,7 @@
 
 #include "bake/bake.h"
 #include "bake/diffusion.h"
+#include "bake/finite_object_energy.h"
 #include "core/atomic_output.h"
 #include "core/error.h"
 #include "core/timer.h"
@@ -90,7 +91,16 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--seed", s.seed, "Random seed")->capture_default_str();
     app.add_option("--method", s.method, joined(methods))->capture_default_str();
-    app.add_option("--profile", s.profile, joined(sss::listProfiles()))->capture_default_str();
+    std::vector<std::string> profiles = sss::listProfiles();
+    profiles.insert(profiles.begin(), "auto");
+    app.add_option("--profile", s.profile,
+                   joined(profiles) + " (auto: dipole with the escape energy, else burley)")
+        ->capture_default_str();
+    app.add_option("--energy", s.energy,
+                   joined(sss::listEnergyModels()) +
+                       ": escape rescales B by the object's own escape probability (random "
+                       "walks), for objects small against the diffusion length")
+        ->capture_default_str();
     app.add_option("--tolerance", s.tolerance, "Target relative RMS error of the exitance")
         ->capture_default_str();
     app.add_option("--walks", s.walks, "Random walks per vertex (--method pathtrace)")

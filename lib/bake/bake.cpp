@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bake/diffusion.h"
+#include "bake/finite_object_energy.h"
 #include "bake/visibility.h"
 #include "core/error.h"
 #include "core/parallel.h"
@@ -60,6 +61,10 @@ double relativeRms(const std::vector<glm::vec3>& value, const std::vector<glm::v
 // dragon (marble, forest, 1%) half the budget took 416 rays and 7.9 s, 0.9 of it ~180 rays,
 // while the hierarchical sum at 0.44% instead of 0.87% costs ~0.2 s more.
 constexpr double kVisibilityShare = 0.9;
+// With the escape energy model its walks' noise takes a share too (the three add in quadrature);
+// the larger one, as a walk buys less error than a visibility ray (bunny: ~5x the cost per unit
+// variance).
+constexpr double kVisibilityShareWithEnergy = 0.7, kEnergyShare = 0.6;
 
 }  // namespace
 
@@ -183,7 +188,8 @@ BakeOutput bake(const BakeSettings& settings) {
   const bool pathTrace = settings.method == "pathtrace";
   const DiffusionMethod diffusionMethod =
       pathTrace ? DiffusionMethod::Auto : parseDiffusionMethod(settings.method);
-  const auto profile = makeProfile(settings.profile, settings.material);
+  const EnergyModel energyModel = parseEnergyModel(settings.energy);
+  if (settings.profile != "auto") makeProfile(settings.profile, settings.material);  // validates
   if (settings.sizeMm > 0.0) {
     if (!std::isfinite(settings.sizeMm)) fail("", "--size-mm must be finite");
   } else {
@@ -231,6 +237,32 @@ BakeOutput bake(const BakeSettings& settings) {
            " mm long",
        settings.quiet);
 
+  // Energy model (finite_object_energy.h), then the profile: after the escape normalization the
+  // dipole's shape is the closest to the Monte Carlo reference; without it Burley's (calibrated to
+  // the half-space albedo) is (tests/bench/results/accuracy).
+  clock.restart();
+  EnergyPlan energy;
+  if (!pathTrace) {
+    EnergyOptions energyOptions;
+    energyOptions.model = energyModel;
+    energyOptions.noiseBudget = kEnergyShare * settings.tolerance;
+    energyOptions.seed = settings.seed;
+    energyOptions.threads = settings.threads;
+    energy = planFiniteObjectEnergy(meshMm, areas, settings.material, energyOptions);
+    info("energy: " + toString(energy.model) + " (" + energy.reason + ")", settings.quiet);
+    if (energy.model == EnergyModel::Escape &&
+        energy.escape.relativeStdError > energyOptions.noiseBudget)
+      warn("energy: " + energy.reason);
+  }
+  const bool escapeEnergy = energy.model == EnergyModel::Escape;
+  const std::string profileName = settings.profile != "auto" ? settings.profile
+                                  : escapeEnergy             ? "dipole"
+                                                             : "burley";
+  const auto profile = makeProfile(profileName, settings.material);
+  const double visibilityShare = escapeEnergy ? kVisibilityShareWithEnergy : kVisibilityShare;
+  const double energyError = escapeEnergy ? energy.escape.relativeStdError : 0.0;
+  stages["energy_s"] = clock.seconds();
+
   // Environment.
   clock.restart();
   EnvironmentOptions envOptions;
@@ -243,7 +275,11 @@ BakeOutput bake(const BakeSettings& settings) {
   const float eta = static_cast<float>(settings.material.eta);
   Json visibilityJson;
   double visibilityError = 0.0;  // predicted relative RMS error of B from E's error
-  double diffusionTolerance = settings.tolerance;
+  // Without a visibility budget to share, the escape walks' noise still takes its part.
+  double diffusionTolerance =
+      std::max(std::sqrt(1.0 - kEnergyShare * kEnergyShare) * settings.tolerance,
+               std::sqrt(std::max(
+                   0.0, settings.tolerance * settings.tolerance - energyError * energyError)));
   visibilityJson["mode"] = settings.visibility == VisibilityMode::Rays ? "rays" : "none";
   if (settings.visibility == VisibilityMode::None) {
     IrradianceOptions irradianceOptions;
@@ -261,7 +297,7 @@ BakeOutput bake(const BakeSettings& settings) {
     visibilityJson["reason"] = irradiance.reason;
     visibilityError = irradiance.estimatedError;
   } else {
-    const double budget = kVisibilityShare * settings.tolerance;
+    const double budget = visibilityShare * settings.tolerance;
     VisibilityOptions visibilityOptions;
     visibilityOptions.samples = settings.samples;
     visibilityOptions.seed = settings.seed;
@@ -283,10 +319,13 @@ BakeOutput bake(const BakeSettings& settings) {
     const int samples = visibilityReport.samples;
     visibilityError = model.errorAt(samples);
     if (autoSamples) {
+      const double energyShare = escapeEnergy ? kEnergyShare : 0.0;
       diffusionTolerance =
-          std::max(std::sqrt(1.0 - kVisibilityShare * kVisibilityShare) * settings.tolerance,
+          std::max(std::sqrt(1.0 - visibilityShare * visibilityShare - energyShare * energyShare) *
+                       settings.tolerance,
                    std::sqrt(std::max(0.0, settings.tolerance * settings.tolerance -
-                                               visibilityError * visibilityError)));
+                                               visibilityError * visibilityError -
+                                               energyError * energyError)));
     }
     std::string reason;
     if (!autoSamples) {
@@ -295,13 +334,12 @@ BakeOutput bake(const BakeSettings& settings) {
       reason = "fewest rays (a multiple of " + std::to_string(kAutoSampleStep) + ", " +
                std::to_string(kMinAutoSamples) + ".." + std::to_string(kMaxAutoSamples) +
                ") whose predicted noise in B " + format("%.3g%%", 100.0 * visibilityError) +
-               " meets its budget " +
-               format("(%.3g%% of the tolerance)", 100.0 * kVisibilityShare) +
+               " meets its budget " + format("(%.3g%% of the tolerance)", 100.0 * visibilityShare) +
                "; the diffusion sum gets the rest in quadrature";
     } else {
       reason = "capped at " + std::to_string(kMaxAutoSamples) + " rays: the predicted noise in B " +
                format("%.3g%%", 100.0 * visibilityError) + " exceeds its budget " +
-               format("(%.3g%% of the tolerance)", 100.0 * kVisibilityShare);
+               format("(%.3g%% of the tolerance)", 100.0 * visibilityShare);
       warn("visibility: " + reason);
     }
     // Per-vertex noise of E from the pilot (replica spread, all channels).
@@ -368,9 +406,12 @@ BakeOutput bake(const BakeSettings& settings) {
     options.tolerance = diffusionTolerance;
     options.threads = settings.threads;
     options.quiet = settings.quiet;
+    options.weightSums = escapeEnergy;
     DiffusionResult result = diffuse(input, *profile, options);
     baked.exitance = std::move(result.exitance);
     const DiffusionReport& r = result.report;
+    if (escapeEnergy)
+      applyEscapeEnergy(baked.exitance, result.weightSums, energy.escape.probability);
     methodJson["method"] = toString(r.method);
     methodJson["requested"] = settings.method;
     methodJson["reason"] = r.reason;
@@ -400,7 +441,7 @@ BakeOutput bake(const BakeSettings& settings) {
   baked.mmPerUnit = mmPerUnit;
   baked.extraComments.push_back(
       "bake method=" + methodJson["method"].get<std::string>() +
-      (pathTrace ? "" : " profile=" + settings.profile) +
+      (pathTrace ? "" : " profile=" + profileName + " energy=" + toString(energy.model)) +
       " visibility=" + visibilityJson["mode"].get<std::string>() + " samples=" +
       (settings.visibility == VisibilityMode::Rays ? visibilityJson["samples"].dump()
                                                    : std::string("0")) +
@@ -432,16 +473,35 @@ BakeOutput bake(const BakeSettings& settings) {
       {"diffuse_mean_free_path_mm", toJson(settings.material.diffuseMeanFreePath())}};
   if (!pathTrace) {
     report["profile"] = {{"name", profile->name()},
+                         {"requested", settings.profile},
                          {"total_reflectance", toJson(profile->totalReflectance())}};
+    Json energyJson = {{"model", toString(energy.model)},
+                       {"requested", settings.energy},
+                       {"reason", energy.reason},
+                       {"halfspace_albedo", toJson(energy.halfSpaceAlbedo)},
+                       {"seconds", energy.seconds}};
+    if (energyModel != EnergyModel::HalfSpace) {
+      energyJson["halfspace_deviation"] = energy.halfSpaceDeviation;
+      energyJson["mean_escape_probability"] = toJson(energy.escape.mean);
+      energyJson["probes"] = energy.escape.probes;
+      energyJson["walks_per_probe"] = energy.walks;
+      energyJson["lost_walks"] = energy.escape.lostWalks;
+      energyJson["mean_scattering_events"] = energy.escape.meanScatteringEvents;
+      energyJson["smoothing_sigma_mm"] = toJson(energy.escape.smoothingSigmaMm);
+      energyJson["estimated_error"] = energyError;
+    }
+    report["energy"] = energyJson;
   }
   report["visibility"] = visibilityJson;
   report["exitance"] = methodJson;
   // Total: the visibility (or irradiance) error and the method's own, independent, in quadrature.
   // Pathtrace walks do not use E, so only their own error counts.
   const double methodError = methodJson["estimated_error"].get<double>();
-  const double totalError = pathTrace ? methodError : std::hypot(visibilityError, methodError);
+  const double totalError =
+      pathTrace ? methodError : std::hypot(visibilityError, methodError, energyError);
   report["estimated_error"] = {{"visibility", pathTrace ? 0.0 : visibilityError},
                                {"exitance", methodError},
+                               {"energy", energyError},
                                {"total", totalError},
                                {"tolerance", settings.tolerance}};
   report["threads"] = settings.threads;

@@ -37,10 +37,13 @@ struct BakeSettings {
   double mmPerUnit = 0.0;   // millimetres per mesh unit (> 0), unless sizeMm > 0
   double sizeMm = 0.0;      // > 0: scale so that the longest bounding-box side is this long
   VisibilityMode visibility = VisibilityMode::Rays;
-  int samples = 0;                 // visibility rays per vertex; 0: auto (chooseVisibilitySamples)
-  uint64_t seed = 1;               // visibility rays and Monte Carlo walks
-  std::string method = "auto";     // a diffusion method (diffusion.h) or "pathtrace"
-  std::string profile = "dipole";  // listProfiles(); unused by pathtrace
+  int samples = 0;              // visibility rays per vertex; 0: auto (chooseVisibilitySamples)
+  uint64_t seed = 1;            // visibility rays and Monte Carlo walks
+  std::string method = "auto";  // a diffusion method (diffusion.h) or "pathtrace"
+  // listProfiles() or "auto" (dipole with the escape energy model, else burley); unused by
+  // pathtrace.
+  std::string profile = "auto";
+  std::string energy = "auto";  // listEnergyModels() (finite_object_energy.h); unused by pathtrace
   // Relative RMS of B (diffusion methods). With auto samples and visibility rays the budget is
   // split in quadrature: visibility noise may take 0.9 of it, the diffusion sum gets the rest.
   double tolerance = 0.01;

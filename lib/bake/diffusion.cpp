@@ -580,11 +580,13 @@ DiffusionResult runExact(const DiffusionInput& in, const DiffusionProfile& profi
   const std::size_t n = in.positions.size();
   DiffusionResult out;
   out.exitance.resize(n);
+  if (options.weightSums) out.weightSums.resize(n);
   Progress progress("diffusion (exact)", n, options.quiet);
   parallelFor(n, options.threads, 32, [&](std::size_t b, std::size_t e) {
     for (std::size_t o = b; o < e; ++o) {
       const double rho = std::sqrt(in.areas[o] / std::numbers::pi);
-      glm::dvec3 sum = profile.integrateDisc(rho) * glm::dvec3(in.irradiance[o]);
+      const glm::dvec3 self = profile.integrateDisc(rho);
+      glm::dvec3 sum = self * glm::dvec3(in.irradiance[o]), weights = self;
       const glm::dvec3 xo(in.positions[o]);
       for (std::size_t i = 0; i < n; ++i) {
         if (i == o) continue;
@@ -595,8 +597,10 @@ DiffusionResult runExact(const DiffusionInput& in, const DiffusionProfile& profi
                                   ? discAverage(profile, xi, glm::dvec3(in.normals[i]), rhoI, xo)
                                   : profile.evaluate(r);
         sum += rd * glm::dvec3(in.irradiance[i]) * static_cast<double>(in.areas[i]);
+        weights += rd * static_cast<double>(in.areas[i]);
       }
       out.exitance[o] = glm::vec3(sum);
+      if (options.weightSums) out.weightSums[o] = glm::vec3(weights);
     }
     progress.advance(e - b);
   });
@@ -773,6 +777,15 @@ DiffusionResult diffuse(const DiffusionInput& input, const DiffusionProfile& pro
     report.reason = "estimatedError leaves out Eq. 11's composition error on curved surfaces";
   result.exitance.resize(n);
   for (std::size_t k = 0; k < n; ++k) result.exitance[tree.points.original[k]] = sorted[k];
+  if (options.weightSums) {  // the same method's sum with E = 1
+    const std::vector<glm::vec3> ones(n, glm::vec3(1.0f));
+    DiffusionOptions unitOptions = options;
+    unitOptions.method = method;
+    unitOptions.weightSums = false;
+    unitOptions.quiet = true;
+    result.weightSums =
+        diffuse({input.positions, input.normals, input.areas, ones}, profile, unitOptions).exitance;
+  }
   report.totalSeconds = total.seconds();
   return result;
 }

@@ -55,6 +55,9 @@ struct DiffusionOptions {
   int maxGaussians = 16;    // upper bound on K for fitGaussians (at most 16)
   int threads = 0;          // <= 0: all cores
   bool quiet = false;       // no progress bar on stderr
+  // Also return rho_o = sum_i R_d(r_oi) A_i, the sum with E = 1 (finite_object_energy.h): fused
+  // into the exact sum, a second pass of the same method otherwise.
+  bool weightSums = false;
 };
 
 struct DiffusionReport {
@@ -73,7 +76,8 @@ struct DiffusionReport {
 };
 
 struct DiffusionResult {
-  std::vector<glm::vec3> exitance;  // B per vertex, same units as E
+  std::vector<glm::vec3> exitance;    // B per vertex, same units as E
+  std::vector<glm::vec3> weightSums;  // rho per vertex when DiffusionOptions::weightSums
   DiffusionReport report;
 };
 

@@ -17,6 +17,7 @@
 #include "material/material.h"
 #include "mesh/triangle_mesh.h"
 #include "optics/fresnel.h"
+#include "pathtrace/walk_sampling.h"
 #include "raytrace/triangle_scene.h"
 
 namespace sss {
@@ -48,43 +49,6 @@ struct Walker {
   int minOrder;
   int maxInteractions;
 
-  // Orthonormal basis around a unit vector (Duff et al. 2017).
-  static void basis(const glm::vec3& n, glm::vec3& b1, glm::vec3& b2) {
-    const float sign = std::copysign(1.0f, n.z);
-    const float a = -1.0f / (sign + n.z);
-    const float b = n.x * n.y * a;
-    b1 = glm::vec3(1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x);
-    b2 = glm::vec3(b, sign + n.y * n.y * a, -n.y);
-  }
-
-  // New propagation direction after scattering: Henyey-Greenstein in the cosine to the old
-  // one (symmetric, so the adjoint walk samples it the same way); uniform for g = 0.
-  glm::vec3 scatter(const glm::vec3& d, Pcg32& rng) const {
-    const double u1 = rng.uniformDouble(), u2 = rng.uniformDouble();
-    double cosTheta;
-    if (std::abs(g) < 1e-4) {
-      cosTheta = 1.0 - 2.0 * u1;
-    } else {
-      const double s = (1.0 - g * g) / (1.0 - g + 2.0 * g * u1);
-      cosTheta = std::clamp((1.0 + g * g - s * s) / (2.0 * g), -1.0, 1.0);
-    }
-    const double sinTheta = std::sqrt(std::max(0.0, 1.0 - cosTheta * cosTheta));
-    const double phi = 2.0 * M_PI * u2;
-    glm::vec3 b1, b2;
-    basis(d, b1, b2);
-    return glm::normalize(static_cast<float>(sinTheta * std::cos(phi)) * b1 +
-                          static_cast<float>(sinTheta * std::sin(phi)) * b2 +
-                          static_cast<float>(cosTheta) * d);
-  }
-
-  // Refraction of unit d through a boundary whose unit normal n points to the transmitted side
-  // (dot(d, n) > 0); ratio = n_incident / n_transmitted. Caller excludes total internal reflection.
-  static glm::vec3 refract(const glm::vec3& d, const glm::vec3& n, float ratio) {
-    const float cosI = glm::dot(d, n);
-    const float cosT = std::sqrt(std::max(0.0f, 1.0f - ratio * ratio * (1.0f - cosI * cosI)));
-    return glm::normalize(ratio * d + (cosT - ratio * cosI) * n);
-  }
-
   // One walk from a point inside along d, started at mesh vertex `start`; returns the
   // MIS-weighted radiance it brings back per unit starting weight.
   glm::dvec3 walk(glm::vec3 p, glm::vec3 d, uint32_t start, Pcg32& rng, WalkStats& stats) const {
@@ -114,7 +78,7 @@ struct Walker {
         }
         ++stats.events;
         p += static_cast<float>(t) * d;
-        d = scatter(d, rng);
+        d = sampleHenyeyGreenstein(d, g, rng);
         const double m = std::max({beta.x, beta.y, beta.z}) / ((ru.x + ru.y + ru.z) / 3.0);
         if (!(m > 0.0)) return glm::dvec3(0.0);
         if (m < 1.0) {  // Russian roulette on the MIS-weighted throughput
@@ -152,7 +116,7 @@ struct Walker {
         continue;
       }
       if (static_cast<int>(stats.events) < minOrder) return glm::dvec3(0.0);
-      const glm::vec3 out = refract(d, n, eta);
+      const glm::vec3 out = refractDirection(d, n, eta);
       const glm::vec3 origin = hitPoint + eps * n;
       if (occlusion && scene.occluded(origin, out)) return glm::dvec3(0.0);
       const glm::dvec3 radiance(environment.sample(out));
@@ -222,18 +186,9 @@ PathTraceResult pathTraceSubsurface(const std::vector<glm::vec3>& positions,
   auto walkFrom = [&](std::size_t i, const glm::vec3& n, const glm::vec3& wo, Pcg32& rng,
                       WalkStats& stats) {
     const float mu = glm::dot(wo, n);
-    const glm::vec3 inward = Walker::refract(-wo, -n, 1.0f / eta);
+    const glm::vec3 inward = refractDirection(-wo, -n, 1.0f / eta);
     return double(fresnelTransmittance(mu, eta)) *
            walker.walk(positions[i] - eps * n, inward, uint32_t(i), rng, stats);
-  };
-  auto cosineDirection = [](const glm::vec3& n, Pcg32& rng) {
-    const double u1 = rng.uniformDouble(), u2 = rng.uniformDouble();
-    const float r = static_cast<float>(std::sqrt(u1));
-    const float phi = static_cast<float>(2.0 * M_PI * u2);
-    glm::vec3 b1, b2;
-    Walker::basis(n, b1, b2);
-    return glm::normalize(r * std::cos(phi) * b1 + r * std::sin(phi) * b2 +
-                          static_cast<float>(std::sqrt(std::max(0.0, 1.0 - u1))) * n);
   };
 
   for (uint32_t v : options.vertices)
@@ -258,7 +213,7 @@ PathTraceResult pathTraceSubsurface(const std::vector<glm::vec3>& positions,
       const glm::vec3 normal = glm::normalize(normals[i]);
       for (std::size_t s = 0; s < kPilotWalks / probes; ++s, ++walks) {
         WalkStats stats;
-        walkFrom(i, normal, cosineDirection(normal, rng), rng, stats);
+        walkFrom(i, normal, sampleCosineHemisphere(normal, rng), rng, stats);
         events += stats.events;
       }
     }
@@ -285,6 +240,7 @@ PathTraceResult pathTraceSubsurface(const std::vector<glm::vec3>& positions,
     }
   }
 
+  result.escapedFraction.assign(n, 0.0f);
   if (options.estimateExitance) {
     result.exitance.assign(n, glm::vec3(0.0f));
     result.exitanceStdErr.assign(n, glm::vec3(0.0f));
@@ -305,11 +261,12 @@ PathTraceResult pathTraceSubsurface(const std::vector<glm::vec3>& positions,
       // One sample: for the exitance, outside directions whose inward ray leaves again through
       // the vertex's own triangles before scattering (grazing directions the faceted 1-ring
       // cuts off the smooth surface's hemisphere) are redrawn; see the header.
+      const uint64_t escapedBefore = esc, walksBefore = walks;
       auto run = [&](const glm::vec3* fixedWo, double weight, Accumulator& acc) {
         glm::dvec3 value(0.0);
         for (int attempt = 0; attempt < kMaxRedraws; ++attempt) {
           WalkStats stats;
-          const glm::vec3 wo = fixedWo ? *fixedWo : cosineDirection(normal, rng);
+          const glm::vec3 wo = fixedWo ? *fixedWo : sampleCosineHemisphere(normal, rng);
           value = walkFrom(i, normal, wo, rng, stats);
           events += stats.events;
           hits += stats.boundaryHits;
@@ -336,6 +293,8 @@ PathTraceResult pathTraceSubsurface(const std::vector<glm::vec3>& positions,
           acc.result(options.samples, result.radiance[k], result.radianceStdErr[k]);
         }
       }
+      result.escapedFraction[k] =
+          float(double(esc - escapedBefore) / double(std::max<uint64_t>(walks - walksBefore, 1)));
       progress.advance();
     }
     totalEvents += events;

@@ -92,8 +92,11 @@ struct PathTraceResult {
   // Per vertex (or per listed vertex); empty when not estimated.
   std::vector<glm::vec3> exitance, exitanceStdErr;  // B and its standard error
   std::vector<glm::vec3> radiance, radianceStdErr;  // L_o and its standard error
-  double meanScatteringEvents = 0.0;                // per walk, all vertices
-  double meanBoundaryHits = 0.0;                    // per walk (internal reflections + the exit)
+  // Per vertex: the fraction of its walks lost through holes (no boundary ahead). Where it is
+  // not ~0 the open mesh has no medium behind the vertex and its values mean little.
+  std::vector<float> escapedFraction;
+  double meanScatteringEvents = 0.0;  // per walk, all vertices
+  double meanBoundaryHits = 0.0;      // per walk (internal reflections + the exit)
   uint64_t walks = 0;
   uint64_t truncatedWalks = 0;     // hit maxScatteringEvents
   uint64_t escapedWalks = 0;       // lost through a hole of an open mesh (no boundary ahead)

@@ -17,11 +17,13 @@ set logscale x
 set key outside right top
 set grid
 sel(p, m) = (strcol(1) eq "$scene" && strcol(3) eq p && strcol(4) eq m)
-plot for [p in "dipole beam burley"] for [m in "exact gauss incremental hierarchical auto exact-guard"] \
+plot for [p in "dipole beam burley"] for [m in "exact gauss incremental hierarchical auto exact-guard exact+escape"] \
   "$dir/scenes.csv" using (sel(p, m) ? \$11 : NaN):(sel(p, m) ? \$12 : NaN) \
   with points pt (p eq "dipole" ? 7 : p eq "beam" ? 5 : 9) ps 1.3 \
-  lc (m eq "exact" ? 1 : m eq "gauss" ? 2 : m eq "incremental" ? 3 : m eq "hierarchical" ? 4 : m eq "auto" ? 6 : 7) \
-  title p." ".m
+  lc (m eq "exact" ? 1 : m eq "gauss" ? 2 : m eq "incremental" ? 3 : m eq "hierarchical" ? 4 : m eq "auto" ? 6 : m eq "exact-guard" ? 7 : 8) \
+  title p." ".m, \
+  "$dir/scenes.csv" using (sel("auto", "bake-auto") ? \$11 : NaN):(sel("auto", "bake-auto") ? \$12 : NaN) \
+  with points pt 3 ps 2 lw 2 lc rgb "black" title "sss-bake auto (energy, profile, method)"
 GP
 done
 gnuplot <<GP
@@ -48,15 +50,31 @@ awk -F, '
   $4 == "auto" && $6 == 0.01 { au[$1 "," $3] = $12; auT[$1 "," $3] = $11; auM[$1 "," $3] = $5 }
   $4 == "exact-guard" { gu[$1 "," $3] = $12; guT[$1 "," $3] = $11; drop[$1] = $17 }
   $4 == "exact-noguard" { ng[$1 "," $3] = $12 }
+  $4 == "exact+escape" { es[$1 "," $3] = $12; esT[$1 "," $3] = $11; esBias[$1 "," $3] = $18 }
+  $4 == "bake-auto" && $6 == 0.01 { ba[$1] = $12; baT[$1] = $11; baM[$1] = $5 "/" $20 }
   !($1 in seen) { seen[$1] = 1; order[++n] = $1 }
   END {
-    print "| scene | reference noise | profile | exact: err (s) | exact: energy bias, shape err | auto 1%: err (s, method) | exact, no disc, no guard: err | same + guard: err (s, pairs dropped) |"
-    print "|---|---|---|---|---|---|---|---|"
+    print "| scene | reference noise | profile | exact: err (s) | exact: energy bias, shape err | exact + escape energy: err (s), bias | auto 1%: err (s, method) | exact, no disc, no guard: err | same + guard: err (s, pairs dropped) |"
+    print "|---|---|---|---|---|---|---|---|---|"
     split("dipole beam burley", profiles, " ")
     for (i = 1; i <= n; ++i) for (j = 1; j <= 3; ++j) {
       k = order[i] "," profiles[j]
-      printf "| %s | %.3f | %s | %.3f (%.2f) | %+.3f, %.3f | %.3f (%.2f, %s) | %.3f | %.3f (%.2f, %.0f%%) |\n", \
-        order[i], noise[order[i]], profiles[j], ex[k], exT[k], bias[k], shape[k], au[k], auT[k], auM[k], ng[k], gu[k], guT[k], 100 * drop[order[i]]
+      printf "| %s | %.3f | %s | %.3f (%.2f) | %+.3f, %.3f | %.3f (%.2f), %+.3f | %.3f (%.2f, %s) | %.3f | %.3f (%.2f, %.0f%%) |\n", \
+        order[i], noise[order[i]], profiles[j], ex[k], exT[k], bias[k], shape[k], es[k], esT[k], esBias[k], au[k], auT[k], auM[k], ng[k], gu[k], guT[k], 100 * drop[order[i]]
+    }
+    print ""
+    print "Best configuration against the classic dipole (exact sum, half-space energy), and sss-bake auto at 1%:"
+    print ""
+    print "| scene | classic dipole: err (s) | best: config, err (s) | best / dipole: error, time | sss-bake auto 1%: err (s, profile/method/energy) | auto / dipole: error, time |"
+    print "|---|---|---|---|---|---|"
+    for (i = 1; i <= n; ++i) {
+      s = order[i]; d = ex[s ",dipole"]; dT = exT[s ",dipole"]; best = d; bestT = dT; bestC = "dipole exact"
+      for (j = 1; j <= 3; ++j) {
+        k = s "," profiles[j]
+        if (ex[k] < best) { best = ex[k]; bestT = exT[k]; bestC = profiles[j] " exact" }
+        if (es[k] < best) { best = es[k]; bestT = esT[k]; bestC = profiles[j] " exact + escape" }
+      }
+      printf "| %s | %.3f (%.3f) | %s, %.3f (%.3f) | %.2fx, %.1fx | %.3f (%.3f, %s) | %.2fx, %.1fx |\n", s, d, dT, bestC, best, bestT, best / d, bestT / dT, ba[s], baT[s], baM[s], ba[s] / d, baT[s] / dT
     }
   }' "$dir/scenes.csv" > "$dir/summary.md"
 {

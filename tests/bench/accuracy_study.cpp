@@ -1,6 +1,7 @@
 // The accuracy study of issue 5: every profile x diffusion method x tolerance against the Monte
 // Carlo reference (lib/pathtrace), on small scenes where the reference is affordable, plus the
-// half-space totals of every preset and the guard's cost and effect.
+// half-space totals of every preset, the guard's cost and effect, the escape energy model
+// (lib/bake/finite_object_energy.h) and the bake's automatic choice.
 //
 //   accuracy_study OUT_DIR [--quick] [--only NAME] [--walks N]
 //
@@ -14,7 +15,11 @@
 // (sqrt(max(0, raw^2 - noise^2))), `err_L_raw` keeps it and `ref_noise` is the noise alone.
 // `bias_L` = sum L / sum L_ref - 1 (the energy error); `shape_err_L` is err_L after the best
 // global scale of L (what remains when the energy is right); `err_B` compares the exitance B with
-// the reference's (no exit model involved).
+// the reference's (no exit model involved). Rows: profile x method x tolerance with the half-space
+// energy; "exact+escape" (the escape energy model on the exact sum; its time includes the walks);
+// "bake-auto" (profile "auto": energy, profile and method as sss-bake chooses them, chosen =
+// profile/method, energy in the last column). Vertices over holes of an open mesh (> 1% of their
+// reference walks lost) are left out.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -27,6 +32,7 @@
 #include <glm/geometric.hpp>
 
 #include "bake/diffusion.h"
+#include "bake/finite_object_energy.h"
 #include "bake/visibility.h"
 #include "core/error.h"
 #include "core/timer.h"
@@ -57,6 +63,11 @@ struct Reference {
   std::vector<glm::vec3> radiance, radianceSe, exitance, exitanceSe;
   double seconds, events;
 };
+
+// A vertex whose walks leave through holes more often than this is over an open part of the mesh.
+constexpr float kMaxEscapedFraction = 0.01f;
+// Budget of the escape walks for the exact + escape rows (the bake's auto sets its own).
+constexpr double kStudyEscapeNoise = 0.003;
 
 double sq(double x) {
   return x * x;
@@ -186,8 +197,25 @@ void sceneStudy(const Scene& scene, int walks, int visibilitySamples, std::ofstr
   ref.radianceSe = pt.radianceStdErr;
   ref.exitance = pt.exitance;
   ref.exitanceSe = pt.exitanceStdErr;
-  std::printf("%s: %zu vertices, reference on %zu x %d walks: %.1f s, %.0f events/walk\n",
-              scene.name.c_str(), n, m, walks, pt.seconds, pt.meanScatteringEvents);
+  // Vertices of an open mesh with no medium behind them (their walks leave through holes) have no
+  // meaningful reference: every error leaves them out.
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < m; ++k) {
+    if (pt.escapedFraction[k] > kMaxEscapedFraction) continue;
+    ref.vertices[kept] = ref.vertices[k];
+    ref.radiance[kept] = ref.radiance[k];
+    ref.radianceSe[kept] = ref.radianceSe[k];
+    ref.exitance[kept] = ref.exitance[k];
+    ref.exitanceSe[kept] = ref.exitanceSe[k];
+    ++kept;
+  }
+  ref.vertices.resize(kept);
+  for (auto* values : {&ref.radiance, &ref.radianceSe, &ref.exitance, &ref.exitanceSe})
+    values->resize(kept);
+  std::printf(
+      "%s: %zu vertices, reference on %zu x %d walks (%zu over holes left out): %.1f s, "
+      "%.0f events/walk\n",
+      scene.name.c_str(), n, m, walks, m - kept, pt.seconds, pt.meanScatteringEvents);
   std::fflush(stdout);
 
   // Transmitted irradiance with the mesh's shadows (the bake's default stage).
@@ -204,7 +232,7 @@ void sceneStudy(const Scene& scene, int walks, int visibilitySamples, std::ofstr
   auto record = [&](const std::string& profile, const std::string& method,
                     const std::string& chosen, double tolerance, int gaussians, double seconds,
                     const std::vector<glm::vec3>& b, const std::vector<glm::vec3>* exact,
-                    double droppedFraction = 0.0) {
+                    double droppedFraction = 0.0, const std::string& energy = "halfspace") {
     std::vector<glm::vec3> bEval, lEval;
     for (uint32_t v : ref.vertices) {
       bEval.push_back(b[v]);
@@ -216,14 +244,26 @@ void sceneStudy(const Scene& scene, int walks, int visibilitySamples, std::ofstr
     char line[512];
     std::snprintf(
         line, sizeof line,
-        "%s,%s,%s,%s,%s,%g,%d,%zu,%.4f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f\n",
+        "%s,%s,%s,%s,%s,%g,%d,%zu,%.4f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%s\n",
         scene.name.c_str(), scene.material.name.c_str(), profile.c_str(), method.c_str(),
         chosen.c_str(), tolerance, gaussians, n, visSeconds, seconds, visSeconds + seconds,
         errL.corrected, errL.raw, errL.noise, errB.corrected, vsExact, droppedFraction, errL.bias,
-        errL.shape);
+        errL.shape, energy.c_str());
     csv << line;
     csv.flush();
   };
+
+  // The object's escape probability (finite_object_energy.h), walked once to a tight budget.
+  EnergyOptions escapeOptions;
+  escapeOptions.model = EnergyModel::Escape;
+  escapeOptions.noiseBudget = kStudyEscapeNoise;
+  const EnergyPlan escape = planFiniteObjectEnergy(mesh, areas, scene.material, escapeOptions);
+  std::printf(
+      "%s: escape probability %.3f/%.3f/%.3f (half-space %.3f/%.3f/%.3f), %d walks x %zu "
+      "probes, noise %.2g%%, %.2f s\n",
+      scene.name.c_str(), escape.escape.mean.x, escape.escape.mean.y, escape.escape.mean.z,
+      escape.halfSpaceAlbedo.x, escape.halfSpaceAlbedo.y, escape.halfSpaceAlbedo.z, escape.walks,
+      escape.escape.probes, 100.0 * escape.escape.relativeStdError, escape.seconds);
 
   for (const std::string& profileName : listProfiles()) {
     const auto profile = makeProfile(profileName, scene.material);
@@ -233,6 +273,14 @@ void sceneStudy(const Scene& scene, int walks, int visibilitySamples, std::ofstr
     const DiffusionResult exact = diffuse(input, *profile, dopt);
     record(profileName, "exact", "exact", 0.0, 0, exact.report.totalSeconds, exact.exitance,
            &exact.exitance);
+    {
+      dopt.weightSums = true;
+      DiffusionResult b = diffuse(input, *profile, dopt);
+      dopt.weightSums = false;
+      applyEscapeEnergy(b.exitance, b.weightSums, escape.escape.probability);
+      record(profileName, "exact+escape", "exact", 0.0, 0, b.report.totalSeconds + escape.seconds,
+             b.exitance, &exact.exitance, 0.0, "escape");
+    }
     for (double tol : {0.1, 0.03, 0.01, 0.003}) {
       for (DiffusionMethod method : {DiffusionMethod::Gauss, DiffusionMethod::Incremental,
                                      DiffusionMethod::Hierarchical, DiffusionMethod::Auto}) {
@@ -254,6 +302,28 @@ void sceneStudy(const Scene& scene, int walks, int visibilitySamples, std::ofstr
     }
     std::printf("%s: %s done\n", scene.name.c_str(), profileName.c_str());
     std::fflush(stdout);
+  }
+
+  // The bake's own choice (lib/bake/bake.cpp): energy model, then profile, then method, from the
+  // tolerance (the visibility stage is fixed here, so its share goes to the diffusion sum).
+  for (double tol : {0.1, 0.03, 0.01}) {
+    EnergyOptions energyOptions;
+    energyOptions.noiseBudget = 0.6 * tol;
+    const EnergyPlan plan = planFiniteObjectEnergy(mesh, areas, scene.material, energyOptions);
+    const bool useEscape = plan.model == EnergyModel::Escape;
+    const std::string profileName = useEscape ? "dipole" : "burley";
+    const auto profile = makeProfile(profileName, scene.material);
+    DiffusionOptions dopt;
+    dopt.quiet = true;
+    const double energyError = useEscape ? plan.escape.relativeStdError : 0.0;
+    dopt.tolerance = std::max(0.8 * tol, std::sqrt(std::max(0.0, tol * tol - sq(energyError))));
+    dopt.weightSums = useEscape;
+    DiffusionResult r = diffuse(input, *profile, dopt);
+    if (useEscape) applyEscapeEnergy(r.exitance, r.weightSums, plan.escape.probability);
+    const std::vector<glm::vec3>& b = r.exitance;
+    const double seconds = plan.seconds + r.report.totalSeconds;
+    record("auto", "bake-auto", profileName + "/" + toString(r.report.method), tol,
+           r.report.gaussians, seconds, b, nullptr, 0.0, toString(plan.model));
   }
 }
 
@@ -305,7 +375,7 @@ int run(int argc, char** argv) {
   std::ofstream csv(outDir + "/scenes.csv");
   csv << "scene,material,profile,method,chosen,tolerance,gaussians,vertices,visibility_s,"
          "diffusion_s,bake_s,err_L,err_L_raw,ref_noise,err_B,err_vs_exact,dropped_pairs,bias_L,"
-         "shape_err_L\n";
+         "shape_err_L,energy\n";
   for (const Scene& s : scenes) {
     if (!only.empty() && only != s.name) continue;
     sceneStudy(s, walks, 128, csv);

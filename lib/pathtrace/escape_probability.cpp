@@ -14,6 +14,7 @@
 #include "material/material.h"
 #include "mesh/triangle_mesh.h"
 #include "optics/fresnel.h"
+#include "pathtrace/one_ring_sampler.h"
 #include "pathtrace/walk_sampling.h"
 #include "raytrace/triangle_scene.h"
 
@@ -69,17 +70,34 @@ class EscapeWalker {
         return out;
       }
       double t;
-      if (out.events == 0 && boundaryHits == 0) {
-        if (hit.triangle == start) {  // grazing: back out through the entry triangle
+      if (out.events == 0) {
+        if (boundaryHits == 0 && hit.triangle == start) {  // grazing: out through the entry face
           out.lost = true;
           return out;
         }
-        // Forced first scattering: the flight is drawn inside [0, t_hit) and the walk carries
-        // the probability 1 - exp(-sigma_s t_hit) that it scatters there (light that crosses
-        // unscattered is not diffusion's): no zero scores from the first flight.
+        // Forced scattering until the first event: on this segment the walk either scatters
+        // (probability p_s = 1 - exp(-sigma_s t_hit)) or reaches the far side and reflects back
+        // inside (F_r); it carries their sum q and picks one in proportion. Light that crosses
+        // and leaves unscattered is not diffusion's: no zero scores from the first flights.
         const double scatterProbability = -std::expm1(-sigmaS * double(hit.t));
-        if (!(scatterProbability > 0.0)) return out;
-        forced = scatterProbability;
+        if (!(scatterProbability > 0.0)) return out;  // no scattering (and no endless bouncing)
+        glm::vec3 normal = hit.faceNormal;
+        float cosI = glm::dot(d, normal);
+        if (cosI < 0.0f) {
+          normal = -normal;
+          cosI = -cosI;
+        }
+        const double q =
+            scatterProbability + (1.0 - scatterProbability) * fresnelDielectric(cosI, 1.0f / eta_);
+        forced *= q;
+        if (rng.uniformDouble() * q >= scatterProbability) {
+          ++boundaryHits;
+          length += hit.t;
+          const glm::vec3 hitPoint = p + hit.t * d;
+          d = glm::normalize(d - 2.0f * cosI * normal);
+          p = hitPoint - eps * normal;
+          continue;
+        }
         t = -std::log1p(-rng.uniformDouble() * scatterProbability) / sigmaS;
       } else {
         t = sigmaS > 0.0 ? -std::log(1.0 - rng.uniformDouble()) / sigmaS
@@ -126,8 +144,7 @@ EscapeResult estimateEscapeProbability(const TriangleMesh& meshMm, std::span<con
   const Stopwatch clock;
   const std::size_t n = meshMm.positions.size();
   if (n == 0 || meshMm.triangles.empty()) fail("", "escape probability: empty mesh");
-  if (meshMm.normals.size() != n || areas.size() != n)
-    fail("", "escape probability: one normal and one area per vertex needed");
+  if (areas.size() != n) fail("", "escape probability: one area per vertex needed");
   validateMaterial(material);
   if (!(std::abs(material.g) < 1.0)) fail("", "escape probability: |g| must be below 1");
   if (options.walks < 1) fail("", "escape probability: walks must be at least 1");
@@ -137,26 +154,7 @@ EscapeResult estimateEscapeProbability(const TriangleMesh& meshMm, std::span<con
   const std::size_t probes = std::min(n, std::max<std::size_t>(options.maxProbes, 1));
   auto probeVertex = [&](std::size_t k) { return static_cast<uint32_t>(k * n / probes); };
 
-  // The triangles around each probe vertex (CSR), with their areas, where its walks enter.
-  std::vector<uint32_t> firstTriangle(n + 1, 0), vertexTriangles(3 * meshMm.triangles.size());
-  for (const glm::uvec3& t : meshMm.triangles)
-    for (int k = 0; k < 3; ++k) ++firstTriangle[t[k] + 1];
-  for (std::size_t v = 0; v < n; ++v) firstTriangle[v + 1] += firstTriangle[v];
-  {
-    std::vector<uint32_t> fill(firstTriangle.begin(), firstTriangle.end() - 1);
-    for (uint32_t f = 0; f < meshMm.triangles.size(); ++f)
-      for (int k = 0; k < 3; ++k) vertexTriangles[fill[meshMm.triangles[f][k]]++] = f;
-  }
-  std::vector<float> triangleArea(meshMm.triangles.size());
-  std::vector<glm::vec3> triangleNormal(meshMm.triangles.size());
-  for (std::size_t f = 0; f < meshMm.triangles.size(); ++f) {
-    const glm::uvec3 t = meshMm.triangles[f];
-    const glm::vec3 c = glm::cross(meshMm.positions[t.y] - meshMm.positions[t.x],
-                                   meshMm.positions[t.z] - meshMm.positions[t.x]);
-    const float twice = glm::length(c);
-    triangleArea[f] = 0.5f * twice;
-    triangleNormal[f] = twice > 0.0f ? c / twice : glm::vec3(0.0f);
-  }
+  const OneRingSampler entries(meshMm.positions, meshMm.triangles);
 
   // Walks at the probes: mean and variance of the mean per channel.
   std::vector<glm::dvec3> probeMean(probes), probeVariance(probes);
@@ -166,34 +164,11 @@ EscapeResult estimateEscapeProbability(const TriangleMesh& meshMm, std::span<con
     for (std::size_t k = begin; k < end; ++k) {
       const uint32_t v = probeVertex(k);
       Pcg32 rng(options.seed, v);
-      const uint32_t begin = firstTriangle[v], end = firstTriangle[v + 1];
-      float ringArea = 0.0f;
-      for (uint32_t j = begin; j < end; ++j) ringArea += triangleArea[vertexTriangles[j]];
       for (int c = 0; c < 3; ++c) {
         double sum = 0.0, sumSq = 0.0;
-        for (int s = 0; s < options.walks && ringArea > 0.0f; ++s) {
-          // A point of the vertex's triangles (area-weighted, uniform inside), entering through
-          // the face: the faceted surface the vertex stands for, not its cone-shaped apex.
-          float pick = static_cast<float>(rng.uniformDouble()) * ringArea;
-          uint32_t f = vertexTriangles[end - 1];
-          for (uint32_t j = begin; j < end; ++j) {
-            pick -= triangleArea[vertexTriangles[j]];
-            if (pick < 0.0f) {
-              f = vertexTriangles[j];
-              break;
-            }
-          }
-          double u = rng.uniformDouble(), w = rng.uniformDouble();
-          if (u + w > 1.0) {
-            u = 1.0 - u;
-            w = 1.0 - w;
-          }
-          const glm::uvec3 t = meshMm.triangles[f];
-          const glm::vec3 x =
-              meshMm.positions[t.x] +
-              static_cast<float>(u) * (meshMm.positions[t.y] - meshMm.positions[t.x]) +
-              static_cast<float>(w) * (meshMm.positions[t.z] - meshMm.positions[t.x]);
-          const WalkOutcome o = walker.walk(x, triangleNormal[f], f, c, rng);
+        for (int s = 0; s < options.walks && entries.hasSurface(v); ++s) {
+          const SurfacePoint entry = entries.sample(v, rng);
+          const WalkOutcome o = walker.walk(entry.position, entry.normal, entry.triangle, c, rng);
           sum += o.weight;
           sumSq += o.weight * o.weight;
           events += o.events;

@@ -62,7 +62,8 @@ struct EscapeResult {
   double seconds = 0.0;
 };
 
-// meshMm: positions in mm, unit outward vertex normals; areas: mm^2 per vertex (vertexAreas).
+// meshMm: positions in mm, consistently wound triangles (outward normals); areas: mm^2 per vertex
+// (vertexAreas).
 // Throws Error on an empty mesh, mismatched areas, an invalid material, |g| >= 1 or walks < 1.
 EscapeResult estimateEscapeProbability(const TriangleMesh& meshMm, std::span<const float> areas,
                                        const Material& material, const EscapeOptions& options);

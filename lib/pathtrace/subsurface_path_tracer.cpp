@@ -17,6 +17,7 @@
 #include "material/material.h"
 #include "mesh/triangle_mesh.h"
 #include "optics/fresnel.h"
+#include "pathtrace/one_ring_sampler.h"
 #include "pathtrace/walk_sampling.h"
 #include "raytrace/triangle_scene.h"
 
@@ -29,6 +30,7 @@ constexpr double kLongWalkEvents = 500.0;
 constexpr int kPilotWalks = 256;
 // Outside directions cut off by the faceted 1-ring are redrawn at most this often per sample.
 constexpr int kMaxRedraws = 16;
+constexpr uint32_t kNoVertex = std::numeric_limits<uint32_t>::max();
 
 struct WalkStats {
   uint64_t events = 0;
@@ -183,13 +185,17 @@ PathTraceResult pathTraceSubsurface(const std::vector<glm::vec3>& positions,
   };
 
   // One walk from vertex i leaving (in the light's direction) along outside direction wo.
-  auto walkFrom = [&](std::size_t i, const glm::vec3& n, const glm::vec3& wo, Pcg32& rng,
-                      WalkStats& stats) {
+  // One walk entering at x through a boundary of normal n (start: the vertex whose own triangles
+  // count as "blocked", or none).
+  auto walkFrom = [&](const glm::vec3& x, uint32_t start, const glm::vec3& n, const glm::vec3& wo,
+                      Pcg32& rng, WalkStats& stats) {
     const float mu = glm::dot(wo, n);
+    if (!(mu > 0.0f)) return glm::dvec3(0.0);  // a facet turned away from a fixed direction
     const glm::vec3 inward = refractDirection(-wo, -n, 1.0f / eta);
     return double(fresnelTransmittance(mu, eta)) *
-           walker.walk(positions[i] - eps * n, inward, uint32_t(i), rng, stats);
+           walker.walk(x - eps * n, inward, start, rng, stats);
   };
+  const OneRingSampler oneRing(positions, triangles);
 
   for (uint32_t v : options.vertices)
     if (v >= positions.size()) fail("", "path tracer: vertex index out of range");
@@ -213,7 +219,8 @@ PathTraceResult pathTraceSubsurface(const std::vector<glm::vec3>& positions,
       const glm::vec3 normal = glm::normalize(normals[i]);
       for (std::size_t s = 0; s < kPilotWalks / probes; ++s, ++walks) {
         WalkStats stats;
-        walkFrom(i, normal, sampleCosineHemisphere(normal, rng), rng, stats);
+        walkFrom(positions[i], uint32_t(i), normal, sampleCosineHemisphere(normal, rng), rng,
+                 stats);
         events += stats.events;
       }
     }
@@ -266,8 +273,14 @@ PathTraceResult pathTraceSubsurface(const std::vector<glm::vec3>& positions,
         glm::dvec3 value(0.0);
         for (int attempt = 0; attempt < kMaxRedraws; ++attempt) {
           WalkStats stats;
-          const glm::vec3 wo = fixedWo ? *fixedWo : sampleCosineHemisphere(normal, rng);
-          value = walkFrom(i, normal, wo, rng, stats);
+          if (options.entry == WalkEntry::OneRing && oneRing.hasSurface(uint32_t(i))) {
+            const SurfacePoint entry = oneRing.sample(uint32_t(i), rng);
+            const glm::vec3 wo = fixedWo ? *fixedWo : sampleCosineHemisphere(entry.normal, rng);
+            value = walkFrom(entry.position, kNoVertex, entry.normal, wo, rng, stats);
+          } else {
+            const glm::vec3 wo = fixedWo ? *fixedWo : sampleCosineHemisphere(normal, rng);
+            value = walkFrom(positions[i], uint32_t(i), normal, wo, rng, stats);
+          }
           events += stats.events;
           hits += stats.boundaryHits;
           trunc += stats.truncated;

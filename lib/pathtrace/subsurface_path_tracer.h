@@ -69,6 +69,15 @@ enum class RadianceDirection {
   TowardsPoint  // towards PathTraceOptions::viewPoint (vertices facing away get 0)
 };
 
+// Where a vertex's walks enter the medium.
+enum class WalkEntry {
+  Vertex,  // at the vertex, through its (smooth) normal: the value at that point
+  // At uniform points of its triangles (area-weighted), through their face normals: the mean over
+  // the surface the vertex stands for. On a coarse mesh a vertex is the apex of a cone of facets
+  // (or the bottom of a pit), which a smooth-surface model does not describe.
+  OneRing
+};
+
 struct PathTraceOptions {
   int samples = 256;  // walks per vertex and per estimate (exitance, radiance)
   // Only these vertices (indices into the mesh), in this order; the result arrays then hold one
@@ -82,6 +91,7 @@ struct PathTraceOptions {
   RadianceDirection radianceDirection = RadianceDirection::Normal;
   glm::vec3 viewPoint = glm::vec3(0.0f);  // mm, for RadianceDirection::TowardsPoint
   bool occlusion = true;                  // the mesh shadows the environment at exit points
+  WalkEntry entry = WalkEntry::Vertex;
   // Count light scattered at least this often: 1 (default) leaves out unscattered transmission,
   // 2 also single scattering (which the diffusion models lack), 0 counts everything.
   int minScatteringOrder = 1;

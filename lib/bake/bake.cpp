@@ -410,8 +410,12 @@ BakeOutput bake(const BakeSettings& settings) {
     DiffusionResult result = diffuse(input, *profile, options);
     baked.exitance = std::move(result.exitance);
     const DiffusionReport& r = result.report;
-    if (escapeEnergy)
-      applyEscapeEnergy(baked.exitance, result.weightSums, energy.escape.probability);
+    if (escapeEnergy) {
+      options.method = r.method;
+      applyEscapeEnergy(
+          baked.exitance, result.weightSums, energy.escape.probability, energy.halfSpaceAlbedo,
+          gaussianAverageIrradiance(input, escapeExcessSigmaMm(settings.material), options));
+    }
     methodJson["method"] = toString(r.method);
     methodJson["requested"] = settings.method;
     methodJson["reason"] = r.reason;

@@ -5,11 +5,17 @@
 
 #include "core/error.h"
 #include "core/timer.h"
+#include "material/gaussian_profile.h"
 #include "material/halfspace_albedo.h"
 #include "material/material.h"
 #include "mesh/triangle_mesh.h"
 
 namespace sss {
+namespace {
+
+constexpr double kExcessDiffusionLengths = 4.0;
+
+}  // namespace
 
 std::string toString(EnergyModel model) {
   switch (model) {
@@ -55,39 +61,48 @@ EnergyPlan planFiniteObjectEnergy(const TriangleMesh& meshMm, std::span<const fl
   plan.walks = escape.walks;
 
   // Deviation from the half-space albedo, relative RMS over vertices and channels (weighted like
-  // the error of B: a dark channel counts little), the walks' own noise removed.
-  double deviationSq = 0.0, albedoSq = 0.0;
-  for (const glm::vec3& p : plan.escape.probability)
-    for (int c = 0; c < 3; ++c) {
-      deviationSq += (p[c] - plan.halfSpaceAlbedo[c]) * (p[c] - plan.halfSpaceAlbedo[c]);
-      albedoSq += plan.halfSpaceAlbedo[c] * plan.halfSpaceAlbedo[c];
-    }
-  const double raw = albedoSq > 0.0 ? std::sqrt(deviationSq / albedoSq) : 0.0;
-  const double noise = plan.escape.relativeStdError;
-  plan.halfSpaceDeviation = std::sqrt(std::max(0.0, raw * raw - noise * noise));
-
+  // the error of B: a dark channel counts little), with and without the walks' own noise.
+  auto deviation = [&](double& raw) {
+    double deviationSq = 0.0, albedoSq = 0.0;
+    for (const glm::vec3& p : plan.escape.probability)
+      for (int c = 0; c < 3; ++c) {
+        deviationSq += (p[c] - plan.halfSpaceAlbedo[c]) * (p[c] - plan.halfSpaceAlbedo[c]);
+        albedoSq += plan.halfSpaceAlbedo[c] * plan.halfSpaceAlbedo[c];
+      }
+    raw = albedoSq > 0.0 ? std::sqrt(deviationSq / albedoSq) : 0.0;
+    const double noise = plan.escape.relativeStdError;
+    return std::sqrt(std::max(0.0, raw * raw - noise * noise));
+  };
+  double raw = 0.0;
+  plan.halfSpaceDeviation = deviation(raw);
   char text[256];
-  // Auto keeps the half-space model unless the walks show a deviation above the budget by more
-  // than twice their own noise (a few walks per probe estimate their variance roughly).
-  if (options.model == EnergyModel::Auto && raw <= options.noiseBudget + 2.0 * noise) {
+  auto keepHalfSpace = [&](const char* why) {
     std::snprintf(text, sizeof text,
-                  "escape probability within %.2g%% of the half-space albedo (budget %.2g%%)",
-                  100.0 * plan.halfSpaceDeviation, 100.0 * options.noiseBudget);
+                  "escape probability within %.2g%% of the half-space albedo (budget %.2g%%, %s)",
+                  100.0 * plan.halfSpaceDeviation, 100.0 * options.noiseBudget, why);
     plan.reason = text;
     plan.model = EnergyModel::HalfSpace;
     plan.escape.probability.clear();
     plan.seconds = clock.seconds();
     return plan;
-  }
-  plan.model = EnergyModel::Escape;
-  // More walks until the noise meets the budget (noise ~ walks^-1/2).
+  };
+  // Even with their noise the walks' deviation is within the budget: nothing to correct.
+  if (options.model == EnergyModel::Auto && raw <= options.noiseBudget)
+    return keepHalfSpace("first walks");
+  // More walks until their noise meets the budget (noise ~ walks^-1/2): needed to apply the
+  // model, and to tell a real deviation from noise.
+  const double noise = plan.escape.relativeStdError;
   if (noise > options.noiseBudget && plan.walks < options.maxWalks) {
     const double needed =
         plan.walks * (noise / options.noiseBudget) * (noise / options.noiseBudget);
     escape.walks = std::min(options.maxWalks, static_cast<int>(std::ceil(needed)));
     plan.escape = estimateEscapeProbability(meshMm, areas, material, escape);
     plan.walks = escape.walks;
+    plan.halfSpaceDeviation = deviation(raw);
   }
+  if (options.model == EnergyModel::Auto && plan.halfSpaceDeviation <= options.noiseBudget)
+    return keepHalfSpace("noise removed");
+  plan.model = EnergyModel::Escape;
   std::snprintf(text, sizeof text,
                 "%s: escape probability %.2g%% from the half-space albedo (mean %.3f/%.3f/%.3f), "
                 "walk noise %.2g%%",
@@ -104,13 +119,50 @@ EnergyPlan planFiniteObjectEnergy(const TriangleMesh& meshMm, std::span<const fl
   return plan;
 }
 
-void applyEscapeEnergy(std::span<glm::vec3> exitance, std::span<const glm::vec3> rho,
-                       std::span<const glm::vec3> escapeProbability) {
-  if (rho.size() != exitance.size() || escapeProbability.size() != exitance.size())
-    fail("", "energy: one rho and one escape probability per vertex needed");
-  for (std::size_t i = 0; i < exitance.size(); ++i)
+double escapeExcessSigmaMm(const Material& material) {
+  const glm::dvec3 sigmaTr = material.sigmaTr();
+  const double shortest = std::min({sigmaTr.x, sigmaTr.y, sigmaTr.z});
+  return shortest > 0.0 ? kExcessDiffusionLengths / shortest : 0.0;
+}
+
+std::vector<glm::vec3> gaussianAverageIrradiance(const DiffusionInput& input, double sigmaMm,
+                                                 const DiffusionOptions& options) {
+  const std::size_t n = input.positions.size();
+  if (!(sigmaMm > 0.0)) {  // no absorption: one average over the whole surface
+    glm::dvec3 sum(0.0);
+    double area = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      sum += glm::dvec3(input.irradiance[i]) * double(input.areas[i]);
+      area += input.areas[i];
+    }
+    return std::vector<glm::vec3>(n, area > 0.0 ? glm::vec3(sum / area) : glm::vec3(0.0f));
+  }
+  DiffusionOptions average = options;
+  average.weightSums = true;
+  average.quiet = true;
+  const DiffusionResult r = diffuse(input, GaussianProfile(sigmaMm * sigmaMm), average);
+  std::vector<glm::vec3> out(n, glm::vec3(0.0f));
+  for (std::size_t i = 0; i < n; ++i)
     for (int c = 0; c < 3; ++c)
-      if (rho[i][c] > 0.0f) exitance[i][c] *= escapeProbability[i][c] / rho[i][c];
+      if (r.weightSums[i][c] > 0.0f) out[i][c] = r.exitance[i][c] / r.weightSums[i][c];
+  return out;
+}
+
+void applyEscapeEnergy(std::span<glm::vec3> exitance, std::span<const glm::vec3> rho,
+                       std::span<const glm::vec3> escapeProbability,
+                       const glm::dvec3& halfSpaceAlbedo,
+                       std::span<const glm::vec3> averageIrradiance) {
+  const std::size_t n = exitance.size();
+  if (rho.size() != n || escapeProbability.size() != n || averageIrradiance.size() != n)
+    fail("", "energy: one rho, escape probability and average irradiance per vertex needed");
+  for (std::size_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) {
+      const double p = escapeProbability[i][c], r = halfSpaceAlbedo[c];
+      const double profilePart =
+          rho[i][c] > 0.0f ? exitance[i][c] * std::min(p, r) / rho[i][c] : 0.0;
+      exitance[i][c] =
+          static_cast<float>(profilePart + std::max(0.0, p - r) * averageIrradiance[i][c]);
+    }
 }
 
 }  // namespace sss

@@ -1,7 +1,8 @@
 // The speed target: the dragon with ~100K vertices (dragon_res2, scaled to 150 mm),
-// marble, forest environment, 64 visibility rays per vertex (res2_rays; res2_auto lets the 1%
-// tolerance choose the rays, bake.h), 1% tolerance: the whole
-// bake (load, environment, visibility, diffusion; not the PLY write) <= 5 s on 2 cores, peak
+// marble, forest environment, 64 visibility rays per vertex (res2_rays, half-space energy as
+// the paper; res2_rays_escape adds the escape energy model's walks; res2_auto is sss-bake's
+// default: the 1% tolerance chooses rays, energy model, profile and method), 1% tolerance: the
+// whole bake (load, environment, visibility, diffusion; not the PLY write) <= 5 s on 2 cores, peak
 // memory <= 1 GB. Counters: stage seconds from the bake's report and the process's peak RSS.
 // Run with --benchmark_repetitions=5 --benchmark_report_aggregates_only=true for medians.
 #include <benchmark/benchmark.h>
@@ -21,7 +22,8 @@ namespace {
 const std::string kData = SSS_SOURCE_DIR "/data/cache";
 
 // samples 0: auto (the default: as many rays as the 1% tolerance needs, see bake.h).
-void BM_BakeDragon(benchmark::State& state, const char* mesh, const char* visibility, int samples) {
+void BM_BakeDragon(benchmark::State& state, const char* mesh, const char* visibility, int samples,
+                   const char* energy, const char* profile) {
   const std::string meshPath = kData + "/meshes/" + mesh + ".ply";
   if (!std::filesystem::exists(meshPath)) {
     state.SkipWithError(("missing " + meshPath + ": run data/fetch.sh").c_str());
@@ -35,6 +37,8 @@ void BM_BakeDragon(benchmark::State& state, const char* mesh, const char* visibi
   settings.visibility = sss::parseVisibilityMode(visibility);
   settings.samples = samples;
   settings.tolerance = 0.01;
+  settings.energy = energy;
+  settings.profile = profile;
   settings.threads = static_cast<int>(state.range(0));
   settings.quiet = true;
   nlohmann::json report;
@@ -51,23 +55,30 @@ void BM_BakeDragon(benchmark::State& state, const char* mesh, const char* visibi
     state.counters["samples"] = report["visibility"]["samples"].get<double>();
   }
   state.counters["estimated_error"] = report["estimated_error"]["total"].get<double>();
-  state.SetLabel(report["exitance"]["method"].get<std::string>());
+  state.SetLabel(report["profile"]["name"].get<std::string>() + "/" +
+                 report["exitance"]["method"].get<std::string>() + "/" +
+                 report["energy"]["model"].get<std::string>());
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   state.counters["peak_rss_mb"] = static_cast<double>(usage.ru_maxrss) / 1024.0;
 }
 
-BENCHMARK_CAPTURE(BM_BakeDragon, res2_rays, "dragon_res2", "rays", 64)
+BENCHMARK_CAPTURE(BM_BakeDragon, res2_rays, "dragon_res2", "rays", 64, "halfspace", "dipole")
     ->Arg(2)
     ->Unit(benchmark::kSecond)
     ->Iterations(1)
     ->UseRealTime();
-BENCHMARK_CAPTURE(BM_BakeDragon, res2_auto, "dragon_res2", "rays", 0)
+BENCHMARK_CAPTURE(BM_BakeDragon, res2_rays_escape, "dragon_res2", "rays", 64, "escape", "dipole")
     ->Arg(2)
     ->Unit(benchmark::kSecond)
     ->Iterations(1)
     ->UseRealTime();
-BENCHMARK_CAPTURE(BM_BakeDragon, res2_none, "dragon_res2", "none", 0)
+BENCHMARK_CAPTURE(BM_BakeDragon, res2_auto, "dragon_res2", "rays", 0, "auto", "auto")
+    ->Arg(2)
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_BakeDragon, res2_none, "dragon_res2", "none", 0, "halfspace", "dipole")
     ->Arg(2)
     ->Unit(benchmark::kSecond)
     ->Iterations(1)

@@ -4,7 +4,9 @@
 
 #include <cmath>
 
+#include "core/error.h"
 #include "material/diffusion_profile.h"
+#include "material/gaussian_profile.h"
 #include "material/gaussian_sum_fit.h"
 
 namespace sss {
@@ -121,6 +123,30 @@ TEST(GaussianSumFit, TighterToleranceNeedsMoreGaussians) {
   EXPECT_FALSE(capped.metTolerance);
   EXPECT_LE(capped.sum.size(), 2u);
   EXPECT_GT(capped.error, 1e-6);
+}
+
+}  // namespace
+}  // namespace sss
+
+namespace sss {
+namespace {
+
+// The escape energy model's wide kernel as a profile: a normalized Gaussian integrates to 1, its
+// disc has the closed form, and the fit for the fast methods is that one Gaussian.
+TEST(GaussianProfile, IsOneNormalizedGaussian) {
+  const double variance = 37.0;  // mm^2
+  const GaussianProfile g(variance);
+  const double sigma = std::sqrt(variance);
+  EXPECT_NEAR(integrateProfileNumerically(g, 0.0, 12.0 * sigma).x, 1.0, 1e-6);
+  for (double rho : {0.5, 3.0, 9.0})
+    EXPECT_NEAR(g.integrateDisc(rho).y, integrateProfileNumerically(g, 0.0, rho).y, 1e-6) << rho;
+  EXPECT_NEAR(g.evaluate(sigma).z, std::exp(-0.5) / (2.0 * M_PI * variance), 1e-12);
+  const GaussianSumFit fit = fitGaussians(g, 0.005);
+  ASSERT_EQ(fit.sum.size(), 1u);
+  EXPECT_NEAR(fit.sum.variances[0], variance, 0.01 * variance);  // within the fit tolerance
+  EXPECT_NEAR(fit.sum.weights[0].x, 1.0, 1e-9);
+  EXPECT_THROW(GaussianProfile(0.0), Error);
+  EXPECT_THROW(GaussianProfile(std::nan("")), Error);
 }
 
 }  // namespace

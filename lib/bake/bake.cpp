@@ -248,6 +248,7 @@ BakeOutput bake(const BakeSettings& settings) {
     energyOptions.noiseBudget = kEnergyShare * settings.tolerance;
     energyOptions.seed = settings.seed;
     energyOptions.threads = settings.threads;
+    energyOptions.quiet = settings.quiet;
     energy = planFiniteObjectEnergy(meshMm, areas, settings.material, energyOptions);
     info("energy: " + toString(energy.model) + " (" + energy.reason + ")", settings.quiet);
     if (energy.model == EnergyModel::Escape &&

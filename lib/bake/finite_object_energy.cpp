@@ -57,6 +57,7 @@ EnergyPlan planFiniteObjectEnergy(const TriangleMesh& meshMm, std::span<const fl
   escape.maxProbes = options.maxProbes;
   escape.seed = options.seed;
   escape.threads = options.threads;
+  escape.quiet = options.quiet;
   plan.escape = estimateEscapeProbability(meshMm, areas, material, escape);
   plan.walks = escape.walks;
 

@@ -62,6 +62,7 @@ struct EnergyOptions {
   std::size_t maxProbes = 1024;
   uint64_t seed = 1;
   int threads = 0;
+  bool quiet = true;  // no progress bar on stderr
 };
 
 struct EnergyPlan {

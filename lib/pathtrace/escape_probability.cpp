@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "core/parallel.h"
+#include "core/progress.h"
 #include "core/random.h"
 #include "core/timer.h"
 #include "material/material.h"
@@ -159,6 +160,7 @@ EscapeResult estimateEscapeProbability(const TriangleMesh& meshMm, std::span<con
   // Walks at the probes: mean and variance of the mean per channel.
   std::vector<glm::dvec3> probeMean(probes), probeVariance(probes);
   std::atomic<uint64_t> totalEvents{0}, totalLost{0};
+  Progress progress("escape walks", probes, options.quiet);
   parallelFor(probes, options.threads, 8, [&](std::size_t begin, std::size_t end) {
     uint64_t events = 0, lost = 0;
     for (std::size_t k = begin; k < end; ++k) {
@@ -182,7 +184,9 @@ EscapeResult estimateEscapeProbability(const TriangleMesh& meshMm, std::span<con
     }
     totalEvents += events;
     totalLost += lost;
+    progress.advance(end - begin);
   });
+  progress.finish();
 
   // Smoothing over the surface.
   double totalArea = 0.0;

@@ -45,7 +45,8 @@ struct EscapeOptions {
   std::size_t maxProbes = 2048;  // probe vertices (an even stride when the mesh has more)
   double smoothing = 2.0;        // Gaussian sigma in the longest diffusion length 1/sigma_tr
   uint64_t seed = 1;
-  int threads = 0;  // <= 0: all cores
+  int threads = 0;    // <= 0: all cores
+  bool quiet = true;  // no progress bar on stderr
 };
 
 struct EscapeResult {

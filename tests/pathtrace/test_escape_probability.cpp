@@ -251,15 +251,16 @@ TEST(EscapeProbability, MarbleSphereReturnsMoreThanHalfSpace) {
 // narrow smoothing kernel (P varies across the slab). Thin marble slab: 0.98, 0.97, 0.95.
 // The error bound from relativeStdError (0.003) is conservative here: the spread over seeds is
 // 0.0003, 0.0009, 0.0004.
-TEST(EscapeProbability, MarbleSlabMatchesPathTracer) {
-  const TriangleMesh slab = makeSlab(40.0f, 2.0f, 16);
-  const Material marble = findMaterialPreset("marble");
+// The escape probability at a 2 mm slab's top centre against the path tracer, narrow smoothing.
+void expectSlabTopMatchesPathTracer(float side, int subdivisions, const Material& material,
+                                    int walks, int tracerWalks) {
+  const TriangleMesh slab = makeSlab(side, 2.0f, subdivisions);
   EscapeOptions options;
-  options.walks = 32;
+  options.walks = walks;
   options.smoothing = 0.25;
-  const EscapeResult r = escape(slab, marble, options);
+  const EscapeResult r = escape(slab, material, options);
   const uint32_t top = uint32_t(findVertex(slab, glm::vec3(0.0f, 0.0f, 1.0f)));
-  const PathTracedEscape pt = pathTracedEscape(slab, marble, {top}, 40000);
+  const PathTracedEscape pt = pathTracedEscape(slab, material, {top}, tracerWalks);
   const double se = channelStandardErrorBound(r);
   for (int c = 0; c < 3; ++c) {
     EXPECT_NEAR(r.probability[top][c], pt.mean[c], 4.0 * std::hypot(se, pt.standardError[c]))
@@ -267,24 +268,17 @@ TEST(EscapeProbability, MarbleSlabMatchesPathTracer) {
   }
 }
 
+TEST(EscapeProbability, MarbleSlabMatchesPathTracer) {
+  expectSlabTopMatchesPathTracer(40.0f, 16, findMaterialPreset("marble"), 32, 40000);
+}
+
 // Henyey-Greenstein: a forward-scattering skin slab (g = 0.8, sigma_s = sigma_s' / (1 - g)) at its
 // top centre against the path tracer with the same phase function: 0.82, 0.42, 0.17 (isotropic
 // scattering with that sigma_s would return 0.82, 0.51, 0.34).
 TEST(EscapeProbability, ForwardScatteringMatchesPathTracer) {
-  const TriangleMesh slab = makeSlab(20.0f, 2.0f, 10);
   Material skin = findMaterialPreset("skin1");
   skin.g = 0.8;
-  EscapeOptions options;
-  options.walks = 16;
-  options.smoothing = 0.25;
-  const EscapeResult r = escape(slab, skin, options);
-  const uint32_t top = uint32_t(findVertex(slab, glm::vec3(0.0f, 0.0f, 1.0f)));
-  const PathTracedEscape pt = pathTracedEscape(slab, skin, {top}, 20000);
-  const double se = channelStandardErrorBound(r);
-  for (int c = 0; c < 3; ++c) {
-    EXPECT_NEAR(r.probability[top][c], pt.mean[c], 4.0 * std::hypot(se, pt.standardError[c]))
-        << "channel " << c << " (standard errors " << se << ", " << pt.standardError[c] << ")";
-  }
+  expectSlabTopMatchesPathTracer(20.0f, 10, skin, 16, 20000);
 }
 
 // Mean path length invariance (Blanco & Fournier 2003): light entering a convex index-matched

@@ -59,7 +59,7 @@ struct EnergyOptions {
   // (up to maxWalks) until the estimate's relative standard error meets it.
   double noiseBudget = 0.005;
   int firstWalks = 2, maxWalks = 128;
-  std::size_t maxProbes = 1024;
+  std::size_t maxProbes = 256;
   uint64_t seed = 1;
   int threads = 0;
   bool quiet = true;  // no progress bar on stderr

@@ -94,5 +94,13 @@ awk -F, '
         (au[k] <= f[3] ? "" : " **missed**"), (k in best ? sprintf("%s %.3f s", bestM[k], best[k]) : "none")
     }
   }' "$dir/scenes.csv" | sort
+echo
+echo "sss-bake's own choice (energy model, profile, method): error against the exact sum of the"
+echo "profile and energy model it chose (the escape rows include the difference between its walks"
+echo "and the study's):"
+echo
+echo "| scene | tolerance | chosen (profile/method, energy) | error vs exact | time (s) |"
+echo "|---|---|---|---|---|"
+awk -F, '$4 == "bake-auto" { printf "| %s | %s | %s, %s | %.4f%s | %.3f |\n", $1, $6, $5, $20, $16, ($16 <= $6 ? "" : " **missed**"), $11 }' "$dir/scenes.csv"
 } > "$dir/auto_check.md"
 echo "charts and tables in $dir"

@@ -237,6 +237,13 @@ BakeOutput bake(const BakeSettings& settings) {
            " mm long",
        settings.quiet);
 
+  // Environment.
+  clock.restart();
+  EnvironmentOptions envOptions;
+  envOptions.faceSize = settings.environmentFaceSize;
+  const Cubemap radiance = loadEnvironment(settings.environment, envOptions);
+  stages["load_environment_s"] = clock.seconds();
+
   // Energy model (finite_object_energy.h), then the profile: after the escape normalization the
   // dipole's shape is the closest to the Monte Carlo reference; without it Burley's (calibrated to
   // the half-space albedo) is (tests/bench/results/accuracy).
@@ -263,13 +270,6 @@ BakeOutput bake(const BakeSettings& settings) {
   const double visibilityShare = escapeEnergy ? kVisibilityShareWithEnergy : kVisibilityShare;
   const double energyError = escapeEnergy ? energy.escape.relativeStdError : 0.0;
   stages["energy_s"] = clock.seconds();
-
-  // Environment.
-  clock.restart();
-  EnvironmentOptions envOptions;
-  envOptions.faceSize = settings.environmentFaceSize;
-  const Cubemap radiance = loadEnvironment(settings.environment, envOptions);
-  stages["load_environment_s"] = clock.seconds();
 
   // Transmitted irradiance E per vertex.
   clock.restart();

@@ -163,6 +163,11 @@ TEST_F(BakeTool, SameOutputForOneAndTwoThreads) {
   fs::rename(dir_ / "out.ply", dir_ / "one.ply");
   ASSERT_EQ(run(autoArgs + "2").exitCode, 0);
   EXPECT_EQ(readFile(dir_ / "one.ply"), readFile(dir_ / "out.ply"));
+  // The escape energy model's walks (a 20 mm marble sphere) too.
+  ASSERT_EQ(run(args("sphere.ply", "-m marble --unit mm --energy escape --threads 1")).exitCode, 0);
+  fs::rename(dir_ / "out.ply", dir_ / "one.ply");
+  ASSERT_EQ(run(args("sphere.ply", "-m marble --unit mm --energy escape --threads 2")).exitCode, 0);
+  EXPECT_EQ(readFile(dir_ / "one.ply"), readFile(dir_ / "out.ply"));
 }
 
 TEST_F(BakeTool, PathTraceReferenceWritesTheSameFormat) {

@@ -181,6 +181,39 @@ TEST(FailureModes, SmallObjectsAreUnderestimatedCoarseMeshesAddLittle) {
   EXPECT_NEAR(dipoleOverReference(1, 42, 300, true), 1.0, 0.05);
 }
 
+// Sharp edges: a 20 mm marble cube lit from above, radiance along the (averaged) vertex normal at
+// the top face's centre, the middle of a top edge (normal at 45 degrees) and a side face's centre.
+// With the escape energy model the dipole is within 4% at all three (measured 1.03, 1.04, 0.99):
+// light entering near an edge is not lost. Under the study's blurred forest, though, the cube's
+// edge and corner vertices are 0.5-0.7x the reference, which light from one hemisphere does not
+// reproduce (tests/bench/results/accuracy).
+TEST(FailureModes, SharpEdgesHoldUnderLightFromAbove) {
+  const Material marble = findMaterialPreset("marble");
+  const TriangleMesh cube = makeBox(glm::vec3(20.0f), 8);
+  const std::vector<uint32_t> vertices = {
+      uint32_t(nearestVertex(cube, glm::vec3(0.0f, 0.0f, 10.0f))),
+      uint32_t(nearestVertex(cube, glm::vec3(0.0f, 10.0f, 10.0f))),
+      uint32_t(nearestVertex(cube, glm::vec3(0.0f, 10.0f, 0.0f)))};
+  const Cubemap light = upperHemisphere();
+  PathTraceOptions options;
+  options.samples = 4000;
+  options.vertices = vertices;
+  options.quiet = true;
+  const PathTraceResult pt = pathTraceSubsurface(cube, light, marble, options);
+  VisibilityOptions vis;
+  vis.samples = 64;
+  const std::vector<glm::vec3> e = transmittedIrradianceWithVisibility(
+      cube.positions, cube.normals, cube.triangles, light, float(marble.eta), vis);
+  const auto dipole = makeProfile("dipole", marble);
+  const std::vector<glm::vec3> b = diffuseExactEscape(cube, e, *dipole, marble);
+  const double scale = fresnelTransmittance(1.0f, 1.3f) * exitRadianceScale(1.3f);
+  const char* names[3] = {"top face", "top edge", "side face"};
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_LT(pt.radianceStdErr[k].y, 0.02 * pt.radiance[k].y) << names[k];
+    EXPECT_NEAR(b[vertices[k]].y * scale / pt.radiance[k].y, 1.0, 0.06) << names[k];
+  }
+}
+
 // Strong sun: the reference picks one environment direction per exit, so a small bright sun
 // makes it noisy (27% per vertex with 4096 walks in the study's sun scene) and the comparison
 // with diffusion there is limited by that noise. What must hold is that the reported standard

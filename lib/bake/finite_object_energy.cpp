@@ -54,13 +54,14 @@ EnergyPlan planFiniteObjectEnergy(const TriangleMesh& meshMm, std::span<const fl
   if (!(options.noiseBudget > 0.0)) fail("", "energy: the noise budget must be positive");
 
   EscapeOptions escape;
-  escape.walks = std::min(options.firstWalks, options.maxWalks);
   escape.maxProbes = options.maxProbes;
   escape.seed = options.seed;
   escape.threads = options.threads;
   escape.quiet = options.quiet;
-  plan.escape = estimateEscapeProbability(meshMm, areas, material, escape);
-  plan.walks = escape.walks;
+  EscapeWalks walks(meshMm, areas, material, escape);
+  walks.add(std::min(options.firstWalks, options.maxWalks));
+  plan.escape = walks.result();
+  plan.walks = walks.walksPerProbe();
 
   // Deviation from the half-space albedo, relative RMS over vertices and channels (weighted like
   // the error of B: a dark channel counts little), with and without the walks' own noise.
@@ -97,9 +98,9 @@ EnergyPlan planFiniteObjectEnergy(const TriangleMesh& meshMm, std::span<const fl
   if (noise > options.noiseBudget && plan.walks < options.maxWalks) {
     const double needed =
         plan.walks * (noise / options.noiseBudget) * (noise / options.noiseBudget);
-    escape.walks = std::min(options.maxWalks, static_cast<int>(std::ceil(needed)));
-    plan.escape = estimateEscapeProbability(meshMm, areas, material, escape);
-    plan.walks = escape.walks;
+    walks.add(std::min(options.maxWalks, static_cast<int>(std::ceil(needed))) - plan.walks);
+    plan.escape = walks.result();
+    plan.walks = walks.walksPerProbe();
     plan.halfSpaceDeviation = deviation(raw);
   }
   if (options.model == EnergyModel::Auto && plan.halfSpaceDeviation <= options.noiseBudget)

@@ -140,46 +140,79 @@ class EscapeWalker {
 
 }  // namespace
 
-EscapeResult estimateEscapeProbability(const TriangleMesh& meshMm, std::span<const float> areas,
-                                       const Material& material, const EscapeOptions& options) {
+struct EscapeWalks::State {
+  State(const TriangleMesh& m, std::span<const float> a, const Material& material,
+        const EscapeOptions& o)
+      : mesh(m),
+        areas(a),
+        options(o),
+        sigmaTr(material.sigmaTr()),
+        scene(m.positions, m.triangles),
+        walker(scene, m.triangles, material),
+        entries(m.positions, m.triangles),
+        probes(std::min(m.positions.size(), std::max<std::size_t>(o.maxProbes, 1))),
+        sum(probes, glm::dvec3(0.0)),
+        sumSq(probes, glm::dvec3(0.0)) {}
+  uint32_t probeVertex(std::size_t k) const {
+    return static_cast<uint32_t>(k * mesh.positions.size() / probes);
+  }
+
+  const TriangleMesh& mesh;
+  std::span<const float> areas;
+  EscapeOptions options;
+  glm::dvec3 sigmaTr;
+  TriangleScene scene;
+  EscapeWalker walker;
+  OneRingSampler entries;
+  std::size_t probes;
+  std::vector<glm::dvec3> sum, sumSq;  // per probe and channel, over the walks so far
+  int walks = 0;                       // per probe and channel so far
+  uint64_t events = 0, lost = 0;
+  double seconds = 0.0;
+};
+
+EscapeWalks::EscapeWalks(const TriangleMesh& meshMm, std::span<const float> areas,
+                         const Material& material, const EscapeOptions& options) {
   const Stopwatch clock;
   const std::size_t n = meshMm.positions.size();
   if (n == 0 || meshMm.triangles.empty()) fail("", "escape probability: empty mesh");
   if (areas.size() != n) fail("", "escape probability: one area per vertex needed");
   validateMaterial(material);
   if (!(std::abs(material.g) < 1.0)) fail("", "escape probability: |g| must be below 1");
-  if (options.walks < 1) fail("", "escape probability: walks must be at least 1");
+  state_ = std::make_unique<State>(meshMm, areas, material, options);
+  state_->seconds = clock.seconds();
+}
 
-  const TriangleScene scene(meshMm.positions, meshMm.triangles);
-  const EscapeWalker walker(scene, meshMm.triangles, material);
-  const std::size_t probes = std::min(n, std::max<std::size_t>(options.maxProbes, 1));
-  auto probeVertex = [&](std::size_t k) { return static_cast<uint32_t>(k * n / probes); };
+EscapeWalks::~EscapeWalks() = default;
 
-  const OneRingSampler entries(meshMm.positions, meshMm.triangles);
+int EscapeWalks::walksPerProbe() const {
+  return state_->walks;
+}
 
-  // Walks at the probes: mean and variance of the mean per channel.
-  std::vector<glm::dvec3> probeMean(probes), probeVariance(probes);
+void EscapeWalks::add(int walksPerProbe) {
+  if (walksPerProbe < 1) fail("", "escape probability: walks must be at least 1");
+  const Stopwatch clock;
+  State& st = *state_;
+  const int first = st.walks, last = st.walks + walksPerProbe;
   std::atomic<uint64_t> totalEvents{0}, totalLost{0};
-  Progress progress("escape walks", probes, options.quiet);
-  parallelFor(probes, options.threads, 8, [&](std::size_t begin, std::size_t end) {
+  Progress progress("escape walks", st.probes, st.options.quiet);
+  parallelFor(st.probes, st.options.threads, 8, [&](std::size_t begin, std::size_t end) {
     uint64_t events = 0, lost = 0;
     for (std::size_t k = begin; k < end; ++k) {
-      const uint32_t v = probeVertex(k);
-      Pcg32 rng(options.seed, v);
+      const uint32_t v = st.probeVertex(k);
+      if (!st.entries.hasSurface(v)) continue;
       for (int c = 0; c < 3; ++c) {
-        double sum = 0.0, sumSq = 0.0;
-        for (int s = 0; s < options.walks && entries.hasSurface(v); ++s) {
-          const SurfacePoint entry = entries.sample(v, rng);
-          const WalkOutcome o = walker.walk(entry.position, entry.normal, entry.triangle, c, rng);
-          sum += o.weight;
-          sumSq += o.weight * o.weight;
+        for (int s = first; s < last; ++s) {
+          // Walk s of vertex v in channel c has a stream of its own: rounds add up.
+          Pcg32 rng(st.options.seed, ((uint64_t(v) * 3u + uint64_t(c)) << 24) | uint64_t(s));
+          const SurfacePoint entry = st.entries.sample(v, rng);
+          const WalkOutcome o =
+              st.walker.walk(entry.position, entry.normal, entry.triangle, c, rng);
+          st.sum[k][c] += o.weight;
+          st.sumSq[k][c] += o.weight * o.weight;
           events += o.events;
           lost += o.lost;
         }
-        const double w = options.walks, mean = sum / w;
-        probeMean[k][c] = mean;
-        probeVariance[k][c] =
-            options.walks > 1 ? std::max(0.0, sumSq / w - mean * mean) / (w - 1.0) : mean * mean;
       }
     }
     totalEvents += events;
@@ -187,32 +220,51 @@ EscapeResult estimateEscapeProbability(const TriangleMesh& meshMm, std::span<con
     progress.advance(end - begin);
   });
   progress.finish();
+  st.walks = last;
+  st.events += totalEvents;
+  st.lost += totalLost;
+  st.seconds += clock.seconds();
+}
+
+EscapeResult EscapeWalks::result() const {
+  const Stopwatch clock;
+  const State& st = *state_;
+  const TriangleMesh& mesh = st.mesh;
+  const std::size_t n = mesh.positions.size(), probes = st.probes;
+  // Mean and variance of the mean per probe and channel.
+  const double w = std::max(st.walks, 1);
+  std::vector<glm::dvec3> probeMean(probes), probeVariance(probes);
+  for (std::size_t k = 0; k < probes; ++k)
+    for (int c = 0; c < 3; ++c) {
+      const double mean = st.sum[k][c] / w;
+      probeMean[k][c] = mean;
+      probeVariance[k][c] =
+          st.walks > 1 ? std::max(0.0, st.sumSq[k][c] / w - mean * mean) / (w - 1.0) : mean * mean;
+    }
 
   // Smoothing over the surface.
   double totalArea = 0.0;
-  for (float a : areas) totalArea += a;
+  for (float a : st.areas) totalArea += a;
   const double spacing = std::sqrt(totalArea / double(probes));
   // One width for all channels: P varies with the object's shape, which the longest diffusion
   // length sees.
-  const glm::dvec3 sigmaTr = material.sigmaTr();
-  const double shortestTr = std::min({sigmaTr.x, sigmaTr.y, sigmaTr.z});
+  const double shortestTr = std::min({st.sigmaTr.x, st.sigmaTr.y, st.sigmaTr.z});
   const double length =
-      shortestTr > 0.0 ? options.smoothing / shortestTr : double(scene.diagonal());
+      shortestTr > 0.0 ? st.options.smoothing / shortestTr : double(st.scene.diagonal());
   const glm::dvec3 sigma(std::max(length, 2.0 * spacing));
-  const double reach2 = 9.0 * std::max({sigma.x, sigma.y, sigma.z}) *
-                        std::max({sigma.x, sigma.y, sigma.z});  // 3 sigma
+  const double reach2 = 9.0 * sigma.x * sigma.x;  // 3 sigma
   EscapeResult result;
   result.probability.assign(n, glm::vec3(0.0f));
   std::vector<glm::dvec3> variance(n);
-  parallelFor(n, options.threads, 64, [&](std::size_t begin, std::size_t end) {
+  parallelFor(n, st.options.threads, 64, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
-      const glm::vec3 x = meshMm.positions[i];
+      const glm::vec3 x = mesh.positions[i];
       glm::dvec3 num(0.0), den(0.0), var(0.0);
       std::size_t nearest = 0;
       float nearestD2 = std::numeric_limits<float>::infinity();
       for (std::size_t k = 0; k < probes; ++k) {
-        const uint32_t v = probeVertex(k);
-        const glm::vec3 dx = meshMm.positions[v] - x;
+        const uint32_t v = st.probeVertex(k);
+        const glm::vec3 dx = mesh.positions[v] - x;
         const float d2 = glm::dot(dx, dx);
         if (d2 < nearestD2) {
           nearestD2 = d2;
@@ -220,10 +272,10 @@ EscapeResult estimateEscapeProbability(const TriangleMesh& meshMm, std::span<con
         }
         if (d2 > reach2) continue;
         for (int c = 0; c < 3; ++c) {
-          const double w = std::exp(-0.5 * d2 / (sigma[c] * sigma[c])) * areas[v];
-          num[c] += w * probeMean[k][c];
-          den[c] += w;
-          var[c] += w * w * probeVariance[k][c];
+          const double weight = std::exp(-0.5 * d2 / (sigma[c] * sigma[c])) * st.areas[v];
+          num[c] += weight * probeMean[k][c];
+          den[c] += weight;
+          var[c] += weight * weight * probeVariance[k][c];
         }
       }
       for (int c = 0; c < 3; ++c) {
@@ -241,7 +293,7 @@ EscapeResult estimateEscapeProbability(const TriangleMesh& meshMm, std::span<con
   double errorSq = 0.0, valueSq = 0.0;
   glm::dvec3 weighted(0.0);
   for (std::size_t i = 0; i < n; ++i) {
-    weighted += glm::dvec3(result.probability[i]) * double(areas[i]);
+    weighted += glm::dvec3(result.probability[i]) * double(st.areas[i]);
     for (int c = 0; c < 3; ++c) {
       errorSq += variance[i][c];
       valueSq += double(result.probability[i][c]) * result.probability[i][c];
@@ -250,12 +302,19 @@ EscapeResult estimateEscapeProbability(const TriangleMesh& meshMm, std::span<con
   result.mean = totalArea > 0.0 ? weighted / totalArea : glm::dvec3(0.0);
   result.relativeStdError = valueSq > 0.0 ? std::sqrt(errorSq / valueSq) : 0.0;
   result.probes = probes;
-  result.walks = uint64_t(probes) * 3u * uint64_t(options.walks);
-  result.lostWalks = totalLost;
-  result.meanScatteringEvents = double(totalEvents) / double(std::max<uint64_t>(result.walks, 1));
+  result.walks = uint64_t(probes) * 3u * uint64_t(st.walks);
+  result.lostWalks = st.lost;
+  result.meanScatteringEvents = double(st.events) / double(std::max<uint64_t>(result.walks, 1));
   result.smoothingSigmaMm = sigma;
-  result.seconds = clock.seconds();
+  result.seconds = st.seconds + clock.seconds();
   return result;
+}
+
+EscapeResult estimateEscapeProbability(const TriangleMesh& meshMm, std::span<const float> areas,
+                                       const Material& material, const EscapeOptions& options) {
+  EscapeWalks walks(meshMm, areas, material, options);
+  walks.add(options.walks);
+  return walks.result();
 }
 
 }  // namespace sss

@@ -24,12 +24,13 @@
 // smoothed over the surface with a Gaussian of sigma = smoothing x the longest diffusion length
 // 1/sigma_tr (at least twice the probe spacing), weights G(|x - x_p|) A_p: P follows the object's
 // shape, which varies slowly on that scale (the accuracy study finds the same error for sigma of
-// 0.5 to 2 diffusion lengths), and the wide kernel averages many walks. Deterministic: probe p
-// draws from Pcg32(seed, p).
+// 0.5 to 2 diffusion lengths), and the wide kernel averages many walks. Deterministic for any
+// thread count: each walk draws from its own Pcg32 stream (vertex, channel, walk index).
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -63,8 +64,30 @@ struct EscapeResult {
   double seconds = 0.0;
 };
 
-// meshMm: positions in mm, consistently wound triangles (outward normals); areas: mm^2 per vertex
-// (vertexAreas).
+// Walks added in rounds: walk s of vertex v in channel c always draws from its own stream, so a
+// round of m walks per probe and then one of n give the result of one round of m + n (the bake's
+// planner looks at a cheap first round before deciding how many more it needs). Holds the mesh
+// and areas by reference.
+class EscapeWalks {
+ public:
+  // options.walks is not used here. Throws Error as estimateEscapeProbability does.
+  EscapeWalks(const TriangleMesh& meshMm, std::span<const float> areas, const Material& material,
+              const EscapeOptions& options);
+  ~EscapeWalks();
+  EscapeWalks(const EscapeWalks&) = delete;
+  EscapeWalks& operator=(const EscapeWalks&) = delete;
+
+  void add(int walksPerProbe);  // per probe and channel; throws Error below 1
+  int walksPerProbe() const;    // so far
+  EscapeResult result() const;  // smoothed, from every walk so far; seconds: all rounds
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+// One round of options.walks. meshMm: positions in mm, consistently wound triangles (outward
+// normals); areas: mm^2 per vertex (vertexAreas).
 // Throws Error on an empty mesh, mismatched areas, an invalid material, |g| >= 1 or walks < 1.
 EscapeResult estimateEscapeProbability(const TriangleMesh& meshMm, std::span<const float> areas,
                                        const Material& material, const EscapeOptions& options);

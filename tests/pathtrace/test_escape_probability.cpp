@@ -330,6 +330,25 @@ TEST(EscapeProbability, OpenMeshLosesEveryWalk) {
   for (const glm::vec3& p : r.probability) ASSERT_EQ(p, glm::vec3(0.0f));
 }
 
+// Rounds add up: 2 walks per probe and then 3 more give exactly one round of 5.
+TEST(EscapeProbability, RoundsOfWalksAddUp) {
+  const TriangleMesh sphere = makeIcosphere(2, 10.0f);
+  const std::vector<float> areas = vertexAreas(sphere);
+  const Material marble = findMaterialPreset("marble");
+  EscapeOptions options;
+  options.walks = 5;
+  const EscapeResult once = estimateEscapeProbability(sphere, areas, marble, options);
+  EscapeWalks rounds(sphere, areas, marble, options);
+  rounds.add(2);
+  rounds.add(3);
+  EXPECT_EQ(rounds.walksPerProbe(), 5);
+  const EscapeResult twice = rounds.result();
+  EXPECT_EQ(once.probability, twice.probability);
+  EXPECT_EQ(once.relativeStdError, twice.relativeStdError);
+  EXPECT_EQ(once.walks, twice.walks);
+  EXPECT_THROW(rounds.add(0), Error);
+}
+
 TEST(EscapeProbability, SameResultForAnyThreadCount) {
   const TriangleMesh sphere = makeIcosphere(2, 6.0f);
   Material material = findMaterialPreset("skin1");

@@ -15,6 +15,7 @@ namespace sss {
 namespace {
 
 constexpr double kExcessDiffusionLengths = 4.0;
+constexpr int kMaxRefinements = 3;
 
 }  // namespace
 
@@ -94,11 +95,14 @@ EnergyPlan planFiniteObjectEnergy(const TriangleMesh& meshMm, std::span<const fl
     return keepHalfSpace("first walks");
   // More walks until their noise meets the budget (noise ~ walks^-1/2): needed to apply the
   // model, and to tell a real deviation from noise.
-  const double noise = plan.escape.relativeStdError;
-  if (noise > options.noiseBudget && plan.walks < options.maxWalks) {
-    const double needed =
-        plan.walks * (noise / options.noiseBudget) * (noise / options.noiseBudget);
-    walks.add(std::min(options.maxWalks, static_cast<int>(std::ceil(needed))) - plan.walks);
+  // The noise estimate is itself noisy: a few rounds at most.
+  for (int round = 0;
+       round < kMaxRefinements && plan.escape.relativeStdError > options.noiseBudget &&
+       plan.walks < options.maxWalks;
+       ++round) {
+    const double ratio = plan.escape.relativeStdError / options.noiseBudget;
+    const int needed = static_cast<int>(std::ceil(1.05 * plan.walks * ratio * ratio));
+    walks.add(std::max(1, std::min(options.maxWalks, needed) - plan.walks));
     plan.escape = walks.result();
     plan.walks = walks.walksPerProbe();
     plan.halfSpaceDeviation = deviation(raw);
@@ -114,8 +118,8 @@ EnergyPlan planFiniteObjectEnergy(const TriangleMesh& meshMm, std::span<const fl
                 plan.escape.mean.z, 100.0 * plan.escape.relativeStdError);
   plan.reason = text;
   if (plan.escape.relativeStdError > options.noiseBudget) {
-    std::snprintf(text, sizeof text, "; capped at %d walks per probe, over the %.2g%% budget",
-                  plan.walks, 100.0 * options.noiseBudget);
+    std::snprintf(text, sizeof text, "; %d walks per probe%s, over the %.2g%% budget", plan.walks,
+                  plan.walks >= options.maxWalks ? " (the cap)" : "", 100.0 * options.noiseBudget);
     plan.reason += text;
   }
   plan.seconds = clock.seconds();

@@ -12,6 +12,7 @@
 #include "core/progress.h"
 #include "core/random.h"
 #include "core/timer.h"
+#include "material/halfspace_albedo.h"
 #include "material/material.h"
 #include "mesh/triangle_mesh.h"
 #include "optics/fresnel.h"
@@ -152,7 +153,11 @@ struct EscapeWalks::State {
         entries(m.positions, m.triangles),
         probes(std::min(m.positions.size(), std::max<std::size_t>(o.maxProbes, 1))),
         sum(probes, glm::dvec3(0.0)),
-        sumSq(probes, glm::dvec3(0.0)) {}
+        sumSq(probes, glm::dvec3(0.0)),
+        kept(probes, glm::dvec3(0.0)) {
+    const glm::dvec3 albedo = material.reducedAlbedo();
+    for (int c = 0; c < 3; ++c) halfSpace[c] = halfSpaceDiffuseAlbedo(albedo[c], material.eta);
+  }
   uint32_t probeVertex(std::size_t k) const {
     return static_cast<uint32_t>(k * mesh.positions.size() / probes);
   }
@@ -165,8 +170,10 @@ struct EscapeWalks::State {
   EscapeWalker walker;
   OneRingSampler entries;
   std::size_t probes;
-  std::vector<glm::dvec3> sum, sumSq;  // per probe and channel, over the walks so far
-  int walks = 0;                       // per probe and channel so far
+  // Per probe and channel, over the walks so far that did not get lost.
+  std::vector<glm::dvec3> sum, sumSq, kept;
+  glm::dvec3 halfSpace{0.0};  // the albedo where no walk tells anything (halfspace_albedo.h)
+  int walks = 0;              // per probe and channel so far
   uint64_t events = 0, lost = 0;
   double seconds = 0.0;
 };
@@ -208,10 +215,14 @@ void EscapeWalks::add(int walksPerProbe) {
           const SurfacePoint entry = st.entries.sample(v, rng);
           const WalkOutcome o =
               st.walker.walk(entry.position, entry.normal, entry.triangle, c, rng);
+          events += o.events;
+          if (o.lost) {  // through a hole: the mesh says nothing about the medium there
+            ++lost;
+            continue;
+          }
           st.sum[k][c] += o.weight;
           st.sumSq[k][c] += o.weight * o.weight;
-          events += o.events;
-          lost += o.lost;
+          st.kept[k][c] += 1.0;
         }
       }
     }
@@ -231,15 +242,16 @@ EscapeResult EscapeWalks::result() const {
   const State& st = *state_;
   const TriangleMesh& mesh = st.mesh;
   const std::size_t n = mesh.positions.size(), probes = st.probes;
-  // Mean and variance of the mean per probe and channel.
-  const double w = std::max(st.walks, 1);
+  // Mean and variance of the mean per probe and channel, over the walks that were not lost; a
+  // probe without any carries no weight.
   std::vector<glm::dvec3> probeMean(probes), probeVariance(probes);
   for (std::size_t k = 0; k < probes; ++k)
     for (int c = 0; c < 3; ++c) {
-      const double mean = st.sum[k][c] / w;
+      const double w = st.kept[k][c];
+      const double mean = w > 0.0 ? st.sum[k][c] / w : 0.0;
       probeMean[k][c] = mean;
       probeVariance[k][c] =
-          st.walks > 1 ? std::max(0.0, st.sumSq[k][c] / w - mean * mean) / (w - 1.0) : mean * mean;
+          w > 1.0 ? std::max(0.0, st.sumSq[k][c] / w - mean * mean) / (w - 1.0) : mean * mean;
     }
 
   // Smoothing over the surface.
@@ -272,6 +284,7 @@ EscapeResult EscapeWalks::result() const {
         }
         if (d2 > reach2) continue;
         for (int c = 0; c < 3; ++c) {
+          if (st.kept[k][c] == 0.0) continue;
           const double weight = std::exp(-0.5 * d2 / (sigma[c] * sigma[c])) * st.areas[v];
           num[c] += weight * probeMean[k][c];
           den[c] += weight;
@@ -282,9 +295,12 @@ EscapeResult EscapeWalks::result() const {
         if (den[c] > 0.0) {
           result.probability[i][c] = static_cast<float>(std::min(1.0, num[c] / den[c]));
           variance[i][c] = var[c] / (den[c] * den[c]);
-        } else {  // no probe within reach (a far-away component): the nearest one
+        } else if (st.kept[nearest][c] > 0.0) {  // none within reach: the nearest probe
           result.probability[i][c] = static_cast<float>(std::min(1.0, probeMean[nearest][c]));
           variance[i][c] = probeVariance[nearest][c];
+        } else {  // no walk nearby stayed in the mesh: the half-space albedo
+          result.probability[i][c] = static_cast<float>(st.halfSpace[c]);
+          variance[i][c] = 0.0;
         }
       }
     }

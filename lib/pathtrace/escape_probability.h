@@ -19,7 +19,9 @@
 // 1 - exp(-sigma_s t_far): unscattered transmission is not diffusion's light), carries absorption
 // as the weight exp(-sigma_a l) of its path length l (no Russian roulette: the weight stays in
 // [0, 1]), reflects or leaves at the boundary with the exact Fresnel probability and scores its
-// weight when it leaves; walks lost through holes score 0. On a thick box it reproduces the
+// weight when it leaves. Walks lost through holes of an open mesh are left out (the mesh says
+// nothing about the medium behind a hole); where no walk nearby stayed inside (an open sheet) P
+// is the half-space albedo. On a thick box it reproduces the
 // half-space albedo table (lib/material/halfspace_albedo.h) within 0.3%. The probe estimates are
 // smoothed over the surface with a Gaussian of sigma = smoothing x the longest diffusion length
 // 1/sigma_tr (at least twice the probe spacing), weights G(|x - x_p|) A_p: P follows the object's
@@ -58,7 +60,7 @@ struct EscapeResult {
   double relativeStdError = 0.0;
   std::size_t probes = 0;
   uint64_t walks = 0;
-  uint64_t lostWalks = 0;  // left through holes in an open mesh (scored 0)
+  uint64_t lostWalks = 0;  // left through holes in an open mesh (left out)
   double meanScatteringEvents = 0.0;
   glm::dvec3 smoothingSigmaMm{0.0};
   double seconds = 0.0;

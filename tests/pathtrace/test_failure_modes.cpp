@@ -33,6 +33,15 @@ Cubemap upperHemisphere() {
   return c;
 }
 
+// The bake's transmitted irradiance with the mesh's shadows, 64 rays per vertex.
+std::vector<glm::vec3> irradiance(const TriangleMesh& mesh, const Cubemap& light,
+                                  const Material& m) {
+  VisibilityOptions vis;
+  vis.samples = 64;
+  return transmittedIrradianceWithVisibility(mesh.positions, mesh.normals, mesh.triangles, light,
+                                             float(m.eta), vis);
+}
+
 std::size_t nearestVertex(const TriangleMesh& mesh, const glm::vec3& p) {
   std::size_t best = 0;
   for (std::size_t i = 1; i < mesh.positions.size(); ++i)
@@ -84,10 +93,7 @@ TEST(FailureModes, ThinSlabDiffusionOverestimatesTheLitSide) {
   options.estimateRadiance = false;
   options.quiet = true;
   const PathTraceResult pt = pathTraceSubsurface(slab, light, marble, options);
-  VisibilityOptions vis;
-  vis.samples = 64;
-  const std::vector<glm::vec3> e = transmittedIrradianceWithVisibility(
-      slab.positions, slab.normals, slab.triangles, light, float(marble.eta), vis);
+  const std::vector<glm::vec3> e = irradiance(slab, light, marble);
   const auto dipole = makeProfile("dipole", marble);
   const std::vector<glm::vec3> b = diffuseExact(slab, e, *dipole);
   const double topRatio = b[top].y / pt.exitance[0].y;
@@ -200,10 +206,7 @@ TEST(FailureModes, SharpEdgesHoldUnderLightFromAbove) {
   options.vertices = vertices;
   options.quiet = true;
   const PathTraceResult pt = pathTraceSubsurface(cube, light, marble, options);
-  VisibilityOptions vis;
-  vis.samples = 64;
-  const std::vector<glm::vec3> e = transmittedIrradianceWithVisibility(
-      cube.positions, cube.normals, cube.triangles, light, float(marble.eta), vis);
+  const std::vector<glm::vec3> e = irradiance(cube, light, marble);
   const auto dipole = makeProfile("dipole", marble);
   const std::vector<glm::vec3> b = diffuseExactEscape(cube, e, *dipole, marble);
   const double scale = fresnelTransmittance(1.0f, 1.3f) * exitRadianceScale(1.3f);

@@ -64,7 +64,7 @@ constexpr double kVisibilityShare = 0.9;
 // With the escape energy model its walks' noise takes a share too (the three add in quadrature);
 // the larger one, as a walk buys less error than a visibility ray (bunny: ~5x the cost per unit
 // variance).
-constexpr double kVisibilityShareWithEnergy = 0.7, kEnergyShare = 0.6;
+constexpr double kVisibilityShareWithEnergy = 0.7;  // with kEscapeNoiseShare for the walks
 
 }  // namespace
 
@@ -244,15 +244,13 @@ BakeOutput bake(const BakeSettings& settings) {
   const Cubemap radiance = loadEnvironment(settings.environment, envOptions);
   stages["load_environment_s"] = clock.seconds();
 
-  // Energy model (finite_object_energy.h), then the profile: after the escape normalization the
-  // dipole's shape is the closest to the Monte Carlo reference; without it Burley's (calibrated to
-  // the half-space albedo) is (tests/bench/results/accuracy).
+  // Energy model (finite_object_energy.h), then the profile that suits it.
   clock.restart();
   EnergyPlan energy;
   if (!pathTrace) {
     EnergyOptions energyOptions;
     energyOptions.model = energyModel;
-    energyOptions.noiseBudget = kEnergyShare * settings.tolerance;
+    energyOptions.noiseBudget = kEscapeNoiseShare * settings.tolerance;
     energyOptions.seed = settings.seed;
     energyOptions.threads = settings.threads;
     energyOptions.quiet = settings.quiet;
@@ -263,9 +261,8 @@ BakeOutput bake(const BakeSettings& settings) {
       warn("energy: " + energy.reason);
   }
   const bool escapeEnergy = energy.model == EnergyModel::Escape;
-  const std::string profileName = settings.profile != "auto" ? settings.profile
-                                  : escapeEnergy             ? "dipole"
-                                                             : "burley";
+  const std::string profileName =
+      settings.profile != "auto" ? settings.profile : autoProfileName(energy.model);
   const auto profile = makeProfile(profileName, settings.material);
   const double visibilityShare = escapeEnergy ? kVisibilityShareWithEnergy : kVisibilityShare;
   const double energyError = escapeEnergy ? energy.escape.relativeStdError : 0.0;
@@ -278,7 +275,7 @@ BakeOutput bake(const BakeSettings& settings) {
   double visibilityError = 0.0;  // predicted relative RMS error of B from E's error
   // Without a visibility budget to share, the escape walks' noise still takes its part.
   double diffusionTolerance =
-      std::max(std::sqrt(1.0 - kEnergyShare * kEnergyShare) * settings.tolerance,
+      std::max(std::sqrt(1.0 - kEscapeNoiseShare * kEscapeNoiseShare) * settings.tolerance,
                std::sqrt(std::max(
                    0.0, settings.tolerance * settings.tolerance - energyError * energyError)));
   visibilityJson["mode"] = settings.visibility == VisibilityMode::Rays ? "rays" : "none";
@@ -320,7 +317,7 @@ BakeOutput bake(const BakeSettings& settings) {
     const int samples = visibilityReport.samples;
     visibilityError = model.errorAt(samples);
     if (autoSamples) {
-      const double energyShare = escapeEnergy ? kEnergyShare : 0.0;
+      const double energyShare = escapeEnergy ? kEscapeNoiseShare : 0.0;
       diffusionTolerance =
           std::max(std::sqrt(1.0 - visibilityShare * visibilityShare - energyShare * energyShare) *
                        settings.tolerance,
@@ -407,16 +404,9 @@ BakeOutput bake(const BakeSettings& settings) {
     options.tolerance = diffusionTolerance;
     options.threads = settings.threads;
     options.quiet = settings.quiet;
-    options.weightSums = escapeEnergy;
-    DiffusionResult result = diffuse(input, *profile, options);
+    DiffusionResult result = diffuseWithEnergy(input, *profile, options, energy, settings.material);
     baked.exitance = std::move(result.exitance);
     const DiffusionReport& r = result.report;
-    if (escapeEnergy) {
-      options.method = r.method;
-      applyEscapeEnergy(
-          baked.exitance, result.weightSums, energy.escape.probability, energy.halfSpaceAlbedo,
-          gaussianAverageIrradiance(input, escapeExcessSigmaMm(settings.material), options));
-    }
     methodJson["method"] = toString(r.method);
     methodJson["requested"] = settings.method;
     methodJson["reason"] = r.reason;

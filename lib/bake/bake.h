@@ -4,10 +4,10 @@
 //
 // Stages, each timed: load and clean the mesh (lib/mesh), scale it to millimetres, load the
 // environment as a radiance cubemap (lib/envmap), the energy model (finite_object_energy.h:
-// escape walks, which also settle the "auto" profile), E per vertex (visibility "none": the irradiance
-// cubemap of lib/irradiance computed with the material's eta, looked up at the vertex normal;
-// "rays": visibility.h), then B (lib/bake/diffusion.h with a profile of lib/material and the
-// energy model, or lib/pathtrace). Every input is validated before the first expensive stage.
+// escape walks, which also settle the "auto" profile), E per vertex (visibility "none": the
+// irradiance cubemap of lib/irradiance computed with the material's eta, looked up at the vertex
+// normal; "rays": visibility.h), then B (lib/bake/diffusion.h with a profile of lib/material and
+// the energy model, or lib/pathtrace). Every input is validated before the first expensive stage.
 #pragma once
 
 #include <cmath>

@@ -17,6 +17,57 @@ namespace {
 constexpr double kExcessDiffusionLengths = 4.0;
 constexpr int kMaxRefinements = 3;
 
+// Width (mm) of the Gaussian that spreads the excess P - R.
+double escapeExcessSigmaMm(const Material& material) {
+  const glm::dvec3 sigmaTr = material.sigmaTr();
+  const double shortest = std::min({sigmaTr.x, sigmaTr.y, sigmaTr.z});
+  return shortest > 0.0 ? kExcessDiffusionLengths / shortest : 0.0;
+}
+
+// Ebar: the transmitted irradiance averaged by a normalized Gaussian of sigma mm over the surface,
+// sum_j G(r_ij) E_j A_j / sum_j G(r_ij) A_j, with options' method, tolerance and threads.
+std::vector<glm::vec3> gaussianAverageIrradiance(const DiffusionInput& input, double sigmaMm,
+                                                 const DiffusionOptions& options) {
+  const std::size_t n = input.positions.size();
+  if (!(sigmaMm > 0.0)) {  // no absorption: one average over the whole surface
+    glm::dvec3 sum(0.0);
+    double area = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      sum += glm::dvec3(input.irradiance[i]) * double(input.areas[i]);
+      area += input.areas[i];
+    }
+    return std::vector<glm::vec3>(n, area > 0.0 ? glm::vec3(sum / area) : glm::vec3(0.0f));
+  }
+  DiffusionOptions average = options;
+  average.weightSums = true;
+  average.quiet = true;
+  const DiffusionResult r = diffuse(input, GaussianProfile(sigmaMm * sigmaMm), average);
+  std::vector<glm::vec3> out(n, glm::vec3(0.0f));
+  for (std::size_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c)
+      if (r.weightSums[i][c] > 0.0f) out[i][c] = r.exitance[i][c] / r.weightSums[i][c];
+  return out;
+}
+
+// exitance: the profile's sum B_i; rho: the same sum with E = 1; then B_i becomes
+// min(P_i, R) B_i / rho_i + max(0, P_i - R) Ebar_i per channel (rho_i = 0: only the second term).
+void applyEscapeEnergy(std::span<glm::vec3> exitance, std::span<const glm::vec3> rho,
+                       std::span<const glm::vec3> escapeProbability,
+                       const glm::dvec3& halfSpaceAlbedo,
+                       std::span<const glm::vec3> averageIrradiance) {
+  const std::size_t n = exitance.size();
+  if (rho.size() != n || escapeProbability.size() != n || averageIrradiance.size() != n)
+    fail("", "energy: one rho, escape probability and average irradiance per vertex needed");
+  for (std::size_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) {
+      const double p = escapeProbability[i][c], r = halfSpaceAlbedo[c];
+      const double profilePart =
+          rho[i][c] > 0.0f ? exitance[i][c] * std::min(p, r) / rho[i][c] : 0.0;
+      exitance[i][c] =
+          static_cast<float>(profilePart + std::max(0.0, p - r) * averageIrradiance[i][c]);
+    }
+}
+
 }  // namespace
 
 std::string toString(EnergyModel model) {
@@ -126,50 +177,23 @@ EnergyPlan planFiniteObjectEnergy(const TriangleMesh& meshMm, std::span<const fl
   return plan;
 }
 
-double escapeExcessSigmaMm(const Material& material) {
-  const glm::dvec3 sigmaTr = material.sigmaTr();
-  const double shortest = std::min({sigmaTr.x, sigmaTr.y, sigmaTr.z});
-  return shortest > 0.0 ? kExcessDiffusionLengths / shortest : 0.0;
-}
-
-std::vector<glm::vec3> gaussianAverageIrradiance(const DiffusionInput& input, double sigmaMm,
-                                                 const DiffusionOptions& options) {
-  const std::size_t n = input.positions.size();
-  if (!(sigmaMm > 0.0)) {  // no absorption: one average over the whole surface
-    glm::dvec3 sum(0.0);
-    double area = 0.0;
-    for (std::size_t i = 0; i < n; ++i) {
-      sum += glm::dvec3(input.irradiance[i]) * double(input.areas[i]);
-      area += input.areas[i];
-    }
-    return std::vector<glm::vec3>(n, area > 0.0 ? glm::vec3(sum / area) : glm::vec3(0.0f));
+DiffusionResult diffuseWithEnergy(const DiffusionInput& input, const DiffusionProfile& profile,
+                                  DiffusionOptions options, const EnergyPlan& plan,
+                                  const Material& material) {
+  const bool escape = plan.model == EnergyModel::Escape;
+  options.weightSums = escape;
+  DiffusionResult result = diffuse(input, profile, options);
+  if (escape) {
+    options.method = result.report.method;
+    applyEscapeEnergy(result.exitance, result.weightSums, plan.escape.probability,
+                      plan.halfSpaceAlbedo,
+                      gaussianAverageIrradiance(input, escapeExcessSigmaMm(material), options));
   }
-  DiffusionOptions average = options;
-  average.weightSums = true;
-  average.quiet = true;
-  const DiffusionResult r = diffuse(input, GaussianProfile(sigmaMm * sigmaMm), average);
-  std::vector<glm::vec3> out(n, glm::vec3(0.0f));
-  for (std::size_t i = 0; i < n; ++i)
-    for (int c = 0; c < 3; ++c)
-      if (r.weightSums[i][c] > 0.0f) out[i][c] = r.exitance[i][c] / r.weightSums[i][c];
-  return out;
+  return result;
 }
 
-void applyEscapeEnergy(std::span<glm::vec3> exitance, std::span<const glm::vec3> rho,
-                       std::span<const glm::vec3> escapeProbability,
-                       const glm::dvec3& halfSpaceAlbedo,
-                       std::span<const glm::vec3> averageIrradiance) {
-  const std::size_t n = exitance.size();
-  if (rho.size() != n || escapeProbability.size() != n || averageIrradiance.size() != n)
-    fail("", "energy: one rho, escape probability and average irradiance per vertex needed");
-  for (std::size_t i = 0; i < n; ++i)
-    for (int c = 0; c < 3; ++c) {
-      const double p = escapeProbability[i][c], r = halfSpaceAlbedo[c];
-      const double profilePart =
-          rho[i][c] > 0.0f ? exitance[i][c] * std::min(p, r) / rho[i][c] : 0.0;
-      exitance[i][c] =
-          static_cast<float>(profilePart + std::max(0.0, p - r) * averageIrradiance[i][c]);
-    }
+std::string autoProfileName(EnergyModel model) {
+  return model == EnergyModel::Escape ? "dipole" : "burley";
 }
 
 }  // namespace sss

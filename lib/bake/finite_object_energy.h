@@ -82,21 +82,21 @@ struct EnergyPlan {
 EnergyPlan planFiniteObjectEnergy(const TriangleMesh& meshMm, std::span<const float> areas,
                                   const Material& material, const EnergyOptions& options);
 
-// Width (mm) of the Gaussian that spreads the excess P - R: 4 of the material's longest diffusion
-// lengths 1/sigma_tr.
-double escapeExcessSigmaMm(const Material& material);
+// The diffusion sum (diffusion.h) with the plan's energy model: diffuse() as it is for halfspace;
+// for escape B_i = min(P_i, R) / rho_i * B_i + max(0, P_i - R) * Ebar_i, with rho from the same
+// method (DiffusionOptions::weightSums) and Ebar, the irradiance averaged by a Gaussian of 4 of
+// the material's longest diffusion lengths, by the method diffuse() chose.
+DiffusionResult diffuseWithEnergy(const DiffusionInput& input, const DiffusionProfile& profile,
+                                  DiffusionOptions options, const EnergyPlan& plan,
+                                  const Material& material);
 
-// Ebar: the transmitted irradiance averaged by a normalized Gaussian of sigma mm over the surface,
-// sum_j G(r_ij) E_j A_j / sum_j G(r_ij) A_j, with any diffusion method (options.method,
-// tolerance, threads; quiet).
-std::vector<glm::vec3> gaussianAverageIrradiance(const DiffusionInput& input, double sigmaMm,
-                                                 const DiffusionOptions& options);
+// The profile `--profile auto` takes for the energy model in use: dipole with escape (its shape is
+// the closest to the Monte Carlo reference once the energy is right), burley with halfspace (its
+// total is calibrated).
+std::string autoProfileName(EnergyModel model);
 
-// exitance: the profile's sum B_i; rho: the same sum with E = 1; then B_i becomes
-// min(P_i, R) B_i / rho_i + max(0, P_i - R) Ebar_i per channel (rho_i = 0: only the second term).
-void applyEscapeEnergy(std::span<glm::vec3> exitance, std::span<const glm::vec3> rho,
-                       std::span<const glm::vec3> escapeProbability,
-                       const glm::dvec3& halfSpaceAlbedo,
-                       std::span<const glm::vec3> averageIrradiance);
+// The share of the tolerance the escape walks' noise may take (sss-bake; the errors add in
+// quadrature).
+inline constexpr double kEscapeNoiseShare = 0.6;
 
 }  // namespace sss

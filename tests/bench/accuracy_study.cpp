@@ -273,14 +273,6 @@ void sceneStudy(const Scene& scene, int walks, int visibilitySamples, WalkEntry 
       escape.halfSpaceAlbedo.x, escape.halfSpaceAlbedo.y, escape.halfSpaceAlbedo.z, escape.walks,
       escape.escape.probes, 100.0 * escape.escape.relativeStdError, escape.seconds);
 
-  // Its excess over the half-space albedo is spread by the Gaussian average of E.
-  DiffusionOptions averageOptions;
-  averageOptions.method = DiffusionMethod::Exact;
-  const Stopwatch averageClock;
-  const std::vector<glm::vec3> averageE =
-      gaussianAverageIrradiance(input, escapeExcessSigmaMm(scene.material), averageOptions);
-  const double averageSeconds = averageClock.seconds();
-
   // Each profile's exact sum with either energy model: what the bake's auto rows are checked
   // against (their error against the converged answer of the model they chose).
   std::map<std::string, std::vector<glm::vec3>> exactSums;
@@ -294,14 +286,10 @@ void sceneStudy(const Scene& scene, int walks, int visibilitySamples, WalkEntry 
            &exact.exitance);
     exactSums[profileName + "/halfspace"] = exact.exitance;
     {
-      dopt.weightSums = true;
-      DiffusionResult b = diffuse(input, *profile, dopt);
-      dopt.weightSums = false;
-      applyEscapeEnergy(b.exitance, b.weightSums, escape.escape.probability, escape.halfSpaceAlbedo,
-                        averageE);
-      record(profileName, "exact+escape", "exact", 0.0, 0,
-             b.report.totalSeconds + escape.seconds + averageSeconds, b.exitance, &exact.exitance,
-             0.0, "escape");
+      const Stopwatch clock;
+      const DiffusionResult b = diffuseWithEnergy(input, *profile, dopt, escape, scene.material);
+      record(profileName, "exact+escape", "exact", 0.0, 0, clock.seconds() + escape.seconds,
+             b.exitance, &exact.exitance, 0.0, "escape");
       exactSums[profileName + "/escape"] = b.exitance;
     }
     for (double tol : {0.1, 0.03, 0.01, 0.003}) {
@@ -331,26 +319,19 @@ void sceneStudy(const Scene& scene, int walks, int visibilitySamples, WalkEntry 
   // tolerance (the visibility stage is fixed here, so its share goes to the diffusion sum).
   for (double tol : {0.1, 0.03, 0.01}) {
     EnergyOptions energyOptions;
-    energyOptions.noiseBudget = 0.6 * tol;
+    energyOptions.noiseBudget = kEscapeNoiseShare * tol;
     const EnergyPlan plan = planFiniteObjectEnergy(mesh, areas, scene.material, energyOptions);
-    const bool useEscape = plan.model == EnergyModel::Escape;
-    const std::string profileName = useEscape ? "dipole" : "burley";
+    const std::string profileName = autoProfileName(plan.model);
     const auto profile = makeProfile(profileName, scene.material);
     DiffusionOptions dopt;
     dopt.quiet = true;
-    const double energyError = useEscape ? plan.escape.relativeStdError : 0.0;
-    dopt.tolerance = std::max(0.8 * tol, std::sqrt(std::max(0.0, tol * tol - sq(energyError))));
-    dopt.weightSums = useEscape;
-    DiffusionResult r = diffuse(input, *profile, dopt);
-    double seconds = plan.seconds + r.report.totalSeconds;
-    if (useEscape) {
-      const Stopwatch clock;
-      dopt.method = r.report.method;
-      applyEscapeEnergy(
-          r.exitance, r.weightSums, plan.escape.probability, plan.halfSpaceAlbedo,
-          gaussianAverageIrradiance(input, escapeExcessSigmaMm(scene.material), dopt));
-      seconds += clock.seconds();
-    }
+    const double energyError =
+        plan.model == EnergyModel::Escape ? plan.escape.relativeStdError : 0.0;
+    dopt.tolerance = std::max(std::sqrt(1.0 - sq(kEscapeNoiseShare)) * tol,
+                              std::sqrt(std::max(0.0, tol * tol - sq(energyError))));
+    const Stopwatch clock;
+    const DiffusionResult r = diffuseWithEnergy(input, *profile, dopt, plan, scene.material);
+    const double seconds = plan.seconds + clock.seconds();
     const std::vector<glm::vec3>& b = r.exitance;
     record("auto", "bake-auto", profileName + "/" + toString(r.report.method), tol,
            r.report.gaussians, seconds, b, &exactSums.at(profileName + "/" + toString(plan.model)),

@@ -69,11 +69,8 @@ std::vector<glm::vec3> diffuseExactEscape(const TriangleMesh& mesh, const std::v
   DiffusionOptions options;
   options.method = DiffusionMethod::Exact;
   options.quiet = true;
-  options.weightSums = true;
-  const DiffusionInput input{mesh.positions, mesh.normals, areas, e};
-  DiffusionResult r = diffuse(input, profile, options);
-  applyEscapeEnergy(r.exitance, r.weightSums, plan.escape.probability, plan.halfSpaceAlbedo,
-                    gaussianAverageIrradiance(input, escapeExcessSigmaMm(m), options));
+  const DiffusionResult r =
+      diffuseWithEnergy({mesh.positions, mesh.normals, areas, e}, profile, options, plan, m);
   return r.exitance;
 }
 

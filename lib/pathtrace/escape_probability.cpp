@@ -25,7 +25,7 @@ namespace {
 
 // A walk whose absorption weight exp(-sigma_a l) falls below e^-30 scores 0 (bias < 1e-13).
 constexpr double kNegligibleOpticalDepth = 30.0;
-constexpr int kMaxEvents = 1 << 20;  // safety cap: such walks score 0 (counted as lost)
+constexpr int kMaxEvents = 1 << 20;  // safety cap: such walks count as lost
 
 struct WalkOutcome {
   double weight = 0.0;
@@ -35,10 +35,8 @@ struct WalkOutcome {
 
 class EscapeWalker {
  public:
-  EscapeWalker(const TriangleScene& scene, const std::vector<glm::uvec3>& triangles,
-               const Material& m)
+  EscapeWalker(const TriangleScene& scene, const Material& m)
       : scene_(scene),
-        triangles_(triangles),
         sigmaA_(m.sigmaA),
         sigmaS_(m.sigmaS()),
         g_(m.g),
@@ -83,21 +81,16 @@ class EscapeWalker {
         // and leaves unscattered is not diffusion's: no zero scores from the first flights.
         const double scatterProbability = -std::expm1(-sigmaS * double(hit.t));
         if (!(scatterProbability > 0.0)) return out;  // no scattering (and no endless bouncing)
-        glm::vec3 normal = hit.faceNormal;
-        float cosI = glm::dot(d, normal);
-        if (cosI < 0.0f) {
-          normal = -normal;
-          cosI = -cosI;
-        }
-        const double q =
-            scatterProbability + (1.0 - scatterProbability) * fresnelDielectric(cosI, 1.0f / eta_);
+        const BoundaryCrossing boundary = boundaryCrossing(d, hit.faceNormal);
+        const double q = scatterProbability +
+                         (1.0 - scatterProbability) * fresnelDielectric(boundary.cosI, 1.0f / eta_);
         forced *= q;
         if (rng.uniformDouble() * q >= scatterProbability) {
           ++boundaryHits;
           length += hit.t;
           const glm::vec3 hitPoint = p + hit.t * d;
-          d = glm::normalize(d - 2.0f * cosI * normal);
-          p = hitPoint - eps * normal;
+          d = reflectInside(d, boundary);
+          p = hitPoint - eps * boundary.normal;
           continue;
         }
         t = -std::log1p(-rng.uniformDouble() * scatterProbability) / sigmaS;
@@ -116,15 +109,10 @@ class EscapeWalker {
       ++boundaryHits;
       length += hit.t;
       const glm::vec3 hitPoint = p + hit.t * d;
-      glm::vec3 normal = hit.faceNormal;
-      float cosI = glm::dot(d, normal);
-      if (cosI < 0.0f) {  // a back face (open or inconsistent mesh): cross it anyway
-        normal = -normal;
-        cosI = -cosI;
-      }
-      if (rng.uniformDouble() < fresnelDielectric(cosI, 1.0f / eta_)) {
-        d = glm::normalize(d - 2.0f * cosI * normal);
-        p = hitPoint - eps * normal;
+      const BoundaryCrossing boundary = boundaryCrossing(d, hit.faceNormal);
+      if (rng.uniformDouble() < fresnelDielectric(boundary.cosI, 1.0f / eta_)) {
+        d = reflectInside(d, boundary);
+        p = hitPoint - eps * boundary.normal;
         continue;
       }
       out.weight = forced * std::exp(-sigmaA * length);
@@ -133,7 +121,6 @@ class EscapeWalker {
   }
 
   const TriangleScene& scene_;
-  const std::vector<glm::uvec3>& triangles_;
   glm::dvec3 sigmaA_, sigmaS_;
   double g_;
   float eta_;
@@ -149,7 +136,7 @@ struct EscapeWalks::State {
         options(o),
         sigmaTr(material.sigmaTr()),
         scene(m.positions, m.triangles),
-        walker(scene, m.triangles, material),
+        walker(scene, material),
         entries(m.positions, m.triangles),
         probes(std::min(m.positions.size(), std::max<std::size_t>(o.maxProbes, 1))),
         sum(probes, glm::dvec3(0.0)),
@@ -263,8 +250,8 @@ EscapeResult EscapeWalks::result() const {
   const double shortestTr = std::min({st.sigmaTr.x, st.sigmaTr.y, st.sigmaTr.z});
   const double length =
       shortestTr > 0.0 ? st.options.smoothing / shortestTr : double(st.scene.diagonal());
-  const glm::dvec3 sigma(std::max(length, 2.0 * spacing));
-  const double reach2 = 9.0 * sigma.x * sigma.x;  // 3 sigma
+  const double sigma = std::max(length, 2.0 * spacing);
+  const double reach2 = 9.0 * sigma * sigma;  // 3 sigma
   EscapeResult result;
   result.probability.assign(n, glm::vec3(0.0f));
   std::vector<glm::dvec3> variance(n);
@@ -283,9 +270,9 @@ EscapeResult EscapeWalks::result() const {
           nearest = k;
         }
         if (d2 > reach2) continue;
+        const double weight = std::exp(-0.5 * d2 / (sigma * sigma)) * st.areas[v];
         for (int c = 0; c < 3; ++c) {
           if (st.kept[k][c] == 0.0) continue;
-          const double weight = std::exp(-0.5 * d2 / (sigma[c] * sigma[c])) * st.areas[v];
           num[c] += weight * probeMean[k][c];
           den[c] += weight;
           var[c] += weight * weight * probeVariance[k][c];
@@ -321,7 +308,7 @@ EscapeResult EscapeWalks::result() const {
   result.walks = uint64_t(probes) * 3u * uint64_t(st.walks);
   result.lostWalks = st.lost;
   result.meanScatteringEvents = double(st.events) / double(std::max<uint64_t>(result.walks, 1));
-  result.smoothingSigmaMm = sigma;
+  result.smoothingSigmaMm = glm::dvec3(sigma);
   result.seconds = st.seconds + clock.seconds();
   return result;
 }

@@ -105,15 +105,11 @@ struct Walker {
       }
       ++stats.boundaryHits;
       const glm::vec3 hitPoint = p + hit.t * d;
-      glm::vec3 n = hit.faceNormal;
-      float cosI = glm::dot(d, n);
-      if (cosI < 0.0f) {  // reached a back face (open or inconsistent mesh): cross it anyway
-        n = -n;
-        cosI = -cosI;
-      }
-      const float fr = fresnelDielectric(cosI, 1.0f / eta);
+      const BoundaryCrossing boundary = boundaryCrossing(d, hit.faceNormal);
+      const glm::vec3 n = boundary.normal;
+      const float fr = fresnelDielectric(boundary.cosI, 1.0f / eta);
       if (rng.uniformDouble() < fr) {  // reflect back inside (total internal reflection: fr = 1)
-        d = glm::normalize(d - 2.0f * cosI * n);
+        d = reflectInside(d, boundary);
         p = hitPoint - eps * n;
         continue;
       }
@@ -184,7 +180,6 @@ PathTraceResult pathTraceSubsurface(const std::vector<glm::vec3>& positions,
     warn(message);
   };
 
-  // One walk from vertex i leaving (in the light's direction) along outside direction wo.
   // One walk entering at x through a boundary of normal n (start: the vertex whose own triangles
   // count as "blocked", or none).
   auto walkFrom = [&](const glm::vec3& x, uint32_t start, const glm::vec3& n, const glm::vec3& wo,

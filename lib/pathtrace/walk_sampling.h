@@ -1,6 +1,6 @@
 // Direction sampling shared by the random walks of lib/pathtrace: an orthonormal basis, the
-// Henyey-Greenstein phase function, refraction through a smooth boundary and the cosine-weighted
-// outside direction whose refraction starts a walk.
+// Henyey-Greenstein phase function, refraction through and reflection at a smooth boundary and the
+// cosine-weighted outside direction whose refraction starts a walk.
 #pragma once
 
 #include <algorithm>
@@ -48,6 +48,23 @@ inline glm::vec3 refractDirection(const glm::vec3& d, const glm::vec3& n, float 
   const float cosI = glm::dot(d, n);
   const float cosT = std::sqrt(std::max(0.0f, 1.0f - ratio * ratio * (1.0f - cosI * cosI)));
   return glm::normalize(ratio * d + (cosT - ratio * cosI) * n);
+}
+
+// Where a walk inside meets the boundary: the face normal turned to point out along the walk's
+// direction d (a back face of an open or inconsistent mesh is crossed anyway) and the cosine of
+// incidence, >= 0.
+struct BoundaryCrossing {
+  glm::vec3 normal;
+  float cosI;
+};
+inline BoundaryCrossing boundaryCrossing(const glm::vec3& d, const glm::vec3& faceNormal) {
+  const float cosI = glm::dot(d, faceNormal);
+  return cosI < 0.0f ? BoundaryCrossing{-faceNormal, -cosI} : BoundaryCrossing{faceNormal, cosI};
+}
+
+// Mirror reflection of d back inside at that crossing.
+inline glm::vec3 reflectInside(const glm::vec3& d, const BoundaryCrossing& b) {
+  return glm::normalize(d - 2.0f * b.cosI * b.normal);
 }
 
 // Cosine-weighted direction in the hemisphere around unit n.

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 
 #include "core/error.h"
 
@@ -31,6 +32,16 @@ void AtomicOutput::commit() {
     fail(final_, "cannot write (" + why + ")");
   }
   committed_ = true;
+}
+
+void writeFileAtomically(const std::string& path, const std::string& text) {
+  AtomicOutput output(path);
+  {
+    std::ofstream file(output.tempPath(), std::ios::binary);
+    file << text;
+    if (!file.flush()) fail(path, "cannot write");
+  }
+  output.commit();
 }
 
 }  // namespace sss

@@ -25,4 +25,8 @@ class AtomicOutput {
   bool committed_ = false;
 };
 
+// Writes `text` to `path` through an AtomicOutput (reports, JSON): the file appears whole or not
+// at all. Throws Error naming the path.
+void writeFileAtomically(const std::string& path, const std::string& text);
+
 }  // namespace sss

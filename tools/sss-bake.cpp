@@ -1,211 +1,202 @@
 // sss-bake MESH -e ENV -m MATERIAL --mm-per-unit S -o OUT.ply [options]
 // Per-vertex transmitted irradiance (with the mesh's own shadows) and subsurface exitance, written
-// as a binary PLY that sss-render only has to look up. See lib/bake/bake.h for the stages.
+// as a binary PLY that sss-render only has to look up. The stages are in lib/bake/bake.h.
 #include <cstdio>
 #include <fstream>
 #include <memory>
-#include <sstream>
 #include <string>
-#include <vector>
 
 #include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
 
 #include "bake/bake.h"
-#include "bake/diffusion.h"
-#include "bake/finite_object_energy.h"
+#include "bake/bake_report_json.h"
 #include "core/atomic_output.h"
+#include "core/cli.h"
 #include "core/error.h"
 #include "core/timer.h"
 #include "core/tool.h"
-#include "material/diffusion_profile.h"
 #include "material/material.h"
 #include "mesh/baked_ply.h"
 #include "mesh/units.h"
 
 namespace {
 
-// "r,g,b" or one value for all three channels.
-glm::dvec3 parseRgb(const std::string& text, const std::string& option) {
-  std::vector<double> values;
-  std::stringstream stream(text);
-  std::string item;
-  while (std::getline(stream, item, ',')) {
-    try {
-      std::size_t used = 0;
-      values.push_back(std::stod(item, &used));
-      if (used != item.size()) throw std::invalid_argument(item);
-    } catch (const std::exception&) {
-      sss::fail("", option + ": '" + text + "' is not a number or r,g,b triple");
-    }
-  }
-  if (values.size() == 1) return glm::dvec3(values[0]);
-  if (values.size() != 3)
-    sss::fail("", option + ": expected r,g,b or one value, got '" + text + "'");
-  return {values[0], values[1], values[2]};
+namespace cli = sss::cli;
+
+// One of -m PRESET, --sigma-a with --sigma-s, or --albedo with --mfp; and eta, g.
+struct MaterialOptions {
+  std::string preset;
+  glm::dvec3 sigmaA{0.0}, sigmaS{0.0}, albedo{0.0}, mfp{0.0};
+  CLI::Option* sigmaAOption = nullptr;
+  double eta = 0.0;  // 0: the preset's, or 1.3
+  double g = 0.0;
+};
+
+glm::dvec3 parseRgb(const std::string& text) {
+  return cli::parseTriple<double>(text, /*allowOne=*/true);
 }
 
-std::string joined(const std::vector<std::string>& names) {
-  std::string out;
-  for (const std::string& n : names) out += (out.empty() ? "" : "|") + n;
-  return out;
+void addMaterialOptions(CLI::App& app, MaterialOptions& m) {
+  auto* group = app.add_option_group(
+      "material", "Exactly one: -m PRESET, --sigma-a and --sigma-s, or --albedo and --mfp");
+  auto* preset =
+      group->add_option("-m,--material", m.preset, "Measured preset (see --list-materials)")
+          ->check(cli::parsedBy(sss::findMaterialPreset));
+  m.sigmaAOption = cli::addParsedOption(*group, "--sigma-a", m.sigmaA, parseRgb,
+                                        "Absorption coefficient r,g,b in 1/mm (with --sigma-s)");
+  auto* albedo = cli::addParsedOption(*group, "--albedo", m.albedo, parseRgb,
+                                      "Total diffuse reflectance r,g,b (with --mfp)");
+  group->require_option(1);
+  auto* sigmaS = cli::addParsedOption(app, "--sigma-s", m.sigmaS, parseRgb,
+                                      "Reduced scattering coefficient sigma_s' r,g,b in 1/mm");
+  auto* mfp = cli::addParsedOption(app, "--mfp", m.mfp, parseRgb,
+                                   "Diffuse mean free path r,g,b in mm (with --albedo)");
+  m.sigmaAOption->needs(sigmaS);
+  sigmaS->needs(m.sigmaAOption);
+  albedo->needs(mfp);
+  mfp->needs(albedo);
+  preset->excludes(sigmaS)->excludes(mfp);
+  m.sigmaAOption->excludes(mfp);
+  app.add_option("--eta", m.eta, "Relative index of refraction (default: the preset's, or 1.3)");
+  app.add_option("--g", m.g, "Henyey-Greenstein mean cosine (--method pathtrace)")
+      ->capture_default_str();
+  app.add_flag_callback(
+      "--list-materials",
+      [] {
+        std::printf("%-10s %-26s %-26s %s\n", "name", "sigma_a (1/mm)", "sigma_s' (1/mm)", "eta");
+        for (const sss::Material& p : sss::materialPresets()) {
+          std::printf("%-10s %-8.4g %-8.4g %-8.4g %-8.4g %-8.4g %-8.4g %g\n", p.name.c_str(),
+                      p.sigmaA.r, p.sigmaA.g, p.sigmaA.b, p.sigmaSPrime.r, p.sigmaSPrime.g,
+                      p.sigmaSPrime.b, p.eta);
+        }
+        throw CLI::Success();
+      },
+      "List the presets and exit");
+}
+
+sss::Material materialFrom(const MaterialOptions& m) {
+  const double eta = m.eta != 0.0 ? m.eta : 1.3;
+  sss::Material material;
+  if (!m.preset.empty()) {
+    material = sss::findMaterialPreset(m.preset);
+    if (m.eta != 0.0) material.eta = m.eta;
+  } else if (m.sigmaAOption->count() > 0) {
+    material.name = "custom";
+    material.sigmaA = m.sigmaA;
+    material.sigmaSPrime = m.sigmaS;
+    material.eta = eta;
+  } else {
+    material = sss::materialFromAlbedoMfp(m.albedo, m.mfp, eta);
+  }
+  material.g = m.g;
+  return material;
+}
+
+void addUnitOptions(CLI::App& app, sss::BakeSettings& s) {
+  auto* group = app.add_option_group(
+      "units", "Exactly one: --mm-per-unit, --unit or --size-mm (translucency depends on size)");
+  group->add_option("--mm-per-unit", s.mmPerUnit, "Millimetres per mesh unit")
+      ->check(cli::checkedBy<double>([](double v) { sss::checkMmPerUnit(v, ""); }));
+  cli::addParsedOption(*group, "--unit", s.mmPerUnit, sss::parseUnit, "Mesh unit: mm, cm or m");
+  group->add_option("--size-mm", s.sizeMm, "Scale the longest bounding-box side to this many mm")
+      ->check(cli::checkedBy<double>(sss::checkSizeMm));
+  group->require_option(1);
+}
+
+// --samples auto|N: auto is 0.
+int parseSamples(const std::string& text) {
+  if (text == "auto") return 0;
+  int n = 0;
+  if (!CLI::detail::lexical_cast(text, n)) {
+    throw sss::Error("'" + text + "' is neither auto nor an integer");
+  }
+  sss::checkVisibilitySamples(n == 0 ? 1 : n);
+  return n;
+}
+
+void addBakeOptions(CLI::App& app, sss::BakeSettings& s) {
+  cli::addEnumOption(app, "--visibility", s.visibility, sss::kVisibilityModeNames,
+                     "E per vertex: the irradiance cubemap (none) or Embree shadow rays");
+  cli::addParsedOption(app, "--samples", s.samples, parseSamples,
+                       "Visibility rays per vertex (>= 2), or auto (from --tolerance and a pilot)")
+      ->default_str("auto");
+  app.add_option("--seed", s.seed, "Random seed")->capture_default_str();
+  cli::addEnumOption(
+      app, "--method", s.method, sss::kBakeMethodNames,
+      "Diffusion sum (auto: the cheapest that meets --tolerance), or the path tracer");
+  cli::addEnumOption(app, "--profile", s.profile, sss::kProfileChoiceNames,
+                     "Diffusion profile (auto: dipole with the escape energy, else burley)");
+  cli::addEnumOption(app, "--energy", s.energy, sss::kEnergyModelNames,
+                     "escape rescales B by the object's own escape probability (random walks), "
+                     "for objects small against the diffusion length");
+  app.add_option("--tolerance", s.tolerance, "Target relative RMS error of the exitance")
+      ->check(cli::checkedBy<double>(sss::checkTolerance))
+      ->capture_default_str();
+  app.add_option("--walks", s.walks, "Random walks per vertex (--method pathtrace)")
+      ->check(cli::checkedBy<int>(sss::checkPathTracerWalks))
+      ->capture_default_str();
+  app.add_option("--env-size", s.environmentFaceSize,
+                 "Cubemap face size for the environment (0: from the source)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cli::addThreadsOption(app, s.threads);
+  cli::addQuietFlag(app, s.quiet);
+}
+
+// Writes the PLY and, beside it, the report: the report's temporary file is created first, so
+// both appear or neither does.
+void writeOutputs(const std::string& output, const std::string& jsonPath,
+                  const sss::BakeOutput& result, const sss::Stopwatch& toolClock) {
+  std::unique_ptr<sss::AtomicOutput> jsonOutput;
+  std::ofstream jsonFile;
+  if (!jsonPath.empty()) {
+    jsonOutput = std::make_unique<sss::AtomicOutput>(jsonPath);
+    jsonFile.open(jsonOutput->tempPath());
+    if (!jsonFile) sss::fail(jsonPath, "cannot create the JSON report");
+  }
+  const sss::Stopwatch writeClock;
+  sss::writeBakedPly(output, result.baked);
+  if (!jsonOutput) return;
+  sss::Json report = sss::toJson(result.report);
+  report["output"] = output;
+  report["stages"]["write_s"] = writeClock.seconds();
+  report["stages"]["tool_total_s"] = toolClock.seconds();
+  jsonFile << report.dump(2) << "\n";
+  jsonFile.close();
+  if (!jsonFile) sss::fail(jsonPath, "cannot write the JSON report");
+  jsonOutput->commit();
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  return sss::runTool("sss-bake", [&]() -> int {
-    CLI::App app{"Bake per-vertex subsurface scattering (irradiance E and exitance B) into a PLY."};
-    sss::BakeSettings s;
-    std::string output, jsonPath, materialName, sigmaA, sigmaS, albedo, mfp, unit, sky;
-    std::string visibility = "rays", samples = "auto";
-    double eta = 0.0, mmPerUnit = 0.0;
-    bool listMaterials = false;
-    std::vector<std::string> methods = sss::listDiffusionMethods();
-    methods.push_back("pathtrace");
-
-    app.add_option("mesh", s.meshPath, "Input mesh (PLY, OBJ, OFF, STL, OM)");
-    app.add_option("-e,--env", s.environment,
-                   "Environment: equirect, cross or cubemap-stack image");
-    auto* skyOption = app.add_option("--sky", sky,
+  CLI::App app{"Bake per-vertex subsurface scattering (irradiance E and exitance B) into a PLY."};
+  sss::BakeSettings s;
+  MaterialOptions material;
+  std::string output, jsonPath, sky;
+  app.add_option("mesh", s.meshPath, "Input mesh (PLY, OBJ, OFF, STL, OM)")->required();
+  auto* environment = app.add_option_group("environment", "Exactly one: -e ENV or --sky");
+  environment->add_option("-e,--env", s.environment,
+                          "Environment: equirect, cross or cubemap-stack image");
+  auto* skyOption = environment
+                        ->add_option("--sky", sky,
                                      "Procedural sun and sky instead of -e, optional spec "
                                      "(elevation=45,azimuth=30,turbidity=3)")
-                          ->expected(0, 1)
-                          ->default_str("");
-    app.add_option("-o,--output", output, "Output baked PLY");
-    app.add_option("-m,--material", materialName, "Measured preset (see --list-materials)");
-    app.add_flag("--list-materials", listMaterials, "List the presets and exit");
-    app.add_option("--sigma-a", sigmaA, "Absorption coefficient r,g,b in 1/mm");
-    app.add_option("--sigma-s", sigmaS, "Reduced scattering coefficient sigma_s' r,g,b in 1/mm");
-    app.add_option("--albedo", albedo, "Total diffuse reflectance r,g,b (with --mfp)");
-    app.add_option("--mfp", mfp, "Diffuse mean free path r,g,b in mm (with --albedo)");
-    app.add_option("--eta", eta, "Relative index of refraction (default: preset's, or 1.3)");
-    app.add_option("--g", s.material.g, "Henyey-Greenstein mean cosine (--method pathtrace)");
-    app.add_option("--mm-per-unit", mmPerUnit, "Millimetres per mesh unit");
-    app.add_option("--unit", unit, "Mesh unit: mm, cm or m");
-    app.add_option("--size-mm", s.sizeMm, "Scale the longest bounding-box side to this many mm");
-    app.add_option("--visibility", visibility, "none | rays (Embree shadows)")
-        ->capture_default_str();
-    app.add_option("--samples", samples,
-                   "Visibility rays per vertex, or auto (from --tolerance and a pilot)")
-        ->capture_default_str();
-    app.add_option("--seed", s.seed, "Random seed")->capture_default_str();
-    app.add_option("--method", s.method, joined(methods))->capture_default_str();
-    std::vector<std::string> profiles = sss::listProfiles();
-    profiles.insert(profiles.begin(), "auto");
-    app.add_option("--profile", s.profile,
-                   joined(profiles) + " (auto: dipole with the escape energy, else burley)")
-        ->capture_default_str();
-    app.add_option("--energy", s.energy,
-                   joined(sss::listEnergyModels()) +
-                       ": escape rescales B by the object's own escape probability (random "
-                       "walks), for objects small against the diffusion length")
-        ->capture_default_str();
-    app.add_option("--tolerance", s.tolerance, "Target relative RMS error of the exitance")
-        ->capture_default_str();
-    app.add_option("--walks", s.walks, "Random walks per vertex (--method pathtrace)")
-        ->capture_default_str();
-    app.add_option("--env-size", s.environmentFaceSize,
-                   "Cubemap face size for the environment (0: from the source)")
-        ->capture_default_str();
-    app.add_option("--threads", s.threads, "Threads (0: all cores)")->capture_default_str();
-    app.add_option("--json", jsonPath, "Write a JSON report");
-    app.add_flag("-q,--quiet", s.quiet, "No progress or information on stderr");
-    CLI11_PARSE(app, argc, argv);
+                        ->expected(0, 1)
+                        ->default_str("");
+  environment->require_option(1);
+  app.add_option("-o,--output", output, "Output baked PLY")->required();
+  addMaterialOptions(app, material);
+  addUnitOptions(app, s);
+  addBakeOptions(app, s);
+  app.add_option("--json", jsonPath, "Write a JSON report");
 
-    if (listMaterials) {
-      std::printf("%-10s %-26s %-26s %s\n", "name", "sigma_a (1/mm)", "sigma_s' (1/mm)", "eta");
-      for (const sss::Material& m : sss::materialPresets()) {
-        std::printf("%-10s %-8.4g %-8.4g %-8.4g %-8.4g %-8.4g %-8.4g %g\n", m.name.c_str(),
-                    m.sigmaA.r, m.sigmaA.g, m.sigmaA.b, m.sigmaSPrime.r, m.sigmaSPrime.g,
-                    m.sigmaSPrime.b, m.eta);
-      }
-      return 0;
-    }
-
-    // Required inputs, each with one clear line.
-    if (s.meshPath.empty()) sss::fail("", "no input mesh given");
-    if (output.empty()) sss::fail("", "no output given (-o OUT.ply)");
-    const bool skyGiven = skyOption->count() > 0;
-    if (skyGiven == !s.environment.empty()) {
-      sss::fail("", "give exactly one of -e ENV and --sky");
-    }
-    if (skyGiven) s.environment = sky.empty() ? "sky" : "sky:" + sky;
-
-    const int unitSources = (mmPerUnit != 0.0) + !unit.empty() + (s.sizeMm != 0.0);
-    if (unitSources == 0) {
-      sss::fail("",
-                "the mesh's units are missing: give --mm-per-unit S, --unit mm|cm|m or "
-                "--size-mm L (translucency depends on size)");
-    }
-    if (unitSources > 1) sss::fail("", "give only one of --mm-per-unit, --unit and --size-mm");
-    if (!unit.empty()) mmPerUnit = sss::parseUnit(unit);
-    if (s.sizeMm != 0.0 && !(s.sizeMm > 0.0)) sss::fail("", "--size-mm must be positive");
-    s.mmPerUnit = s.sizeMm > 0.0 ? 0.0 : sss::checkMmPerUnit(mmPerUnit);
-
-    // Material: a preset, coefficients, or albedo + mean free path.
-    const int materialSources = !materialName.empty() + (!sigmaA.empty() || !sigmaS.empty()) +
-                                (!albedo.empty() || !mfp.empty());
-    if (materialSources != 1) {
-      sss::fail("",
-                "give exactly one material: -m PRESET, --sigma-a and --sigma-s, or "
-                "--albedo and --mfp (see --list-materials)");
-    }
-    const double g = s.material.g;
-    if (!materialName.empty()) {
-      s.material = sss::findMaterialPreset(materialName);
-      if (eta != 0.0) s.material.eta = eta;
-    } else if (!sigmaA.empty() || !sigmaS.empty()) {
-      if (sigmaA.empty() || sigmaS.empty()) sss::fail("", "--sigma-a and --sigma-s go together");
-      s.material.name = "custom";
-      s.material.sigmaA = parseRgb(sigmaA, "--sigma-a");
-      s.material.sigmaSPrime = parseRgb(sigmaS, "--sigma-s");
-      s.material.eta = eta != 0.0 ? eta : 1.3;
-    } else {
-      if (albedo.empty() || mfp.empty()) sss::fail("", "--albedo and --mfp go together");
-      s.material = sss::materialFromAlbedoMfp(parseRgb(albedo, "--albedo"), parseRgb(mfp, "--mfp"),
-                                              eta != 0.0 ? eta : 1.3);
-    }
-    s.material.g = g;
-    s.visibility = sss::parseVisibilityMode(visibility);
-    if (samples != "auto") {
-      std::size_t used = 0;
-      int count = 0;
-      try {
-        count = std::stoi(samples, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != samples.size() || samples.empty()) {
-        sss::fail("", "--samples: '" + samples + "' is neither auto nor an integer");
-      }
-      if (count < 2) sss::fail("", "--samples must be at least 2 (or auto)");
-      s.samples = count;
-    }
-
+  return sss::runTool("sss-bake", app, argc, argv, [&]() -> int {
+    if (skyOption->count() > 0) s.environment = sky.empty() ? "sky" : "sky:" + sky;
+    s.material = materialFrom(material);
     const sss::Stopwatch clock;
-    sss::BakeOutput result = sss::bake(s);
-
-    // The report is written beside the PLY and appears only if both succeed.
-    std::unique_ptr<sss::AtomicOutput> jsonOutput;
-    nlohmann::ordered_json report = nlohmann::ordered_json::parse(result.reportJson);
-    const sss::Stopwatch writeClock;
-    std::ofstream jsonFile;
-    if (!jsonPath.empty()) {
-      jsonOutput = std::make_unique<sss::AtomicOutput>(jsonPath);
-      jsonFile.open(jsonOutput->tempPath());
-      if (!jsonFile) sss::fail(jsonPath, "cannot create the JSON report");
-    }
-    sss::writeBakedPly(output, result.baked);
-    report["output"] = output;
-    report["stages"]["write_s"] = writeClock.seconds();
-    report["stages"]["tool_total_s"] = clock.seconds();
-    if (jsonOutput) {
-      jsonFile << report.dump(2) << "\n";
-      jsonFile.close();
-      if (!jsonFile) sss::fail(jsonPath, "cannot write the JSON report");
-      jsonOutput->commit();
-    }
+    const sss::BakeOutput result = sss::bake(s);
+    writeOutputs(output, jsonPath, result, clock);
     sss::info("wrote " + output + " (" + std::to_string(result.baked.mesh.vertexCount()) +
                   " vertices) in " + std::to_string(clock.seconds()) + " s",
               s.quiet);

@@ -1,26 +1,25 @@
 // sss-render: a baked mesh (sss-bake's PLY) in an environment, drawn with OpenGL 4.5 on a
 // headless EGL context (the GPU where there is one, Mesa llvmpipe otherwise) into a PNG
 // (8-bit sRGB) or EXR (linear float). See lib/render/renderer.h and shaders/surface.frag.
-#include <cmath>
+#include <array>
 #include <cstdio>
-#include <fstream>
 #include <optional>
 #include <string>
-#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
 #include "core/atomic_output.h"
+#include "core/cli.h"
 #include "core/error.h"
+#include "core/format.h"
 #include "core/timer.h"
 #include "core/tool.h"
 #include "envmap/environment.h"
 #include "irradiance/irradiance.h"
-#include "material/dipole_profile.h"
 #include "mesh/baked_ply.h"
-#include "optics/fresnel.h"
+#include "render/baked_shading.h"
 #include "render/camera.h"
 #include "render/gl_context.h"
 #include "render/image_output.h"
@@ -28,315 +27,345 @@
 
 namespace {
 
-using sss::Error;
+using namespace sss;
 
-glm::vec3 parseVec3(const std::string& text, const std::string& option) {
-  glm::vec3 v;
-  char tail = 0;
-  if (std::sscanf(text.c_str(), "%f,%f,%f%c", &v.x, &v.y, &v.z, &tail) != 3 ||
-      !std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) {
-    throw Error(option + " " + text + ": expected three numbers x,y,z");
-  }
-  return v;
+struct Arguments {
+  std::string input, environment, output, shaderDir, jsonPath;
+  ShadingRequest request;
+  FresnelModel fresnel = FresnelModel::Exact;
+  Tonemap tonemap = Tonemap::Aces;
+  std::optional<float> reflectFactor;
+  std::optional<glm::vec3> background;  // unset: the environment
+  float exposure = 0.0f;
+  std::array<int, 2> size{1024, 1024};
+  float azimuth = 30.0f, elevation = 15.0f, distance = 0.0f, fov = 35.0f;
+  std::optional<glm::vec3> eye, target;
+  glm::vec3 up{0.0f, 1.0f, 0.0f};
+  int samples = 4, frames = 0, warmup = 3, envSize = 0, threads = 0;
+  bool verbose = false, quiet = false;
+};
+
+glm::vec3 parseXyz(const std::string& text) {
+  return cli::parseTriple<float>(text);
 }
 
-void parseSize(const std::string& text, int& width, int& height) {
-  char tail = 0;
-  if (std::sscanf(text.c_str(), "%dx%d%c", &width, &height, &tail) != 2 || width < 1 ||
-      height < 1 || width > 16384 || height > 16384) {
-    throw Error("--size " + text + ": expected WIDTHxHEIGHT, each 1 to 16384");
+// "WxH", each 1 to 16384.
+std::array<int, 2> parseImageSize(const std::string& text) {
+  const std::size_t x = text.find('x');
+  std::array<int, 2> size{0, 0};
+  if (x == std::string::npos || !CLI::detail::lexical_cast(text.substr(0, x), size[0]) ||
+      !CLI::detail::lexical_cast(text.substr(x + 1), size[1]) || size[0] < 1 || size[1] < 1 ||
+      size[0] > 16384 || size[1] > 16384) {
+    throw Error("expected WIDTHxHEIGHT, each 1 to 16384, got '" + text + "'");
   }
+  return size;
 }
 
-std::string missingProperties(const char* prefix) {
-  return std::string(prefix) + "_r, " + prefix + "_g, " + prefix + "_b";
+std::optional<glm::vec3> parseBackground(const std::string& text) {
+  if (text == "env") return std::nullopt;
+  return parseXyz(text);
+}
+
+// The mesh as drawn: its file contents, the shading taken from the bake, and its bounds.
+struct LoadedMesh {
+  BakedPlyContents contents;
+  ShadingParameters shading;
+  RenderMesh renderMesh;
+  BoundingSphere bounds;
+};
+
+// Reads the baked mesh; names what the asked mode needs and the file lacks, and the defaults
+// taken for what the file does not record.
+LoadedMesh loadMesh(const Arguments& a) {
+  LoadedMesh m;
+  m.contents = readBakedPly(a.input);
+  for (const std::string& w : m.contents.report.warnings) warn(a.input + ": " + w);
+  const std::string missing = missingBakedValues(m.contents, a.request.mode);
+  if (!missing.empty()) {
+    fail(a.input, "missing " + missing +
+                      ": run sss-bake on it first (or use --mode brdf, which needs none)");
+  }
+  m.shading = shadingFor(m.contents, a.request);
+  const std::string noMaterial = a.input + ": no material recorded in the header: ";
+  if (m.shading.etaIsFallback) warn(noMaterial + format("eta %g (set --eta)", m.shading.eta));
+  if (m.shading.albedoIsFallback) {
+    warn(noMaterial + format("albedo %g (set --albedo)", m.shading.albedo.x));
+  }
+  m.renderMesh = renderMeshFor(m.contents.baked, a.request.mode);
+  m.bounds = boundingSphere(m.contents.baked.mesh.positions);
+  return m;
+}
+
+ShadingOptions shadingOptions(const Arguments& a, const ShadingParameters& p) {
+  ShadingOptions s;
+  s.mode = a.request.mode;
+  s.fresnel = a.fresnel;
+  s.tonemap = a.tonemap;
+  s.exposureEv = a.exposure;
+  s.reflectFactor = a.reflectFactor;
+  s.backgroundColor = a.background;
+  s.eta = p.eta;
+  s.exitScale = p.exitScale;
+  s.albedo = p.albedo;
+  s.cullBackFaces = p.cullBackFaces;
+  return s;
+}
+
+// The radiance cubemap, and for the brdf mode the transmitted irradiance E(n) it is lit by.
+struct Environment {
+  Cubemap radiance, irradiance;
+  std::string irradianceReason;
+};
+
+Environment loadLighting(const Arguments& a, float eta) {
+  Environment env;
+  EnvironmentOptions options;
+  options.faceSize = a.envSize;
+  env.radiance = loadEnvironment(a.environment, options);
+  if (a.request.mode == ShadingMode::Brdf) {
+    IrradianceOptions irradiance;
+    irradiance.eta = eta;
+    irradiance.threads = a.threads;
+    IrradianceResult result = computeIrradiance(env.radiance, irradiance);
+    env.irradiance = std::move(result.irradiance);
+    env.irradianceReason = result.reason;
+    info("irradiance: " + result.reason, a.quiet);
+  }
+  return env;
+}
+
+// --eye places the camera (looking at --target, else the bounding sphere's centre); otherwise
+// the orbit of --azimuth, --elevation and --distance frames the mesh.
+Camera placeCamera(const Arguments& a, const BoundingSphere& bounds, float aspect) {
+  Camera camera;
+  if (a.eye) {
+    camera.eye = *a.eye;
+    camera.target = a.target ? *a.target : bounds.centre;
+    camera.up = a.up;
+    camera.fovYDeg = a.fov;
+    if (glm::length(camera.eye - camera.target) < 1e-12f) {
+      throw Error("--eye and --target are the same point");
+    }
+    fitClipPlanes(camera, bounds);
+  } else {
+    camera = orbitCamera(bounds, a.azimuth, a.elevation, a.distance, a.fov, aspect);
+    if (a.target) {
+      camera.target = *a.target;
+      fitClipPlanes(camera, bounds);
+    }
+  }
+  return camera;
+}
+
+void printFrameTimings(const Arguments& a, const LoadedMesh& mesh, const FrameOptions& frame,
+                       const FrameTimings& t, const GlContext& context) {
+  std::printf(
+      "%s: %zu triangles, %dx%d, %d sample(s), %d frames: median %.2f ms/frame "
+      "(wall clock, glFinish each frame; min %.2f, max %.2f) = %.1f FPS; pipelined %.2f "
+      "ms/frame; GL timer %.2f ms/frame%s; CPU %.2f ms/frame [%s]\n",
+      a.input.c_str(), mesh.contents.baked.mesh.triangles.size(), frame.width, frame.height,
+      frame.samples, t.frames, t.medianWallMs, t.minWallMs, t.maxWallMs, t.fps(), t.pipelinedMs,
+      t.medianGpuMs, context.isSoftware() ? " (not a measure on a software renderer)" : "", t.cpuMs,
+      context.glRenderer().c_str());
+}
+
+// Stage times of the report, in milliseconds.
+struct StageTimes {
+  double context = 0, load = 0, environment = 0, setup = 0, render = 0;
+};
+
+nlohmann::json glJson(const GlContext& context) {
+  return {{"egl_path", context.eglPath()},  {"egl_vendor", context.eglVendor()},
+          {"vendor", context.glVendor()},   {"renderer", context.glRenderer()},
+          {"version", context.glVersion()}, {"software", context.isSoftware()}};
+}
+
+nlohmann::json framesJson(const FrameTimings& t, int warmup) {
+  return {{"count", t.frames},
+          {"warmup", warmup},
+          {"median_ms", t.medianWallMs},
+          {"min_ms", t.minWallMs},
+          {"max_ms", t.maxWallMs},
+          {"fps", t.fps()},
+          {"pipelined_ms", t.pipelinedMs},
+          {"cpu_ms", t.cpuMs},
+          {"gl_timer_median_ms", t.medianGpuMs}};
+}
+
+void writeReport(const Arguments& a, const LoadedMesh& mesh, const Environment& env,
+                 const FrameOptions& frame, const GlContext& context, const StageTimes& ms,
+                 const FrameTimings& timings, const Stopwatch& total) {
+  const TriangleMesh& triangles = mesh.contents.baked.mesh;
+  nlohmann::json report = {{"input", a.input},
+                           {"output", a.output},
+                           {"mode", kShadingModeNames.name(a.request.mode)},
+                           {"vertices", triangles.positions.size()},
+                           {"triangles", triangles.triangles.size()},
+                           {"width", frame.width},
+                           {"height", frame.height},
+                           {"samples", frame.samples},
+                           {"cull_back_faces", mesh.shading.cullBackFaces},
+                           {"eta", mesh.shading.eta},
+                           {"fresnel", kFresnelModelNames.name(a.fresnel)},
+                           {"exit_model", kExitModelNames.name(a.request.exitModel)},
+                           {"environment", a.environment},
+                           {"environment_face_size", env.radiance.size()},
+                           {"gl", glJson(context)},
+                           {"times_ms",
+                            {{"gl_context", ms.context},
+                             {"load", ms.load},
+                             {"environment", ms.environment},
+                             {"gl_setup", ms.setup},
+                             {"first_frame_and_readback", ms.render},
+                             {"total", total.milliseconds()}}}};
+  if (!env.irradianceReason.empty()) report["irradiance"] = env.irradianceReason;
+  if (a.frames > 0) report["frames"] = framesJson(timings, a.warmup);
+  writeFileAtomically(a.jsonPath, report.dump(2) + "\n");
+}
+
+void describeContext(const GlContext& context) {
+  info("EGL: " + context.eglPath() + ", vendor " + context.eglVendor(), false);
+  info("GL_VENDOR: " + context.glVendor(), false);
+  info("GL_RENDERER: " + context.glRenderer(), false);
+  info("GL_VERSION: " + context.glVersion(), false);
+}
+
+int run(const Arguments& a) {
+  const Stopwatch total;
+  FrameOptions frame;
+  frame.width = a.size[0];
+  frame.height = a.size[1];
+  frame.samples = a.samples;
+  frame.linear = isLinearImagePath(a.output);
+  StageTimes ms;
+
+  // The GL context first: without one nothing else is worth doing.
+  Stopwatch stage;
+  const GlContext context;
+  if (a.verbose) describeContext(context);
+  ms.context = stage.milliseconds();
+
+  stage.restart();
+  const LoadedMesh mesh = loadMesh(a);
+  ms.load = stage.milliseconds();
+
+  stage.restart();
+  const Environment env = loadLighting(a, mesh.shading.eta);
+  ms.environment = stage.milliseconds();
+
+  stage.restart();
+  if (frame.samples > context.maxSamples()) {
+    warn("--samples " + std::to_string(frame.samples) + ": this GL allows at most " +
+         std::to_string(context.maxSamples()) + "; using that");
+    frame.samples = context.maxSamples();
+  }
+  const ShaderSources shaders(a.shaderDir);
+  Renderer renderer(shaders, frame, shadingOptions(a, mesh.shading));
+  renderer.setMesh(mesh.renderMesh);
+  renderer.setEnvironment(env.radiance, env.irradiance.empty() ? nullptr : &env.irradiance);
+  const float aspect = static_cast<float>(frame.width) / static_cast<float>(frame.height);
+  renderer.setCamera(placeCamera(a, mesh.bounds, aspect));
+  ms.setup = stage.milliseconds();
+
+  stage.restart();
+  renderer.draw();
+  const RenderedImage image = renderer.readBack();
+  ms.render = stage.milliseconds();
+  FrameTimings timings;
+  if (a.frames > 0) {
+    timings = renderer.timeFrames(a.frames, a.warmup);
+    printFrameTimings(a, mesh, frame, timings, context);
+  }
+  writeRenderedImage(a.output, image);
+  info("wrote " + a.output, a.quiet);
+  if (!a.jsonPath.empty()) writeReport(a, mesh, env, frame, context, ms, timings, total);
+  return 0;
+}
+
+void addInputOptions(CLI::App& app, Arguments& a) {
+  app.add_option("mesh", a.input, "Baked mesh (sss-bake's PLY; any mesh for --mode brdf)")
+      ->required();
+  app.add_option("-e,--env", a.environment,
+                 "Environment: equirect, cross or cubemap image (sss-irrmap --radiance), "
+                 "or sky[:spec]")
+      ->required();
+  app.add_option("-o,--output", a.output, ".png (8-bit sRGB) or .exr (linear float)")
+      ->required()
+      ->check(cli::parsedBy(checkRenderedImagePath));
+  app.add_option("--env-size", a.envSize, "Radiance cubemap face size (0: from the source)")
+      ->check(CLI::Range(0, 4096));
+  app.add_option("--shader-dir", a.shaderDir, "Read shaders from this folder (development)");
+  app.add_option("--json", a.jsonPath, "Report: GL renderer, sizes, timings");
+}
+
+void addShadingOptions(CLI::App& app, Arguments& a) {
+  cli::addEnumOption(app, "--mode", a.request.mode, kShadingModeNames,
+                     "Baked subsurface light, a BRDF lit by the irradiance cubemap, or the "
+                     "baked irradiance or normals");
+  cli::addEnumOption(app, "--fresnel", a.fresnel, kFresnelModelNames, "Fresnel terms");
+  cli::addEnumOption(app, "--exit-model", a.request.exitModel, kExitModelNames,
+                     "normalized: B F_t / (pi (1 - 2 C_1)), flux = B; jensen: B F_t / pi");
+  app.add_option("--reflect-factor", a.reflectFactor,
+                 "The paper's constant mix(base, reflection, F) instead of Fresnel weights")
+      ->check(CLI::Range(0.0f, 1.0f));
+  app.add_option("--eta", a.request.eta, "Relative index (default: the material's)")
+      ->check(CLI::Range(1.0f, 3.0f));
+  cli::addParsedOption(app, "--albedo", a.request.albedo, parseXyz,
+                       "brdf: diffuse albedo r,g,b (default: the material's dipole total "
+                       "reflectance)")
+      ->type_name("R,G,B");
+  cli::addParsedOption(app, "--background", a.background, parseBackground,
+                       "env, or a colour r,g,b stored as given (0..1 display values)")
+      ->type_name("env|R,G,B")
+      ->default_str("env");
+  app.add_option("--exposure", a.exposure, "Exposure in EV (stops)");
+  cli::addEnumOption(app, "--tonemap", a.tonemap, kTonemapNames, "Display transform");
+  cli::addEnumOption(app, "--cull", a.request.cull, kCullModeNames,
+                     "Back-face culling (auto: only for closed, consistently wound meshes)");
+}
+
+void addCameraOptions(CLI::App& app, Arguments& a) {
+  app.add_option("--azimuth", a.azimuth, "Camera azimuth about +Y in degrees (0: from +Z)");
+  app.add_option("--elevation", a.elevation, "Camera elevation in degrees");
+  app.add_option("--distance", a.distance, "Camera distance in mesh units (default: framed)");
+  cli::addParsedOption(app, "--eye", a.eye, parseXyz, "Camera position x,y,z (overrides the orbit)")
+      ->type_name("X,Y,Z");
+  cli::addParsedOption(app, "--target", a.target, parseXyz,
+                       "Look-at point x,y,z (default: the bounding sphere's centre)")
+      ->type_name("X,Y,Z");
+  cli::addParsedOption(app, "--up", a.up, parseXyz, "Up vector x,y,z")
+      ->type_name("X,Y,Z")
+      ->default_str("0,1,0");
+  app.add_option("--fov", a.fov, "Vertical field of view in degrees")
+      ->check(CLI::Range(1.0f, 170.0f));
+}
+
+void addFrameOptions(CLI::App& app, Arguments& a) {
+  cli::addParsedOption(app, "--size", a.size, parseImageSize, "Image size")
+      ->type_name("WxH")
+      ->default_str("1024x1024");
+  app.add_option("--samples", a.samples, "MSAA samples (1: none)")->check(CLI::Range(1, 64));
+  app.add_option("--frames", a.frames,
+                 "Render N timed frames and report ms/frame (wall clock, GL timer) and FPS")
+      ->check(CLI::Range(0, 100000));
+  app.add_option("--warmup", a.warmup, "Untimed frames before --frames")
+      ->check(CLI::Range(0, 1000));
+  cli::addThreadsOption(app, a.threads);
+  app.add_flag("-v,--verbose", a.verbose, "Print the EGL path and the GL vendor/renderer/version");
+  cli::addQuietFlag(app, a.quiet);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  return sss::runTool("sss-render", [&]() -> int {
-    CLI::App app{"Render a baked mesh in an environment with headless OpenGL (EGL)."};
-    std::string input, envSource, output, modeName = "sss", fresnelName = "exact";
-    std::string exitModelName = "normalized", tonemapName = "aces", backgroundSpec = "env";
-    std::string sizeSpec = "1024x1024", eyeSpec, targetSpec, upSpec = "0,1,0", shaderDir;
-    std::string jsonPath, albedoSpec, cullName = "auto";
-    std::optional<float> reflectFactor, etaOverride;
-    float azimuth = 30.0f, elevation = 15.0f, distance = 0.0f, fov = 35.0f, exposure = 0.0f;
-    int samples = 4, frames = 0, warmup = 3, envSize = 0, threads = 0;
-    bool verbose = false, quiet = false;
-
-    app.add_option("mesh", input, "Baked mesh (sss-bake's PLY; any mesh for --mode brdf)")
-        ->required();
-    app.add_option("-e,--env", envSource,
-                   "Environment: equirect, cross or cubemap image (sss-irrmap --radiance), "
-                   "or sky[:spec]")
-        ->required();
-    app.add_option("-o,--output", output, ".png (8-bit sRGB) or .exr (linear float)")->required();
-    app.add_option("--mode", modeName, "sss | brdf | irradiance | normals")
-        ->check(CLI::IsMember({"sss", "brdf", "irradiance", "normals"}));
-    app.add_option("--fresnel", fresnelName, "exact | schlick")
-        ->check(CLI::IsMember({"exact", "schlick"}));
-    app.add_option("--exit-model", exitModelName,
-                   "normalized: B F_t / (pi (1 - 2 C_1)), flux = B | jensen: B F_t / pi")
-        ->check(CLI::IsMember({"normalized", "jensen"}));
-    app.add_option("--reflect-factor", reflectFactor,
-                   "The paper's constant mix(base, reflection, F) instead of Fresnel weights")
-        ->check(CLI::Range(0.0f, 1.0f));
-    app.add_option("--eta", etaOverride, "Relative index (default: the material's)")
-        ->check(CLI::Range(1.0f, 3.0f));
-    app.add_option("--albedo", albedoSpec,
-                   "brdf: diffuse albedo r,g,b (default: the material's dipole total "
-                   "reflectance)");
-    app.add_option("--azimuth", azimuth, "Camera azimuth about +Y in degrees (0: from +Z)");
-    app.add_option("--elevation", elevation, "Camera elevation in degrees");
-    app.add_option("--distance", distance, "Camera distance in mesh units (default: framed)");
-    app.add_option("--eye", eyeSpec, "Camera position x,y,z (overrides the orbit)");
-    app.add_option("--target", targetSpec,
-                   "Look-at point x,y,z (default: the bounding sphere's centre)");
-    app.add_option("--up", upSpec, "Up vector x,y,z");
-    app.add_option("--fov", fov, "Vertical field of view in degrees")
-        ->check(CLI::Range(1.0f, 170.0f));
-    app.add_option("--size", sizeSpec, "Image size WxH");
-    app.add_option("--samples", samples, "MSAA samples (1: none)")->check(CLI::Range(1, 64));
-    app.add_option("--background", backgroundSpec,
-                   "env, or a colour r,g,b stored as given (0..1 display values)");
-    app.add_option("--exposure", exposure, "Exposure in EV (stops)");
-    app.add_option("--tonemap", tonemapName, "none | reinhard | aces")
-        ->check(CLI::IsMember({"none", "reinhard", "aces"}));
-    app.add_option("--env-size", envSize, "Radiance cubemap face size (0: from the source)")
-        ->check(CLI::Range(0, 4096));
-    app.add_option("--cull", cullName,
-                   "Back-face culling: auto (only for closed, consistently wound meshes), back, "
-                   "none")
-        ->check(CLI::IsMember({"auto", "back", "none"}));
-    app.add_option("--frames", frames,
-                   "Render N timed frames and report ms/frame (wall clock, GL timer) and FPS")
-        ->check(CLI::Range(0, 100000));
-    app.add_option("--warmup", warmup, "Untimed frames before --frames")
-        ->check(CLI::Range(0, 1000));
-    app.add_option("--threads", threads, "Threads for the irradiance cubemap (0: all cores)");
-    app.add_option("--shader-dir", shaderDir, "Read shaders from this folder (development)");
-    app.add_option("--json", jsonPath, "Report: GL renderer, sizes, timings");
-    app.add_flag("-v,--verbose", verbose, "Print the EGL path and the GL vendor/renderer/version");
-    app.add_flag("-q,--quiet", quiet, "No progress messages");
-    try {
-      app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-      return app.exit(e);
-    }
-    if (verbose) quiet = false;
-    sss::Stopwatch total;
-
-    // Everything that can be checked before the work starts.
-    sss::FrameOptions frameOptions;
-    parseSize(sizeSpec, frameOptions.width, frameOptions.height);
-    frameOptions.samples = samples;
-    frameOptions.linear = sss::isLinearImagePath(output);
-    {
-      const auto dot = output.find_last_of('.');
-      if (dot == std::string::npos || output.find('/', dot) != std::string::npos) {
-        throw Error(output + ": no file extension to choose the image format (.png or .exr)");
-      }
-    }
-    sss::ShadingOptions shading;
-    shading.mode = modeName == "sss"          ? sss::ShadingMode::Sss
-                   : modeName == "brdf"       ? sss::ShadingMode::Brdf
-                   : modeName == "irradiance" ? sss::ShadingMode::Irradiance
-                                              : sss::ShadingMode::Normals;
-    shading.fresnel =
-        fresnelName == "schlick" ? sss::FresnelModel::Schlick : sss::FresnelModel::Exact;
-    shading.tonemap = tonemapName == "none"       ? sss::Tonemap::None
-                      : tonemapName == "reinhard" ? sss::Tonemap::Reinhard
-                                                  : sss::Tonemap::Aces;
-    shading.exposureEv = exposure;
-    shading.reflectFactor = reflectFactor;
-    if (backgroundSpec != "env")
-      shading.backgroundColor = parseVec3(backgroundSpec, "--background");
-
-    // The GL context first: without one nothing else is worth doing.
-    sss::Stopwatch stage;
-    sss::GlContext context;
-    if (verbose) {
-      sss::info("EGL: " + context.eglPath() + ", vendor " + context.eglVendor(), false);
-      sss::info("GL_VENDOR: " + context.glVendor(), false);
-      sss::info("GL_RENDERER: " + context.glRenderer(), false);
-      sss::info("GL_VERSION: " + context.glVersion(), false);
-    }
-    const double contextMs = stage.milliseconds();
-
-    // Mesh and what it carries.
-    stage.restart();
-    const sss::BakedPlyContents contents = sss::readBakedPly(input);
-    const sss::BakedMesh& baked = contents.baked;
-    for (const std::string& w : contents.report.warnings) sss::warn(input + ": " + w);
-    if (shading.mode == sss::ShadingMode::Sss && !contents.hasExitance) {
-      sss::fail(input, "missing " + missingProperties("exitance") +
-                           ": run sss-bake on it first (or use --mode brdf, which needs none)");
-    }
-    if (shading.mode == sss::ShadingMode::Irradiance && !contents.hasIrradiance) {
-      sss::fail(input, "missing " + missingProperties("irradiance") +
-                           ": run sss-bake on it first (or use --mode brdf, which needs none)");
-    }
-    float eta = contents.hasMaterial ? static_cast<float>(baked.eta) : 1.3f;
-    if (etaOverride) eta = *etaOverride;
-    if (!contents.hasMaterial && !etaOverride && shading.mode == sss::ShadingMode::Sss) {
-      sss::warn(input + ": no material recorded in the header: eta 1.3 (set --eta)");
-    }
-    shading.eta = eta;
-    shading.exitScale = exitModelName == "jensen" ? static_cast<float>(1.0 / M_PI)
-                                                  : static_cast<float>(sss::exitRadianceScale(eta));
-    if (shading.mode == sss::ShadingMode::Brdf) {
-      if (!albedoSpec.empty()) {
-        shading.albedo = parseVec3(albedoSpec, "--albedo");
-      } else if (contents.hasMaterial) {
-        // The total diffuse reflectance of the material's dipole, so that a flat region under
-        // uniform light looks the same in both modes (B = R_d E).
-        const glm::dvec3 albedo = baked.sigmaSPrime / (baked.sigmaA + baked.sigmaSPrime);
-        for (int c = 0; c < 3; ++c) {
-          shading.albedo[c] = static_cast<float>(sss::dipoleTotalReflectance(albedo[c], eta));
-        }
-      } else {
-        shading.albedo = glm::vec3(0.8f);
-        sss::warn(input + ": no material recorded in the header: albedo 0.8 (set --albedo)");
-      }
-    }
-    sss::RenderMesh renderMesh;
-    renderMesh.positions = baked.mesh.positions;
-    renderMesh.normals = baked.mesh.normals;
-    if (shading.mode == sss::ShadingMode::Sss) renderMesh.values = baked.exitance;
-    if (shading.mode == sss::ShadingMode::Irradiance) renderMesh.values = baked.irradiance;
-    renderMesh.indices.reserve(baked.mesh.triangles.size() * 3);
-    // Culling would punch holes where a scan's triangles are wound the wrong way.
-    const sss::MeshReport& report = contents.report;
-    const bool closedAndConsistent =
-        report.boundaryEdges == 0 && report.misorientedEdges == 0 && report.nonManifoldEdges == 0;
-    shading.cullBackFaces = cullName == "back" || (cullName == "auto" && closedAndConsistent);
-    const sss::BoundingSphere bounds = sss::boundingSphere(baked.mesh.positions);
-    for (const glm::uvec3& t : baked.mesh.triangles) {
-      renderMesh.indices.insert(renderMesh.indices.end(), {t.x, t.y, t.z});
-    }
-    const double loadMs = stage.milliseconds();
-
-    // Environment, and the brdf mode's transmitted irradiance E(n).
-    stage.restart();
-    sss::EnvironmentOptions envOptions;
-    envOptions.faceSize = envSize;
-    const sss::Cubemap radiance = sss::loadEnvironment(envSource, envOptions);
-    sss::Cubemap irradiance;
-    std::string irradianceReason;
-    if (shading.mode == sss::ShadingMode::Brdf) {
-      sss::IrradianceOptions irrOptions;
-      irrOptions.eta = eta;
-      irrOptions.threads = threads;
-      sss::IrradianceResult result = sss::computeIrradiance(radiance, irrOptions);
-      irradiance = std::move(result.irradiance);
-      irradianceReason = result.reason;
-      sss::info("irradiance: " + result.reason, quiet);
-    }
-    const double envMs = stage.milliseconds();
-
-    // GL.
-    stage.restart();
-    if (frameOptions.samples > context.maxSamples()) {
-      sss::warn("--samples " + std::to_string(frameOptions.samples) + ": this GL allows at most " +
-                std::to_string(context.maxSamples()) + "; using that");
-      frameOptions.samples = context.maxSamples();
-    }
-    const sss::ShaderSources shaders(shaderDir);
-    sss::Renderer renderer(shaders, frameOptions, shading);
-    renderer.setMesh(renderMesh);
-    renderer.setEnvironment(radiance, irradiance.empty() ? nullptr : &irradiance);
-    const float aspect =
-        static_cast<float>(frameOptions.width) / static_cast<float>(frameOptions.height);
-    sss::Camera camera;
-    if (!eyeSpec.empty()) {
-      camera.eye = parseVec3(eyeSpec, "--eye");
-      camera.target = targetSpec.empty() ? bounds.centre : parseVec3(targetSpec, "--target");
-      camera.up = parseVec3(upSpec, "--up");
-      camera.fovYDeg = fov;
-      if (glm::length(camera.eye - camera.target) < 1e-12f) {
-        throw Error("--eye and --target are the same point");
-      }
-      sss::fitClipPlanes(camera, bounds);
-    } else {
-      camera = sss::orbitCamera(bounds, azimuth, elevation, distance, fov, aspect);
-      if (!targetSpec.empty()) {
-        camera.target = parseVec3(targetSpec, "--target");
-        sss::fitClipPlanes(camera, bounds);
-      }
-    }
-    renderer.setCamera(camera);
-    const double setupMs = stage.milliseconds();
-
-    stage.restart();
-    renderer.draw();
-    const sss::RenderedImage image = renderer.readBack();
-    const double renderMs = stage.milliseconds();
-    sss::FrameTimings timings;
-    if (frames > 0) {
-      timings = renderer.timeFrames(frames, warmup);
-      std::printf(
-          "%s: %zu triangles, %dx%d, %d sample(s), %d frames: median %.2f ms/frame "
-          "(wall clock, glFinish each frame; min %.2f, max %.2f) = %.1f FPS; pipelined %.2f "
-          "ms/frame; GL timer %.2f ms/frame%s; CPU %.2f ms/frame [%s]\n",
-          input.c_str(), baked.mesh.triangles.size(), frameOptions.width, frameOptions.height,
-          frameOptions.samples, timings.frames, timings.medianWallMs, timings.minWallMs,
-          timings.maxWallMs, timings.fps(), timings.pipelinedMs, timings.medianGpuMs,
-          context.isSoftware() ? " (not a measure on a software renderer)" : "", timings.cpuMs,
-          context.glRenderer().c_str());
-    }
-    sss::writeRenderedImage(output, image);
-    sss::info("wrote " + output, quiet);
-
-    if (!jsonPath.empty()) {
-      nlohmann::json report = {{"input", input},
-                               {"output", output},
-                               {"mode", modeName},
-                               {"vertices", baked.mesh.positions.size()},
-                               {"triangles", baked.mesh.triangles.size()},
-                               {"width", frameOptions.width},
-                               {"height", frameOptions.height},
-                               {"samples", frameOptions.samples},
-                               {"cull_back_faces", shading.cullBackFaces},
-                               {"eta", eta},
-                               {"fresnel", fresnelName},
-                               {"exit_model", exitModelName},
-                               {"environment", envSource},
-                               {"environment_face_size", radiance.size()},
-                               {"gl",
-                                {{"egl_path", context.eglPath()},
-                                 {"egl_vendor", context.eglVendor()},
-                                 {"vendor", context.glVendor()},
-                                 {"renderer", context.glRenderer()},
-                                 {"version", context.glVersion()},
-                                 {"software", context.isSoftware()}}},
-                               {"times_ms",
-                                {{"gl_context", contextMs},
-                                 {"load", loadMs},
-                                 {"environment", envMs},
-                                 {"gl_setup", setupMs},
-                                 {"first_frame_and_readback", renderMs},
-                                 {"total", total.milliseconds()}}}};
-      if (!irradianceReason.empty()) report["irradiance"] = irradianceReason;
-      if (frames > 0) {
-        report["frames"] = {{"count", timings.frames},
-                            {"warmup", warmup},
-                            {"median_ms", timings.medianWallMs},
-                            {"min_ms", timings.minWallMs},
-                            {"max_ms", timings.maxWallMs},
-                            {"fps", timings.fps()},
-                            {"pipelined_ms", timings.pipelinedMs},
-                            {"cpu_ms", timings.cpuMs},
-                            {"gl_timer_median_ms", timings.medianGpuMs}};
-      }
-      sss::AtomicOutput out(jsonPath);
-      std::ofstream file(out.tempPath());
-      file << report.dump(2) << "\n";
-      file.close();
-      if (!file) sss::fail(jsonPath, "cannot write");
-      out.commit();
-    }
-    return 0;
+  CLI::App app{"Render a baked mesh in an environment with headless OpenGL (EGL)."};
+  Arguments a;
+  addInputOptions(app, a);
+  addShadingOptions(app, a);
+  addCameraOptions(app, a);
+  addFrameOptions(app, a);
+  return runTool("sss-render", app, argc, argv, [&] {
+    if (a.verbose) a.quiet = false;
+    return run(a);
   });
 }

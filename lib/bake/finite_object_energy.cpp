@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
+#include <string>
+#include <utility>
 
 #include "core/error.h"
+#include "core/format.h"
 #include "core/timer.h"
 #include "material/gaussian_profile.h"
 #include "material/halfspace_albedo.h"
@@ -68,37 +70,79 @@ void applyEscapeEnergy(std::span<glm::vec3> exitance, std::span<const glm::vec3>
     }
 }
 
-}  // namespace
+glm::dvec3 halfSpaceAlbedoOf(const Material& material) {
+  glm::dvec3 halfSpace(0.0);
+  const glm::dvec3 albedo = material.reducedAlbedo();
+  for (int c = 0; c < 3; ++c) halfSpace[c] = halfSpaceDiffuseAlbedo(albedo[c], material.eta);
+  return halfSpace;
+}
 
-std::string toString(EnergyModel model) {
-  switch (model) {
-    case EnergyModel::Auto:
-      return "auto";
-    case EnergyModel::HalfSpace:
-      return "halfspace";
-    case EnergyModel::Escape:
-      return "escape";
+// Deviation of the escape probability from the half-space albedo, relative RMS over vertices and
+// channels (weighted like the error of B: a dark channel counts little), with the walks' own
+// noise removed; `raw` gets it with the noise.
+double deviationFromHalfSpace(const EnergyPlan& plan, double& raw) {
+  double deviationSq = 0.0, albedoSq = 0.0;
+  for (const glm::vec3& p : plan.escape.probability)
+    for (int c = 0; c < 3; ++c) {
+      deviationSq += (p[c] - plan.halfSpaceAlbedo[c]) * (p[c] - plan.halfSpaceAlbedo[c]);
+      albedoSq += plan.halfSpaceAlbedo[c] * plan.halfSpaceAlbedo[c];
+    }
+  raw = albedoSq > 0.0 ? std::sqrt(deviationSq / albedoSq) : 0.0;
+  const double noise = plan.escape.relativeStdError;
+  return std::sqrt(std::max(0.0, raw * raw - noise * noise));
+}
+
+// More walks until their noise meets the budget (noise ~ walks^-1/2): needed to apply the model,
+// and to tell a real deviation from noise. The noise estimate is itself noisy: a few rounds at
+// most.
+void refineWalks(EscapeWalks& walks, EnergyPlan& plan, const EnergyOptions& options) {
+  double raw = 0.0;
+  for (int round = 0;
+       round < kMaxRefinements && plan.escape.relativeStdError > options.noiseBudget &&
+       plan.walks < options.maxWalks;
+       ++round) {
+    const double ratio = plan.escape.relativeStdError / options.noiseBudget;
+    const int needed = static_cast<int>(std::ceil(1.05 * plan.walks * ratio * ratio));
+    walks.add(std::max(1, std::min(options.maxWalks, needed) - plan.walks));
+    plan.escape = walks.result();
+    plan.walks = walks.walksPerProbe();
+    plan.halfSpaceDeviation = deviationFromHalfSpace(plan, raw);
   }
-  return "?";
 }
 
-std::vector<std::string> listEnergyModels() {
-  return {"auto", "halfspace", "escape"};
+EnergyPlan keepHalfSpace(EnergyPlan plan, const EnergyOptions& options, const char* why,
+                         const Stopwatch& clock) {
+  plan.reason = "escape probability within " + format("%.2g%%", 100.0 * plan.halfSpaceDeviation) +
+                " of the half-space albedo (budget " +
+                format("%.2g%%", 100.0 * options.noiseBudget) + ", " + why + ")";
+  plan.model = EnergyModel::HalfSpace;
+  plan.escape.probability.clear();
+  plan.seconds = clock.seconds();
+  return plan;
 }
 
-EnergyModel parseEnergyModel(const std::string& name) {
-  for (EnergyModel m : {EnergyModel::Auto, EnergyModel::HalfSpace, EnergyModel::Escape})
-    if (toString(m) == name) return m;
-  fail("", "unknown energy model '" + name + "' (use auto, halfspace or escape)");
+std::string escapeReason(const EnergyPlan& plan, const EnergyOptions& options) {
+  std::string reason =
+      std::string(options.model == EnergyModel::Auto ? "finite object" : "requested") +
+      ": escape probability " + format("%.2g%%", 100.0 * plan.halfSpaceDeviation) +
+      " from the half-space albedo (mean " + format("%.3f", plan.escape.mean.x) + "/" +
+      format("%.3f", plan.escape.mean.y) + "/" + format("%.3f", plan.escape.mean.z) +
+      "), walk noise " + format("%.2g%%", 100.0 * plan.escape.relativeStdError);
+  if (plan.escape.relativeStdError > options.noiseBudget) {
+    reason += "; " + std::to_string(plan.walks) + " walks per probe" +
+              (plan.walks >= options.maxWalks ? " (the cap)" : "") + ", over the " +
+              format("%.2g%%", 100.0 * options.noiseBudget) + " budget";
+  }
+  return reason;
 }
+
+}  // namespace
 
 EnergyPlan planFiniteObjectEnergy(const TriangleMesh& meshMm, std::span<const float> areas,
                                   const Material& material, const EnergyOptions& options) {
   const Stopwatch clock;
   EnergyPlan plan;
-  const glm::dvec3 albedo = material.reducedAlbedo();
-  for (int c = 0; c < 3; ++c)
-    plan.halfSpaceAlbedo[c] = halfSpaceDiffuseAlbedo(albedo[c], material.eta);
+  plan.halfSpaceAlbedo = halfSpaceAlbedoOf(material);
   if (options.model == EnergyModel::HalfSpace) {
     plan.reason = "requested";
     return plan;
@@ -114,65 +158,16 @@ EnergyPlan planFiniteObjectEnergy(const TriangleMesh& meshMm, std::span<const fl
   walks.add(std::min(options.firstWalks, options.maxWalks));
   plan.escape = walks.result();
   plan.walks = walks.walksPerProbe();
-
-  // Deviation from the half-space albedo, relative RMS over vertices and channels (weighted like
-  // the error of B: a dark channel counts little), with and without the walks' own noise.
-  auto deviation = [&](double& raw) {
-    double deviationSq = 0.0, albedoSq = 0.0;
-    for (const glm::vec3& p : plan.escape.probability)
-      for (int c = 0; c < 3; ++c) {
-        deviationSq += (p[c] - plan.halfSpaceAlbedo[c]) * (p[c] - plan.halfSpaceAlbedo[c]);
-        albedoSq += plan.halfSpaceAlbedo[c] * plan.halfSpaceAlbedo[c];
-      }
-    raw = albedoSq > 0.0 ? std::sqrt(deviationSq / albedoSq) : 0.0;
-    const double noise = plan.escape.relativeStdError;
-    return std::sqrt(std::max(0.0, raw * raw - noise * noise));
-  };
   double raw = 0.0;
-  plan.halfSpaceDeviation = deviation(raw);
-  char text[256];
-  auto keepHalfSpace = [&](const char* why) {
-    std::snprintf(text, sizeof text,
-                  "escape probability within %.2g%% of the half-space albedo (budget %.2g%%, %s)",
-                  100.0 * plan.halfSpaceDeviation, 100.0 * options.noiseBudget, why);
-    plan.reason = text;
-    plan.model = EnergyModel::HalfSpace;
-    plan.escape.probability.clear();
-    plan.seconds = clock.seconds();
-    return plan;
-  };
+  plan.halfSpaceDeviation = deviationFromHalfSpace(plan, raw);
   // Even with their noise the walks' deviation is within the budget: nothing to correct.
   if (options.model == EnergyModel::Auto && raw <= options.noiseBudget)
-    return keepHalfSpace("first walks");
-  // More walks until their noise meets the budget (noise ~ walks^-1/2): needed to apply the
-  // model, and to tell a real deviation from noise.
-  // The noise estimate is itself noisy: a few rounds at most.
-  for (int round = 0;
-       round < kMaxRefinements && plan.escape.relativeStdError > options.noiseBudget &&
-       plan.walks < options.maxWalks;
-       ++round) {
-    const double ratio = plan.escape.relativeStdError / options.noiseBudget;
-    const int needed = static_cast<int>(std::ceil(1.05 * plan.walks * ratio * ratio));
-    walks.add(std::max(1, std::min(options.maxWalks, needed) - plan.walks));
-    plan.escape = walks.result();
-    plan.walks = walks.walksPerProbe();
-    plan.halfSpaceDeviation = deviation(raw);
-  }
+    return keepHalfSpace(std::move(plan), options, "first walks", clock);
+  refineWalks(walks, plan, options);
   if (options.model == EnergyModel::Auto && plan.halfSpaceDeviation <= options.noiseBudget)
-    return keepHalfSpace("noise removed");
+    return keepHalfSpace(std::move(plan), options, "noise removed", clock);
   plan.model = EnergyModel::Escape;
-  std::snprintf(text, sizeof text,
-                "%s: escape probability %.2g%% from the half-space albedo (mean %.3f/%.3f/%.3f), "
-                "walk noise %.2g%%",
-                options.model == EnergyModel::Auto ? "finite object" : "requested",
-                100.0 * plan.halfSpaceDeviation, plan.escape.mean.x, plan.escape.mean.y,
-                plan.escape.mean.z, 100.0 * plan.escape.relativeStdError);
-  plan.reason = text;
-  if (plan.escape.relativeStdError > options.noiseBudget) {
-    std::snprintf(text, sizeof text, "; %d walks per probe%s, over the %.2g%% budget", plan.walks,
-                  plan.walks >= options.maxWalks ? " (the cap)" : "", 100.0 * options.noiseBudget);
-    plan.reason += text;
-  }
+  plan.reason = escapeReason(plan, options);
   plan.seconds = clock.seconds();
   return plan;
 }

@@ -4,13 +4,13 @@
 // return R_total, spread by R_d. The sum over a mesh departs from that in two ways: its weights
 // rho_i = sum_j R_d(|x_i - x_j|) A_j are not R_total (a thin part sees the profile through both
 // faces, a tip or a small object loses its tail), and a finite object absorbs less than a
-// half-space (walks leave sooner: a marble sphere 20 mm across returns 0.96 of the light in red
-// where the half-space returns 0.875). Measured against the Monte Carlo reference
+// half-space (walks leave sooner: a small marble sphere returns clearly more of the light than
+// the half-space albedo; README). Measured against the Monte Carlo reference
 // (tests/bench/accuracy_study.cpp) these energy errors are most of the classic dipole's error on
 // small translucent objects.
 //
 // Models:
-//   halfspace  B_i = sum_j R_d(r_ij) E_j A_j as the paper has it.
+//   halfspace  B_i = sum_j R_d(r_ij) E_j A_j as Li & Guo have it.
 //   escape     B_i = min(P_i, R) / rho_i * sum_j R_d(r_ij) E_j A_j + max(0, P_i - R) Ebar_i,
 //              with P_i the object's own escape probability near x_i (lib/pathtrace/
 //              escape_probability.h: random walks in the mesh that only count how much light
@@ -19,10 +19,9 @@
 //              Gaussian of sigma = 4 diffusion lengths (longest channel). The profile places what
 //              a half-space would return, normalized to the mesh; the excess P - R is light that a
 //              half-space would absorb on long paths, and long paths leave far from where they
-//              entered, hence the wide kernel (on the Monte Carlo reference: 0.043 -> 0.017 on
-//              the marble sphere and 0.076 -> 0.068 on the dragon against spreading it with
-//              R_d; 2 to 8 diffusion lengths measure alike). Under uniform light B_i = E P_i
-//              exactly.
+//              entered, hence the wide kernel (closer to the Monte Carlo reference than spreading
+//              it with R_d, and insensitive to the width within a few diffusion lengths; README).
+//              Under uniform light B_i = E P_i exactly.
 //   auto       halfspace when a first, cheap round of walks (2 per probe) puts the escape
 //              probability within the noise budget of the half-space albedo
 //              (lib/material/halfspace_albedo.h) even with their noise, or when, after more walks,
@@ -38,6 +37,7 @@
 #include <glm/vec3.hpp>
 
 #include "bake/diffusion.h"
+#include "core/enum_names.h"
 #include "pathtrace/escape_probability.h"
 
 namespace sss {
@@ -47,11 +47,22 @@ struct Material;      // lib/material/material.h
 
 enum class EnergyModel { Auto, HalfSpace, Escape };
 
-// "auto", "halfspace", "escape".
-std::string toString(EnergyModel model);
-// Throws sss::Error naming the valid models.
-EnergyModel parseEnergyModel(const std::string& name);
-std::vector<std::string> listEnergyModels();
+inline constexpr EnumNames<EnergyModel, 3> kEnergyModelNames{
+    "energy model",
+    {{{EnergyModel::Auto, "auto"},
+      {EnergyModel::HalfSpace, "halfspace"},
+      {EnergyModel::Escape, "escape"}}}};
+
+// Wrappers over kEnergyModelNames until lib/bake/bake.cpp and tools/ use it directly.
+inline std::string toString(EnergyModel model) {
+  return kEnergyModelNames.name(model);
+}
+inline EnergyModel parseEnergyModel(const std::string& name) {
+  return kEnergyModelNames.parse(name);
+}
+inline std::vector<std::string> listEnergyModels() {
+  return kEnergyModelNames.names();
+}
 
 struct EnergyOptions {
   EnergyModel model = EnergyModel::Auto;

@@ -1,13 +1,14 @@
-// Fresnel-transmitted irradiance with visibility: the paper's Eq. 6 with soft shadows,
+// Fresnel-transmitted irradiance with visibility: Li & Guo Eq. 6 with soft shadows,
 //   E(x) = integral over the hemisphere of (1 - F_r(eta, w.n)) L(w) (w.n) V(x, w) dw,
 // estimated per vertex by Monte Carlo with Embree occlusion rays.
 //
 // Estimator: two techniques combined by multiple importance sampling (Veach & Guibas 1995,
-// multi-sample balance heuristic): half the samples from the environment (piecewise constant over
-// cubemap texels, probability proportional to luminance x solid angle, so a small bright sun is
-// found by every vertex facing it) and half cosine-weighted over the hemisphere (so dim, wide
-// parts of the sky are not starved). Each sample contributes f(w) / (n_env p_env(w) + n_cos
-// p_cos(w)), which is bounded where either technique fits the integrand: no fireflies from a sun.
+// multi-sample balance heuristic): half the samples from the environment (EnvironmentSampler,
+// lib/envmap/environment_sampler.h: piecewise constant over cubemap texels, probability
+// proportional to luminance x solid angle, so a small bright sun is found by every vertex facing
+// it) and half cosine-weighted over the hemisphere (so dim, wide parts of the sky are not
+// starved). Each sample contributes f(w) / (n_env p_env(w) + n_cos p_cos(w)), which is bounded
+// where either technique fits the integrand: no fireflies from a sun.
 // Radiance is the cubemap texel a direction falls in (piecewise constant, the same function the
 // sampling pdf describes), so the estimate converges to the texel sum an irradiance cubemap
 // computes. Sample points are Cranley-Patterson-rotated Hammersley sets seeded per vertex
@@ -20,9 +21,8 @@
 // there visibility changes nothing; see tests/bake/visibility_test.cpp.
 //
 // Rays: Embree (medium-quality BVH), each vertex's rays as one incoherent stream
-// (rtcOccluded1M); on the 100K-vertex dragon this beat single rays and packets of 8 or 16, and the
-// high-quality build cost more than it saved (tests/bench/results/bake). Texels are drawn by
-// inverting the CDF through a guide table (O(1) expected, stratification kept).
+// (rtcOccluded1M); on the dragons this beat single rays and packets of 8 or 16, and the
+// high-quality build cost more than it saved (tests/bench/results/bake).
 //
 // Units: E has the units of the cubemap's radiance times steradians; positions in any unit.
 #pragma once
@@ -39,42 +39,12 @@
 
 namespace sss {
 
-// Importance sampling of a radiance cubemap, piecewise constant over its texels.
-class EnvironmentSampler {
- public:
-  // Texel probability proportional to luminance x solid angle. Throws Error if the cubemap is
-  // empty or black (nothing to sample).
-  explicit EnvironmentSampler(const Cubemap& radiance);
-
-  struct Sample {
-    glm::vec3 direction;  // unit
-    float pdf;            // per steradian
-    glm::vec3 radiance;   // the texel's value
-  };
-  // (u1, u2) in [0, 1)^2: u1 picks the texel by its cumulative distribution and, rescaled,
-  // the position across it; u2 the position down it. Uniform in the texel's (s, t) square.
-  Sample sample(float u1, float u2) const;
-  // Density per steradian of sample() producing `direction` (unit).
-  float pdf(const glm::vec3& direction) const;
-  // The texel value along `direction` (not necessarily unit).
-  glm::vec3 radiance(const glm::vec3& direction) const;
-
- private:
-  std::size_t texelIndex(const glm::vec3& direction) const;
-
-  const Cubemap* cubemap_;
-  std::vector<double> cdf_;      // texelCount + 1 entries, cdf_[0] = 0, back() = 1
-  std::vector<uint32_t> order_;  // CDF position -> texel index (Morton order within faces)
-  std::vector<uint32_t> guide_;  // texelCount + 1 entries: CDF position of u = k / texelCount
-  std::vector<float> pdfScale_;  // per texel: p_i N^2 / 4 (times |d|^3 per steradian)
-};
-
 // Pilot: on an evenly strided subset of vertices, `replicas` independent estimates of E at each
 // of two ray counts (the same estimator, other rotations of the point set, seeded per vertex).
 // The spread between replicas measures the variance of E honestly, stratification included,
-// which the per-technique variance of one estimate does not (an upper bound, 2.5-4x too high);
-// the two levels give the convergence rate (stratified sets beat 1/n: variance ~ n^-1.3 on the
-// dragon under forest), so the noise model (bake.h) extrapolates to n rays without overshooting.
+// which the per-technique variance of one estimate does not (an upper bound, several times too
+// high); the two levels give the convergence rate (stratified sets beat 1/n), so the noise model
+// (visibility_noise_model.h) extrapolates to n rays without overshooting.
 struct VisibilityPilot {
   int replicas = 0;
   int coarseRays = 0, fineRays = 0;       // rays per replica of the two levels

@@ -1,13 +1,50 @@
-// What every command-line tool shares: one-line errors, warnings, exit codes.
+// What every command-line tool shares: how it runs, its one-line errors and its exit statuses.
+//
+//   int main(int argc, char** argv) {
+//     CLI::App app{"..."};
+//     Arguments a;
+//     app.add_option(...);                       // see core/cli.h for the shared options
+//     return sss::runTool("sss-x", app, argc, argv, [&] { return run(a); });
+//   }
+//
+// Exit statuses (the same for every tool):
+//   0  success, and --help (help on stdout)
+//   1  bad input or a failed operation: sss::Error or any other exception from the tool's body
+//      (an unreadable or invalid file, a missing output folder, no OpenGL, ...)
+//   2  usage: the command line is wrong whatever the files hold. CLI11's parse errors (an unknown
+//      option, a value that does not convert or fails its ->check, a missing required option,
+//      options that exclude or need each other) and UsageError from the body (combinations CLI11
+//      cannot express, e.g. "nothing to write")
+// Every error is one line on stderr, "<tool>: error: <message>"; nothing is written to stdout.
 #pragma once
 
 #include <functional>
 #include <string>
 
+#include "core/error.h"
+
+namespace CLI {
+class App;
+}
+
 namespace sss {
 
-// Runs a tool's body. sss::Error and other exceptions become "<tool>: error: <message>" on
-// stderr and exit code 1; CLI11 parse errors keep CLI11's own handling (exit code 2 or help).
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitFailure = 1;
+inline constexpr int kExitUsage = 2;
+
+// A command-line mistake found after parsing (the tool's own rules about its options): exit 2.
+class UsageError : public Error {
+ public:
+  using Error::Error;
+};
+
+// Parses the command line with `app`, then runs `body` (its return value is the exit status);
+// errors become one line on stderr and the statuses above. Names the tool for warn() and info().
+int runTool(const char* toolName, CLI::App& app, int argc, char** argv,
+            const std::function<int()>& body);
+// The same for a tool that parses inside `body` itself (CLI11's own errors are then the body's
+// concern): exceptions become "<tool>: error: ..." and exit 1, UsageError exit 2.
 int runTool(const char* toolName, const std::function<int()>& body);
 
 // "<tool>: warning: <message>" on stderr.

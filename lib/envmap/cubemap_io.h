@@ -20,4 +20,11 @@ Cubemap readCubemap(const std::string& path, const ImageReadOptions& options = {
 // Writes through AtomicOutput (the file appears whole or not at all).
 void writeCubemap(const std::string& path, const Cubemap& cubemap);
 
+// The preview beside a cubemap file: FILE.exr -> FILE.png.
+std::string cubemapPreviewPath(const std::string& cubemapPath);
+// An 8-bit sRGB image of the unfolded cross (cubemapToCross; faces of at least 128 pixels, small
+// cubemaps magnified bilinearly), exposed so that the log-average luminance maps to 0.18
+// (Reinhard et al. 2002's key value), clamped.
+void writeCubemapPreview(const std::string& path, const Cubemap& cubemap);
+
 }  // namespace sss

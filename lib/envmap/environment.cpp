@@ -129,7 +129,12 @@ ImageRgb cubemapToStack(const Cubemap& cubemap) {
 
 Cubemap loadEnvironment(const std::string& source, const EnvironmentOptions& options) {
   if (source == "sky" || source.rfind("sky:", 0) == 0) {
-    const SkyParameters sky = parseSkySpec(source.size() > 4 ? source.substr(4) : "");
+    SkyParameters sky;
+    try {
+      sky = parseSkySpec(source.size() > 4 ? source.substr(4) : "");
+    } catch (const Error& e) {
+      fail(source, e.what());
+    }
     return makeSky(sky, options.faceSize > 0 ? options.faceSize : 128, options.threads);
   }
   const ImageRgb image = readImage(source, options.read);

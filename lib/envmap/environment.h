@@ -5,12 +5,18 @@
 
 #include <glm/vec3.hpp>
 
+#include "core/enum_names.h"
 #include "envmap/cubemap.h"
 #include "envmap/image.h"
 
 namespace sss {
 
 enum class EnvironmentLayout { Equirect, Cross, CubemapStack };
+inline constexpr EnumNames<EnvironmentLayout, 3> kEnvironmentLayoutNames{
+    "environment layout",
+    {{{EnvironmentLayout::Equirect, "equirect"},
+      {EnvironmentLayout::Cross, "cross"},
+      {EnvironmentLayout::CubemapStack, "cubemap-stack"}}}};
 
 // Layout from the image shape: 2:1 equirect, 4:3 or 3:4 cross, 1:6 our cubemap stack. Anything
 // else throws Error naming the file and its size.
@@ -18,7 +24,7 @@ EnvironmentLayout detectLayout(const std::string& path, int width, int height);
 
 // Resampling an image into a cubemap of `faceSize` (0: keep about the source's resolution: W / 4
 // for an equirect). Equirect sources are area-averaged by supersampling (k x k bilinear lookups
-// per texel, denser than the source texels), which keeps the flux to well under 1%.
+// per texel, denser than the source texels), which keeps the flux (tests/envmap check it).
 // threads <= 0: all cores (the result does not depend on it).
 Cubemap cubemapFromImage(const ImageRgb& image, EnvironmentLayout layout, int faceSize,
                          int threads = 0);
@@ -37,7 +43,8 @@ struct SkyParameters {
   float sunIntensity = 1.0f;  // scales the sun's radiance
   glm::vec3 groundAlbedo = glm::vec3(0.3f);
 };
-// Parses "elevation=45,azimuth=30,turbidity=3" style specs used by --sky; throws Error.
+// Parses "elevation=45,azimuth=30,turbidity=3" style specs (keys elevation, azimuth, turbidity,
+// sun, radius, ground); throws Error naming the key and its range.
 SkyParameters parseSkySpec(const std::string& spec);
 Cubemap makeSky(const SkyParameters& sky, int faceSize, int threads = 0);
 
@@ -47,7 +54,8 @@ struct EnvironmentOptions {
   int threads = 0;   // <= 0: all cores
 };
 // Reads an environment file (equirect, cross or our stack) into a radiance cubemap; the special
-// name "sky" or "sky:<spec>" gives makeSky instead. Throws Error naming the file.
+// name "sky" or "sky:<spec>" gives makeSky instead. Throws Error naming the file (or the sky
+// source).
 Cubemap loadEnvironment(const std::string& source, const EnvironmentOptions& options = {});
 
 }  // namespace sss

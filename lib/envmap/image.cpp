@@ -13,13 +13,10 @@
 #include "core/tool.h"
 
 namespace sss {
-namespace {
 
 float srgbToLinear(float c) {
   return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
 }
-
-}  // namespace
 
 float linearToSrgb(float linear) {
   if (!(linear > 0.0f)) return 0.0f;

@@ -36,7 +36,9 @@ using ImageAttributes = std::vector<std::pair<std::string, std::string>>;
 void writeImage(const std::string& path, const ImageRgb& image,
                 const ImageAttributes& attributes = {});
 
-// Linear -> sRGB transfer function, for 8-bit previews.
+// Linear -> sRGB transfer function (IEC 61966-2-1), for 8-bit previews: clamped to [0, 1].
 float linearToSrgb(float linear);
+// sRGB -> linear, for c in [0, 1]: what 8-bit images and display colours are decoded with.
+float srgbToLinear(float c);
 
 }  // namespace sss

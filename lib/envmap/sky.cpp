@@ -6,9 +6,9 @@
 // zenith). Sun: a disc of angular radius `sunAngularRadiusDeg` whose colour is the extraterrestrial
 // white attenuated along the air mass (Kasten & Young 1989) by Rayleigh (tau = 0.008735
 // lambda^-4.08) and Angstrom aerosol (beta = 0.04608 T - 0.04586, alpha = 1.3) optical depths at
-// 680, 550 and 440 nm, with irradiance 20 * sunIntensity at normal incidence before attenuation
-// (a clear noon sun is then about 4x the sky's irradiance). Ground below the horizon: Lambertian,
-// albedo times the horizontal irradiance of sun and sky over pi.
+// 680, 550 and 440 nm, with irradiance 20 * sunIntensity at normal incidence before attenuation.
+// Ground below the horizon: Lambertian, albedo times the horizontal irradiance of sun and sky
+// over pi.
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -89,6 +89,85 @@ glm::dvec3 sunTransmittance(double cosThetaS, double turbidity) {
   return t;
 }
 
+// Horizontal irradiance of the sky dome (midpoint rule in cos theta and phi) plus the sun's.
+glm::dvec3 horizontalIrradiance(const PreethamSky& sky, const glm::dvec3& sun,
+                                const glm::dvec3& sunIrradiance) {
+  glm::dvec3 horizontal = sunIrradiance * sun.y;
+  const int nTheta = 64, nPhi = 128;
+  for (int i = 0; i < nTheta; ++i) {
+    const double mu = (i + 0.5) / nTheta, s = std::sqrt(1.0 - mu * mu);
+    for (int j = 0; j < nPhi; ++j) {
+      const double phi = 2.0 * kPi * (j + 0.5) / nPhi;
+      horizontal +=
+          sky({s * std::cos(phi), mu, s * std::sin(phi)}) * mu * (2.0 * kPi / (nTheta * nPhi));
+    }
+  }
+  return horizontal;
+}
+
+// The sky above the horizon and the uniform ground below, averaged over k x k directions per
+// texel for the horizon.
+void drawSkyAndGround(Cubemap& cube, const PreethamSky& sky, const glm::dvec3& ground,
+                      int threads) {
+  const int faceSize = cube.size();
+  const int k = 3;
+  parallelFor(
+      6 * static_cast<std::size_t>(faceSize), threads, 8, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t row = begin; row < end; ++row) {
+          const int f = static_cast<int>(row / faceSize), y = static_cast<int>(row % faceSize);
+          for (int x = 0; x < faceSize; ++x) {
+            glm::dvec3 sum(0.0);
+            for (int j = 0; j < k; ++j) {
+              for (int i = 0; i < k; ++i) {
+                const glm::dvec3 w = glm::normalize(glm::dvec3(Cubemap::unproject(
+                    f, (x + (i + 0.5f) / k) / faceSize, (y + (j + 0.5f) / k) / faceSize)));
+                sum += w.y >= 0.0 ? sky(w) : ground;
+              }
+            }
+            cube.at(f, x, y) = glm::vec3(sum / static_cast<double>(k * k));
+          }
+        }
+      });
+}
+
+// The sun: its flux goes to the texels its disc covers. A disc smaller than a few texels is
+// deposited whole into the texel holding its centre, so that no flux is lost to sampling; a
+// larger one adds its radiance to each texel by the covered fraction (8 x 8 directions).
+void addSun(Cubemap& cube, const glm::dvec3& sun, double radius, const glm::dvec3& sunIrradiance) {
+  const int faceSize = cube.size();
+  const double texelAngle = 2.0 / faceSize;
+  if (radius < 3.0 * texelAngle) {
+    const CubeCoord c = Cubemap::project(glm::vec3(sun));
+    const int x = std::min(static_cast<int>(c.s * faceSize), faceSize - 1);
+    const int y = std::min(static_cast<int>(c.t * faceSize), faceSize - 1);
+    cube.at(c.face, x, y) +=
+        glm::vec3(sunIrradiance / static_cast<double>(cube.solidAngle(c.face, x, y)));
+    return;
+  }
+  const double sunSolidAngle = 2.0 * kPi * (1.0 - std::cos(radius));
+  const glm::dvec3 sunRadiance = sunIrradiance / sunSolidAngle;
+  const int ks = 8;
+  const double cosRadius = std::cos(radius);
+  for (int f = 0; f < 6; ++f) {
+    for (int y = 0; y < faceSize; ++y) {
+      for (int x = 0; x < faceSize; ++x) {
+        if (glm::dot(glm::dvec3(cube.direction(f, x, y)), sun) <
+            std::cos(radius + 2.0 * texelAngle))
+          continue;
+        int inside = 0;
+        for (int j = 0; j < ks; ++j) {
+          for (int i = 0; i < ks; ++i) {
+            const glm::dvec3 w = glm::normalize(glm::dvec3(Cubemap::unproject(
+                f, (x + (i + 0.5f) / ks) / faceSize, (y + (j + 0.5f) / ks) / faceSize)));
+            inside += glm::dot(w, sun) >= cosRadius;
+          }
+        }
+        cube.at(f, x, y) += glm::vec3(sunRadiance * (inside / double(ks * ks)));
+      }
+    }
+  }
+}
+
 double parseNumber(const std::string& key, const std::string& value) {
   std::size_t used = 0;
   double v = 0;
@@ -98,7 +177,7 @@ double parseNumber(const std::string& key, const std::string& value) {
     used = 0;
   }
   if (used != value.size() || value.empty() || !std::isfinite(v)) {
-    throw Error("--sky: " + key + "=" + value + " is not a number");
+    throw Error(key + "=" + value + " is not a number");
   }
   return v;
 }
@@ -115,11 +194,11 @@ SkyParameters parseSkySpec(const std::string& spec) {
   while (std::getline(items, item, ',')) {
     if (item.empty()) continue;
     const auto eq = item.find('=');
-    if (eq == std::string::npos) throw Error("--sky: expected key=value, got '" + item + "'");
+    if (eq == std::string::npos) throw Error("expected key=value, got '" + item + "'");
     const std::string key = item.substr(0, eq);
     const double v = parseNumber(key, item.substr(eq + 1));
     auto check = [&](bool ok, const char* range) {
-      if (!ok) throw Error("--sky: " + key + " must be " + range);
+      if (!ok) throw Error(key + " must be " + range);
     };
     if (key == "elevation") {
       check(v >= 0.0 && v <= 90.0, "in [0, 90] degrees");
@@ -139,7 +218,7 @@ SkyParameters parseSkySpec(const std::string& spec) {
       check(v >= 0.0 && v <= 1.0, "in [0, 1]");
       sky.groundAlbedo = glm::vec3(static_cast<float>(v));
     } else {
-      throw Error("--sky: unknown key '" + key +
+      throw Error("unknown key '" + key +
                   "' (known: elevation, azimuth, turbidity, sun, radius, ground)");
     }
   }
@@ -151,80 +230,18 @@ SkyParameters parseSkySpec(const std::string& spec) {
 }
 
 Cubemap makeSky(const SkyParameters& params, int faceSize, int threads) {
-  if (faceSize <= 0) throw Error("--sky: face size must be positive");
+  if (faceSize <= 0) throw Error("sky face size must be positive");
   glm::dvec3 sun = glm::normalize(glm::dvec3(params.sunDirection));
-  if (sun.y < 0.0) throw Error("--sky: the sun must not be below the horizon");
+  if (sun.y < 0.0) throw Error("the sun must not be below the horizon");
   const PreethamSky sky(sun, params.turbidity);
   const double radius = params.sunAngularRadiusDeg * kPi / 180.0;
-  const double sunSolidAngle = 2.0 * kPi * (1.0 - std::cos(radius));
   const glm::dvec3 sunIrradiance =
       20.0 * params.sunIntensity * sunTransmittance(sun.y, params.turbidity);
-  const glm::dvec3 sunRadiance = sunIrradiance / sunSolidAngle;
-
-  // Horizontal irradiance of the sky dome (midpoint rule in cos theta and phi) plus the sun's.
-  glm::dvec3 horizontal = sunIrradiance * sun.y;
-  const int nTheta = 64, nPhi = 128;
-  for (int i = 0; i < nTheta; ++i) {
-    const double mu = (i + 0.5) / nTheta, s = std::sqrt(1.0 - mu * mu);
-    for (int j = 0; j < nPhi; ++j) {
-      const double phi = 2.0 * kPi * (j + 0.5) / nPhi;
-      horizontal +=
-          sky({s * std::cos(phi), mu, s * std::sin(phi)}) * mu * (2.0 * kPi / (nTheta * nPhi));
-    }
-  }
-  const glm::dvec3 ground = glm::dvec3(params.groundAlbedo) * horizontal / kPi;
-
+  const glm::dvec3 ground =
+      glm::dvec3(params.groundAlbedo) * horizontalIrradiance(sky, sun, sunIrradiance) / kPi;
   Cubemap cube(faceSize);
-  const int k = 3;  // supersamples per texel side, for the horizon
-  parallelFor(
-      6 * static_cast<std::size_t>(faceSize), threads, 8, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t row = begin; row < end; ++row) {
-          const int f = static_cast<int>(row / faceSize), y = static_cast<int>(row % faceSize);
-          for (int x = 0; x < faceSize; ++x) {
-            glm::dvec3 sum(0.0);
-            for (int j = 0; j < k; ++j) {
-              for (int i = 0; i < k; ++i) {
-                const glm::dvec3 w = glm::normalize(glm::dvec3(Cubemap::unproject(
-                    f, (x + (i + 0.5f) / k) / faceSize, (y + (j + 0.5f) / k) / faceSize)));
-                sum += w.y >= 0.0 ? sky(w) : ground;
-              }
-            }
-            cube.at(f, x, y) = glm::vec3(sum / static_cast<double>(k * k));
-          }
-        }
-      });
-
-  // The sun: its flux goes to the texels its disc covers. A disc smaller than a few texels is
-  // deposited whole into the texel holding its centre, so that no flux is lost to sampling.
-  const double texelAngle = 2.0 / faceSize;
-  if (radius < 3.0 * texelAngle) {
-    const CubeCoord c = Cubemap::project(glm::vec3(sun));
-    const int x = std::min(static_cast<int>(c.s * faceSize), faceSize - 1);
-    const int y = std::min(static_cast<int>(c.t * faceSize), faceSize - 1);
-    cube.at(c.face, x, y) +=
-        glm::vec3(sunIrradiance / static_cast<double>(cube.solidAngle(c.face, x, y)));
-  } else {
-    const int ks = 8;
-    const double cosRadius = std::cos(radius);
-    for (int f = 0; f < 6; ++f) {
-      for (int y = 0; y < faceSize; ++y) {
-        for (int x = 0; x < faceSize; ++x) {
-          if (glm::dot(glm::dvec3(cube.direction(f, x, y)), sun) <
-              std::cos(radius + 2.0 * texelAngle))
-            continue;
-          int inside = 0;
-          for (int j = 0; j < ks; ++j) {
-            for (int i = 0; i < ks; ++i) {
-              const glm::dvec3 w = glm::normalize(glm::dvec3(Cubemap::unproject(
-                  f, (x + (i + 0.5f) / ks) / faceSize, (y + (j + 0.5f) / ks) / faceSize)));
-              inside += glm::dot(w, sun) >= cosRadius;
-            }
-          }
-          cube.at(f, x, y) += glm::vec3(sunRadiance * (inside / double(ks * ks)));
-        }
-      }
-    }
-  }
+  drawSkyAndGround(cube, sky, ground, threads);
+  addSun(cube, sun, radius, sunIrradiance);
   return cube;
 }
 

@@ -7,6 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include "core/error.h"
+#include "core/luminance.h"
 #include "core/parallel.h"
 #include "core/progress.h"
 
@@ -144,7 +145,7 @@ class FaceSums {
           for (int c = 0; c < 3; ++c) {
             for (int k = 0; k < 3; ++k) v[3 * c + k] = l[c] * w[k];
           }
-          v[9] = 0.2126 * l.r + 0.7152 * l.g + 0.0722 * l.b;
+          v[9] = luminance(l);
           for (int k = 0; k < kValues; ++k) {
             s[at(x + 1, y + 1, k)] =
                 v[k] + s[at(x, y + 1, k)] + s[at(x + 1, y, k)] - s[at(x, y, k)];
@@ -221,9 +222,10 @@ std::vector<Cluster> buildCut(const Cubemap& radiance, const FaceSums& sums, dou
       }
       Cluster c;
       for (int k = 0; k < 9; ++k) c.v[k] = static_cast<float>(v[k]);
-      const glm::dvec3 lum(0.2126 * v[0] + 0.7152 * v[3] + 0.0722 * v[6],
-                           0.2126 * v[1] + 0.7152 * v[4] + 0.0722 * v[7],
-                           0.2126 * v[2] + 0.7152 * v[5] + 0.0722 * v[8]);
+      // The luminance-weighted sum of the channels' vectors V_c, component by component.
+      const glm::dvec3 lum(luminance(glm::dvec3(v[0], v[3], v[6])),
+                           luminance(glm::dvec3(v[1], v[4], v[7])),
+                           luminance(glm::dvec3(v[2], v[5], v[8])));
       const double len = glm::length(lum);
       c.d = len > 0.0 ? glm::vec3(lum / len) : centre;
       cut.push_back(c);
@@ -324,7 +326,7 @@ BruteForceIrradiance::BruteForceIrradiance(const Cubemap& radiance,
 }
 
 std::vector<glm::vec3> BruteForceIrradiance::at(const std::vector<glm::vec3>& normals) const {
-  // A bar only for long sums (about a second or more: 1e9 terms).
+  // A bar only for long sums (more than 1e9 terms).
   std::optional<Progress> progress;
   if (!options_.quiet && normals.size() * terms_.count > 1'000'000'000) {
     progress.emplace("irradiance (brute)", normals.size(), false);

@@ -1,4 +1,4 @@
-// Diffuse irradiance by direct summation, the paper's Eq. 12 with real solid angles and the
+// Diffuse irradiance by direct summation, Li & Guo Eq. 12 with real solid angles and the
 // Fresnel-transmitting kernel k of TransmittedCosineKernel:
 //   E(n) = sum_j k(n . w_j) L_j dw_j   over every texel j of the radiance cubemap.
 //

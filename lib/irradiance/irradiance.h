@@ -7,15 +7,18 @@
 
 #include <string>
 
+#include "core/enum_names.h"
 #include "envmap/cubemap.h"
 #include "irradiance/spherical_harmonics.h"
 
 namespace sss {
 
 enum class IrradianceMethod { Auto, Brute, Sh };
-// "auto", "brute", "sh"; throws Error otherwise.
-IrradianceMethod parseIrradianceMethod(const std::string& name);
-const char* irradianceMethodName(IrradianceMethod method);
+inline constexpr EnumNames<IrradianceMethod, 3> kIrradianceMethodNames{
+    "irradiance method",
+    {{{IrradianceMethod::Auto, "auto"},
+      {IrradianceMethod::Brute, "brute"},
+      {IrradianceMethod::Sh, "sh"}}}};
 
 struct IrradianceOptions {
   IrradianceMethod method = IrradianceMethod::Auto;

@@ -93,13 +93,6 @@ SphericalHarmonics projectRows(int order, std::size_t rows, int threads, Row&& r
 
 }  // namespace
 
-ShWindow parseShWindow(const std::string& name) {
-  if (name == "none") return ShWindow::None;
-  if (name == "hann") return ShWindow::Hann;
-  if (name == "lanczos") return ShWindow::Lanczos;
-  throw Error("unknown SH window '" + name + "' (none, hann, lanczos)");
-}
-
 double shWindowWeight(ShWindow window, int l, int order) {
   const double x = M_PI * l / (order + 1.0);
   switch (window) {

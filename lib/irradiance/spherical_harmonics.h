@@ -13,6 +13,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "core/enum_names.h"
 #include "envmap/cubemap.h"
 #include "envmap/image.h"
 #include "irradiance/transmitted_cosine.h"
@@ -20,8 +21,9 @@
 namespace sss {
 
 enum class ShWindow { None, Hann, Lanczos };
-// "none", "hann", "lanczos"; throws Error otherwise.
-ShWindow parseShWindow(const std::string& name);
+inline constexpr EnumNames<ShWindow, 3> kShWindowNames{
+    "SH window",
+    {{{ShWindow::None, "none"}, {ShWindow::Hann, "hann"}, {ShWindow::Lanczos, "lanczos"}}}};
 // Weight of band l when truncating at `order`: 1 for None.
 double shWindowWeight(ShWindow window, int l, int order);
 

@@ -25,8 +25,12 @@ double legendre(int l, double x) {
 
 }  // namespace
 
-TransmittedCosineKernel::TransmittedCosineKernel(float eta) : eta_(eta) {
+void checkSurfaceEta(float eta) {
   if (!(eta > 0.0f) || !std::isfinite(eta)) throw Error("eta must be a positive number");
+}
+
+TransmittedCosineKernel::TransmittedCosineKernel(float eta) : eta_(eta) {
+  checkSurfaceEta(eta);
   if (isPlainCosine()) return;
   table_.resize(kTableSize);
   for (int i = 0; i < kTableSize; ++i) {
@@ -45,7 +49,7 @@ float TransmittedCosineKernel::transmittance(float mu) const {
 double TransmittedCosineKernel::zonalCoefficient(int l) const {
   if (l < 0) return 0.0;
   if (isPlainCosine()) {
-    // Ramamoorthi & Hanrahan 2001, Eq. 8-9.
+    // R&H Eq. 8-9 (Ramamoorthi & Hanrahan 2001).
     if (l == 0) return M_PI;
     if (l == 1) return 2.0 * M_PI / 3.0;
     if (l % 2 == 1) return 0.0;
@@ -54,8 +58,8 @@ double TransmittedCosineKernel::zonalCoefficient(int l) const {
     const double sign = (l / 2) % 2 == 1 ? 1.0 : -1.0;
     return 2.0 * M_PI * sign / ((l + 2.0) * (l - 1.0)) * ratio;
   }
-  // 2 pi int_0^1 mu F_t(mu) P_l(mu) dmu, composite Simpson on the exact Fresnel term (the
-  // critical-angle kink of eta < 1 lies inside a panel: 8000 panels keep it below 1e-7).
+  // 2 pi int_0^1 mu F_t(mu) P_l(mu) dmu, composite Simpson on the exact Fresnel term, with panels
+  // fine enough for the critical-angle kink of eta < 1, which lies inside a panel.
   const int panels = 8000;
   double sum = 0.0;
   for (int i = 0; i <= panels; ++i) {

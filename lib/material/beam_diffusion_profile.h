@@ -12,12 +12,11 @@
 // plus the exact single-scattering term R_ss of a normally incident beam (isotropic phase,
 // Fresnel-transmitted exit). Reduced coefficients are used throughout (similarity, g -> 0).
 // Energy: PBD's total is off (index-matched, normal incidence, against Chandrasekhar's
-// H-function: +11%/+14%/+12% at albedo 0.5/0.9/0.99; its single-scattering part is exact, the
-// diffusion part ~10-15% high), and the bake lights with diffuse irradiance anyway. So each
-// channel is scaled to halfSpaceDiffuseAlbedo(alpha', eta) (halfspace_albedo.h): the Monte Carlo
-// half-space albedo under diffuse light with the Fresnel boundary. totalReflectance() is that
-// value. The classic dipole's totals differ from it by -4.8% to +7.1% over the presets
-// (eta 1.3; tests/bench/results/material/totals.csv), by -40% to -2% at eta 1.
+// H-function: its single-scattering part is exact, the diffusion part too high), and the bake
+// lights with diffuse irradiance anyway. So each channel is scaled to
+// halfSpaceDiffuseAlbedo(alpha', eta) (halfspace_albedo.h): the Monte Carlo half-space albedo
+// under diffuse light with the Fresnel boundary. totalReflectance() is that value. How far the
+// classic dipole's totals are from it: tests/bench/results/material/totals.csv and the README.
 // Tabulated per channel on 160 log-spaced radii from 1e-4 mean free paths to
 // max(min(64 / sigma_tr, 1e4 / sigma_t'), 40 / sigma_t'), 256 depth samples each, interpolated
 // log-log; the tail beyond the table is dropped. integrateDisc integrates the log-log

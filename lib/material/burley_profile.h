@@ -8,8 +8,8 @@
 // scale s such that the disc holding half the energy has the beam's radius. Why not the
 // paper's s(A) fits (e.g. diffuse transmission, s = 1.9 - A + 3.5 (A - 0.8)^2 with
 // l = 1/sigma_t'): applied to our reduced coefficients they put the 50% radius at about half
-// of both the dipole's and the beam's for every preset (marble red: 0.69 mm vs 1.43 / 1.35 mm);
-// their Monte Carlo setup is not the one our bake and reference use. burleyShapeFactor keeps the
+// of both the dipole's and the beam's for every preset (tests/bench/results/material); their
+// Monte Carlo setup is not the one our bake and reference use. burleyShapeFactor keeps the
 // diffuse-transmission fit for comparison (tests/bench/results/material).
 // Closed forms: total = A, disc = A (1 - e^{-s rho}/4 - 3/4 e^{-s rho/3}).
 // R ~ 1/r at 0: evaluate clamps r to 1e-6 mm; the bake's self term uses integrateDisc.

@@ -279,6 +279,145 @@ std::vector<double> nelderMead(const std::function<double(const std::vector<doub
   return p[std::min_element(fv.begin(), fv.end()) - fv.begin()];
 }
 
+// The search of fitGaussians: geometric ladders of K Gaussians (log-variances evenly spaced
+// between two ends), then a free refinement, keeping the best fit seen.
+class GaussianFitSearch {
+ public:
+  GaussianFitSearch(const DiffusionProfile& profile, double tolerance, int maxGaussians)
+      : grids_(sampleProfile(profile)),
+        tolerance_(tolerance),
+        maxGaussians_(std::max(1, maxGaussians)),
+        endsOf_(maxGaussians_ + 1),
+        ladderError_(maxGaussians_ + 1, INFINITY) {
+    // Variance range: a Gaussian's r G(r) peaks at sqrt(v) and holds 99.9% within 3.7 sqrt(v).
+    double rMin = grids_[0].r.back(), rMax = 0.0, gridMin = grids_[0].r.front();
+    for (const ChannelGrid& g : grids_) {
+      rMin = std::min(rMin, g.r.back() * 1e-3);
+      rMax = std::max(rMax, g.r.back());
+      gridMin = std::min(gridMin, g.r.front());
+    }
+    lnVLo_ = 2.0 * std::log(rMin);
+    lnVHi_ = 2.0 * std::log(rMax / 3.7);
+    // Variances stay near where the metric sees them (the inner-energy row checks the rest).
+    lnVMin_ = 2.0 * std::log(0.1 * gridMin);
+    lnVMax_ = 2.0 * std::log(rMax);
+    best_.profileName = profile.name();
+    best_.tolerance = tolerance;
+    best_.error = INFINITY;
+  }
+
+  // Fewest K whose ladder meets the tolerance: doubling, then bisection. Returns that K, or -1
+  // when even maxGaussians does not meet it.
+  int fewestLadder() {
+    int lo = 0, hi = -1;
+    for (int K = 1;; K = std::min(2 * K, maxGaussians_)) {
+      if (fitLadder(K)) {
+        hi = K;
+        break;
+      }
+      lo = K;
+      if (K == maxGaussians_) break;
+    }
+    while (hi > 0 && hi - lo > 1) {
+      const int mid = (lo + hi) / 2;
+      (fitLadder(mid) ? hi : lo) = mid;
+    }
+    return hi;
+  }
+
+  // Free refinement of every variance: one Gaussian fewer than the ladder needs (ladderK; or the
+  // maximum when no ladder met the tolerance, ladderK < 0), when the ladder came close.
+  void refine(int ladderK) {
+    const int refineK = ladderK > 0 ? ladderK - 1 : maxGaussians_;
+    if (refineK < 2) return;
+    if (endsOf_[refineK].empty()) fitLadder(refineK);
+    if (ladderError_[refineK] <= 2.0 * tolerance_ || ladderK < 0) {
+      auto cost = [&](const std::vector<double>& x) { return evaluateLog(x).second.error; };
+      const std::vector<double> refined =
+          nelderMead(cost, ladder(endsOf_[refineK], refineK), 0.3, 25 * refineK + 20, tolerance_);
+      keep(refined);
+    }
+  }
+
+  GaussianSumFit& best() { return best_; }
+
+ private:
+  std::pair<std::vector<double>, Evaluation> evaluateLog(const std::vector<double>& lnV) const {
+    std::vector<double> v(lnV.size());
+    for (std::size_t k = 0; k < v.size(); ++k)
+      v[k] = std::exp(std::clamp(lnV[k], lnVMin_, lnVMax_));
+    std::sort(v.begin(), v.end());
+    return std::make_pair(v, solveWeights(grids_, v));
+  }
+
+  // Best so far: the fewest Gaussians that meet the tolerance, else the lowest error.
+  double keep(const std::vector<double>& lnV) {
+    auto [variances, ev] = evaluateLog(lnV);
+    const bool meets = ev.error <= tolerance_, bestMeets = best_.error <= tolerance_;
+    const bool better = meets ? (!bestMeets || variances.size() < best_.sum.size() ||
+                                 (variances.size() == best_.sum.size() && ev.error < best_.error))
+                              : (!bestMeets && ev.error < best_.error);
+    if (better) {
+      best_.sum.variances = variances;
+      best_.sum.weights = ev.weights;
+      best_.error = ev.error;
+      best_.channelError = ev.channelError;
+      best_.totalErrorBeforeScaling = ev.totalErrorBeforeScaling;
+    }
+    return ev.error;
+  }
+
+  static std::vector<double> ladder(const std::vector<double>& e, int K) {
+    std::vector<double> lnV(K);
+    for (int k = 0; k < K; ++k)
+      lnV[k] = K == 1 ? 0.5 * (e[0] + e[1]) : e[0] + (e[1] - e[0]) * k / (K - 1);
+    return lnV;
+  }
+
+  // The best ladder of K Gaussians: Nelder-Mead on its two ends, warm-started from the nearest K
+  // tried so far (the optimal ends move little with K). True when it meets the tolerance.
+  bool fitLadder(int K) {
+    std::vector<double> start = {lnVLo_ + 0.25 * (lnVHi_ - lnVLo_), lnVHi_};
+    for (int d = 1; d <= maxGaussians_; ++d) {
+      if (K - d >= 1 && !endsOf_[K - d].empty()) {
+        start = endsOf_[K - d];
+        break;
+      }
+      if (K + d <= maxGaussians_ && !endsOf_[K + d].empty()) {
+        start = endsOf_[K + d];
+        break;
+      }
+    }
+    auto cost = [&](const std::vector<double>& e) {
+      return evaluateLog(ladder(e, K)).second.error;
+    };
+    endsOf_[K] = nelderMead(cost, start, 1.0, K <= 3 ? 80 : 40, tolerance_);
+    ladderError_[K] = keep(ladder(endsOf_[K], K));
+    return ladderError_[K] <= tolerance_;
+  }
+
+  const std::array<ChannelGrid, 3> grids_;
+  const double tolerance_;
+  const int maxGaussians_;
+  double lnVLo_ = 0.0, lnVHi_ = 0.0, lnVMin_ = 0.0, lnVMax_ = 0.0;
+  std::vector<std::vector<double>> endsOf_;
+  std::vector<double> ladderError_;
+  GaussianSumFit best_;
+};
+
+// Drops Gaussians the NNLS switched off; merges equal variances (both clamped to a bound).
+GaussianSum withoutUnusedGaussians(const GaussianSum& sum) {
+  GaussianSum kept;
+  for (std::size_t k = 0; k < sum.size(); ++k)
+    if (!kept.variances.empty() && sum.variances[k] == kept.variances.back()) {
+      kept.weights.back() += sum.weights[k];
+    } else if (sum.weights[k].x > 0.0 || sum.weights[k].y > 0.0 || sum.weights[k].z > 0.0) {
+      kept.variances.push_back(sum.variances[k]);
+      kept.weights.push_back(sum.weights[k]);
+    }
+  return kept;
+}
+
 }  // namespace
 
 glm::dvec3 gaussianSumError(const GaussianSum& sum, const DiffusionProfile& profile) {
@@ -298,112 +437,10 @@ glm::dvec3 gaussianSumError(const GaussianSum& sum, const DiffusionProfile& prof
 
 GaussianSumFit fitGaussians(const DiffusionProfile& profile, double tolerance, int maxGaussians) {
   Stopwatch watch;
-  const std::array<ChannelGrid, 3> grids = sampleProfile(profile);
-  // Variance range: a Gaussian's r G(r) peaks at sqrt(v) and holds 99.9% within 3.7 sqrt(v).
-  double rMin = grids[0].r.back(), rMax = 0.0, gridMin = grids[0].r.front();
-  for (const ChannelGrid& g : grids) {
-    rMin = std::min(rMin, g.r.back() * 1e-3);
-    rMax = std::max(rMax, g.r.back());
-    gridMin = std::min(gridMin, g.r.front());
-  }
-  const double lnVLo = 2.0 * std::log(rMin), lnVHi = 2.0 * std::log(rMax / 3.7);
-  // Variances stay near where the metric sees them (the inner-energy row checks the rest).
-  const double lnVMin = 2.0 * std::log(0.1 * gridMin), lnVMax = 2.0 * std::log(rMax);
-
-  auto evaluateLog = [&](const std::vector<double>& lnV) {
-    std::vector<double> v(lnV.size());
-    for (std::size_t k = 0; k < v.size(); ++k) v[k] = std::exp(std::clamp(lnV[k], lnVMin, lnVMax));
-    std::sort(v.begin(), v.end());
-    return std::make_pair(v, solveWeights(grids, v));
-  };
-
-  GaussianSumFit best;
-  best.profileName = profile.name();
-  best.tolerance = tolerance;
-  best.error = INFINITY;
-  // Best so far: the fewest Gaussians that meet the tolerance, else the lowest error.
-  auto keep = [&](const std::vector<double>& lnV) {
-    auto [variances, ev] = evaluateLog(lnV);
-    const bool meets = ev.error <= tolerance, bestMeets = best.error <= tolerance;
-    const bool better = meets ? (!bestMeets || variances.size() < best.sum.size() ||
-                                 (variances.size() == best.sum.size() && ev.error < best.error))
-                              : (!bestMeets && ev.error < best.error);
-    if (better) {
-      best.sum.variances = variances;
-      best.sum.weights = ev.weights;
-      best.error = ev.error;
-      best.channelError = ev.channelError;
-      best.totalErrorBeforeScaling = ev.totalErrorBeforeScaling;
-    }
-    return ev.error;
-  };
-  maxGaussians = std::max(1, maxGaussians);
-  auto ladder = [](const std::vector<double>& e, int K) {
-    std::vector<double> lnV(K);
-    for (int k = 0; k < K; ++k)
-      lnV[k] = K == 1 ? 0.5 * (e[0] + e[1]) : e[0] + (e[1] - e[0]) * k / (K - 1);
-    return lnV;
-  };
-  // The best geometric ladder of K Gaussians: Nelder-Mead on its two ends, warm-started from the
-  // nearest K tried so far (the optimal ends move little with K).
-  std::vector<std::vector<double>> endsOf(maxGaussians + 1);
-  std::vector<double> ladderError(maxGaussians + 1, INFINITY);
-  auto fitLadder = [&](int K) {
-    std::vector<double> start = {lnVLo + 0.25 * (lnVHi - lnVLo), lnVHi};
-    for (int d = 1; d <= maxGaussians; ++d) {
-      if (K - d >= 1 && !endsOf[K - d].empty()) {
-        start = endsOf[K - d];
-        break;
-      }
-      if (K + d <= maxGaussians && !endsOf[K + d].empty()) {
-        start = endsOf[K + d];
-        break;
-      }
-    }
-    auto cost = [&](const std::vector<double>& e) {
-      return evaluateLog(ladder(e, K)).second.error;
-    };
-    endsOf[K] = nelderMead(cost, start, 1.0, K <= 3 ? 80 : 40, tolerance);
-    ladderError[K] = keep(ladder(endsOf[K], K));
-    return ladderError[K] <= tolerance;
-  };
-  // Fewest K whose ladder meets the tolerance: doubling, then bisection.
-  int lo = 0, hi = -1;
-  for (int K = 1;; K = std::min(2 * K, maxGaussians)) {
-    if (fitLadder(K)) {
-      hi = K;
-      break;
-    }
-    lo = K;
-    if (K == maxGaussians) break;
-  }
-  while (hi > 0 && hi - lo > 1) {
-    const int mid = (lo + hi) / 2;
-    (fitLadder(mid) ? hi : lo) = mid;
-  }
-  // Free refinement of every variance: one Gaussian fewer than the ladder needs (or the
-  // maximum when no ladder met the tolerance), when the ladder came close.
-  const int refineK = hi > 0 ? hi - 1 : maxGaussians;
-  if (refineK >= 2) {
-    if (endsOf[refineK].empty()) fitLadder(refineK);
-    if (ladderError[refineK] <= 2.0 * tolerance || hi < 0) {
-      auto cost = [&](const std::vector<double>& x) { return evaluateLog(x).second.error; };
-      const std::vector<double> refined =
-          nelderMead(cost, ladder(endsOf[refineK], refineK), 0.3, 25 * refineK + 20, tolerance);
-      keep(refined);
-    }
-  }
-  // Drop Gaussians the NNLS switched off; merge equal variances (both clamped to a bound).
-  GaussianSum kept;
-  for (std::size_t k = 0; k < best.sum.size(); ++k)
-    if (!kept.variances.empty() && best.sum.variances[k] == kept.variances.back()) {
-      kept.weights.back() += best.sum.weights[k];
-    } else if (best.sum.weights[k].x > 0.0 || best.sum.weights[k].y > 0.0 ||
-               best.sum.weights[k].z > 0.0) {
-      kept.variances.push_back(best.sum.variances[k]);
-      kept.weights.push_back(best.sum.weights[k]);
-    }
-  best.sum = kept;
+  GaussianFitSearch search(profile, tolerance, maxGaussians);
+  search.refine(search.fewestLadder());
+  GaussianSumFit best = search.best();
+  best.sum = withoutUnusedGaussians(best.sum);
   best.metTolerance = best.error <= tolerance;
   best.fitSeconds = watch.seconds();
   return best;

@@ -1,7 +1,7 @@
-// Sum-of-Gaussians approximation of a diffusion profile (the paper's Eq. 8), so that the
-// diffusion sum can be computed with separable, incremental Gaussian convolutions (Eq. 11).
+// Sum-of-Gaussians approximation of a diffusion profile (Li & Guo Eq. 8), so that the diffusion
+// sum can be computed with separable, incremental Gaussian convolutions (Li & Guo Eq. 11).
 //
-// Correction to the paper: its Eq. 9, G(v,r) = e^{-r^2/2v} / (2 pi), drops the 1/v. We use the
+// Correction to Li & Guo: their Eq. 9, G(v,r) = e^{-r^2/2v} / (2 pi), drops the 1/v. We use the
 // normalized 2D Gaussian
 //   G(v, r) = e^{-r^2 / 2v} / (2 pi v),  integral_0^inf 2 pi r G dr = 1,
 // so G(v1) * G(v2) = G(v1 + v2) under 2D convolution and the total reflectance of a sum is the
@@ -21,8 +21,7 @@
 // [1e-3 r_999, r_999], r_999 the radius holding 99.9% of the channel's energy (quadrature of
 // the integrals in dr):
 //   e_c = sqrt( int (r (S(r) - R(r)))^2 dr / int (r R(r))^2 dr ),  error = max_c e_c.
-// Measured at 1%: dipole K = 6-8, beam 9-12, burley 9-13 over the 11 presets, 2-50 ms per fit
-// (tests/bench/results/material/fits.csv). Tolerance 0.5% needs a few more.
+// The K each profile needs and the fit times: README and tests/bench/results/material/fits.csv.
 #pragma once
 
 #include <string>

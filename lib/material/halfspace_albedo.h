@@ -13,7 +13,7 @@
 // is 1 - 2 sqrt(1 - a) int_0^1 H(mu) mu dmu.
 //
 // halfSpaceDiffuseAlbedo interpolates a table made once by tests/bench/material_albedo_table
-// (2e5 photons per node, standard error <= 0.0011) over u = sqrt(1 - a) in 33 nodes (Catmull-Rom;
+// (2e5 photons per node) over u = sqrt(1 - a) in 33 nodes (Catmull-Rom;
 // the albedo is nearly linear in u near a = 1) and eta nodes 1.0, 1.1, ..., 2.0, 2.25, ..., 3.0
 // (linear).
 #pragma once

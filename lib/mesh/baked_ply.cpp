@@ -165,18 +165,14 @@ void writeBakedPly(const std::string& path, const BakedMesh& baked) {
   output.commit();
 }
 
-BakedPlyContents readBakedPly(const std::string& path) {
-  BakedPlyContents result;
-  if (lowerExtension(path) != "ply") {
-    result.baked.mesh = loadMesh(path, &result.report);
-    return result;
-  }
-  ply::PlyMesh ply = ply::readPly(path);
-  BakedMesh& baked = result.baked;
+namespace {
 
-  // "sss key=value" comments; everything else is kept verbatim.
-  std::map<std::string, std::string> keys;
-  for (const std::string& c : ply.comments) {
+using Keys = std::map<std::string, std::string>;
+
+// The known "sss key=value" comments; every other comment goes to `extra` verbatim.
+Keys sssKeys(const std::vector<std::string>& comments, std::vector<std::string>& extra) {
+  Keys keys;
+  for (const std::string& c : comments) {
     const std::size_t eq = c.find('=');
     if (c.rfind("sss ", 0) == 0 && eq != std::string::npos && c.find(' ', 4) == std::string::npos) {
       const std::string key = c.substr(4, eq - 4);
@@ -187,8 +183,14 @@ BakedPlyContents readBakedPly(const std::string& path) {
         continue;
       }
     }
-    baked.extraComments.push_back(c);
+    extra.push_back(c);
   }
+  return keys;
+}
+
+// The format version, material, units and preview scale of those comments into result.
+void readKeys(const std::string& path, Keys& keys, BakedPlyContents& result) {
+  BakedMesh& baked = result.baked;
   auto bad = [&](const std::string& key) {
     fail(path, "bad 'comment sss " + key + "=" + keys[key] + "'");
   };
@@ -221,39 +223,48 @@ BakedPlyContents readBakedPly(const std::string& path) {
   if (keys.count("preview_scale") && !parseNumber(keys["preview_scale"], baked.previewScale)) {
     bad("preview_scale");
   }
+}
 
-  // Per-vertex values: all three channels or none.
-  auto channels = [&](const std::string& base, bool& present) {
-    std::vector<float>* c[3];
-    int found = 0;
-    const char* suffix[3] = {"_r", "_g", "_b"};
-    for (int k = 0; k < 3; ++k) {
-      auto it = ply.vertexScalars.find(base + suffix[k]);
-      c[k] = it == ply.vertexScalars.end() ? nullptr : &it->second;
-      found += c[k] != nullptr;
-    }
-    std::vector<glm::vec3> values;
-    if (found == 0) return values;
-    if (found < 3) fail(path, "has only some of " + base + "_r/g/b");
-    present = true;
-    values.resize(c[0]->size());
-    for (std::size_t i = 0; i < values.size(); ++i) {
-      values[i] = {(*c[0])[i], (*c[1])[i], (*c[2])[i]};
-    }
-    return values;
-  };
-  const std::vector<glm::vec3> irradiance = channels("irradiance", result.hasIrradiance);
-  const std::vector<glm::vec3> exitance = channels("exitance", result.hasExitance);
+// Per-vertex values base_r/g/b: all three channels (present = true) or none (empty).
+std::vector<glm::vec3> readChannels(const std::string& path, const ply::PlyMesh& ply,
+                                    const std::string& base, bool& present) {
+  const std::vector<float>* c[3];
+  int found = 0;
+  const char* suffix[3] = {"_r", "_g", "_b"};
+  for (int k = 0; k < 3; ++k) {
+    auto it = ply.vertexScalars.find(base + suffix[k]);
+    c[k] = it == ply.vertexScalars.end() ? nullptr : &it->second;
+    found += c[k] != nullptr;
+  }
+  std::vector<glm::vec3> values;
+  if (found == 0) return values;
+  if (found < 3) fail(path, "has only some of " + base + "_r/g/b");
+  present = true;
+  values.resize(c[0]->size());
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    values[i] = {(*c[0])[i], (*c[1])[i], (*c[2])[i]};
+  }
+  return values;
+}
 
-  result.report.format = ply.format;
-  result.report.warnings = std::move(ply.warnings);
-  RawMesh raw;
-  raw.positions = std::move(ply.positions);
-  raw.normals = std::move(ply.normals);
-  raw.faceCorners = std::move(ply.faceCorners);
-  raw.faceSizes = std::move(ply.faceSizes);
+}  // namespace
+
+BakedPlyContents readBakedPly(const std::string& path) {
+  BakedPlyContents result;
+  if (lowerExtension(path) != "ply") {
+    result.baked.mesh = loadMesh(path, &result.report);
+    return result;
+  }
+  ply::PlyMesh ply = ply::readPly(path);
+  BakedMesh& baked = result.baked;
+  Keys keys = sssKeys(ply.comments, baked.extraComments);
+  readKeys(path, keys, result);
+  const std::vector<glm::vec3> irradiance =
+      readChannels(path, ply, "irradiance", result.hasIrradiance);
+  const std::vector<glm::vec3> exitance = readChannels(path, ply, "exitance", result.hasExitance);
+
   std::vector<unsigned> origin;
-  baked.mesh = cleanMesh(path, std::move(raw), &result.report, &origin);
+  baked.mesh = cleanMesh(path, ply::takeMesh(ply, result.report), &result.report, &origin);
   for (unsigned o : origin) {
     if (result.hasIrradiance) baked.irradiance.push_back(irradiance[o]);
     if (result.hasExitance) baked.exitance.push_back(exitance[o]);

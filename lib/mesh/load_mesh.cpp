@@ -96,15 +96,10 @@ void analyzeTopology(const TriangleMesh& mesh, MeshReport& r) {
   for (std::size_t v = 0; v < mesh.positions.size(); ++v) r.components += components.find(v) == v;
 }
 
-}  // namespace
-
-TriangleMesh cleanMesh(const std::string& path, RawMesh raw, MeshReport* report,
-                       std::vector<unsigned>* vertexOrigin) {
-  MeshReport local;
-  MeshReport& r = report ? *report : local;
+// Errors that stop the cleanup: too many vertices, a normal count that differs, NaN/Inf
+// coordinates, no faces, a face list that does not add up.
+void checkRawMesh(const std::string& path, const RawMesh& raw) {
   const std::size_t nv = raw.positions.size();
-  r.fileVertices = nv;
-  r.fileFaces = raw.faceSizes.size();
   if (nv > 0xffffffffu) fail(path, "too many vertices");
   if (!raw.normals.empty() && raw.normals.size() != nv) fail(path, "normal count differs");
   for (std::size_t i = 0; i < nv; ++i) {
@@ -121,10 +116,12 @@ TriangleMesh cleanMesh(const std::string& path, RawMesh raw, MeshReport* report,
       raw.faceCorners.size()) {
     fail(path, "face corner count mismatch");
   }
+}
 
-  // Triangulate (fans) and drop degenerate triangles.
-  TriangleMesh mesh;
-  std::vector<glm::uvec3>& tris = mesh.triangles;
+// Triangulates (fans) and drops degenerate triangles; an out-of-range index is an error.
+std::vector<glm::uvec3> triangulate(const std::string& path, const RawMesh& raw, MeshReport& r) {
+  const std::size_t nv = raw.positions.size();
+  std::vector<glm::uvec3> tris;
   tris.reserve(raw.faceSizes.size());
   std::size_t at = 0;
   for (std::size_t f = 0; f < raw.faceSizes.size(); ++f) {
@@ -154,32 +151,37 @@ TriangleMesh cleanMesh(const std::string& path, RawMesh raw, MeshReport* report,
       }
     }
   }
+  return tris;
+}
 
-  // Duplicates: the same vertex set as an earlier triangle (either winding); the first stays.
-  {
-    std::vector<std::pair<std::array<unsigned, 3>, std::size_t>> keys(tris.size());
-    for (std::size_t t = 0; t < tris.size(); ++t) {
-      std::array<unsigned, 3> k = {tris[t].x, tris[t].y, tris[t].z};
-      std::sort(k.begin(), k.end());
-      keys[t] = {k, t};
-    }
-    std::sort(keys.begin(), keys.end());
-    std::vector<char> duplicate(tris.size(), 0);
-    for (std::size_t i = 1; i < keys.size(); ++i) {
-      if (keys[i].first == keys[i - 1].first) duplicate[keys[i].second] = 1;
-    }
-    std::size_t kept = 0;
-    for (std::size_t t = 0; t < tris.size(); ++t) {
-      if (!duplicate[t]) tris[kept++] = tris[t];
-    }
-    r.droppedDuplicate = tris.size() - kept;
-    tris.resize(kept);
+// Duplicates: the same vertex set as an earlier triangle (either winding); the first stays.
+void dropDuplicateTriangles(std::vector<glm::uvec3>& tris, MeshReport& r) {
+  std::vector<std::pair<std::array<unsigned, 3>, std::size_t>> keys(tris.size());
+  for (std::size_t t = 0; t < tris.size(); ++t) {
+    std::array<unsigned, 3> k = {tris[t].x, tris[t].y, tris[t].z};
+    std::sort(k.begin(), k.end());
+    keys[t] = {k, t};
   }
-  if (tris.empty()) {
-    fail(path, "all " + plural(r.fileFaces, "face") + " are degenerate or duplicate");
+  std::sort(keys.begin(), keys.end());
+  std::vector<char> duplicate(tris.size(), 0);
+  for (std::size_t i = 1; i < keys.size(); ++i) {
+    if (keys[i].first == keys[i - 1].first) duplicate[keys[i].second] = 1;
   }
+  std::size_t kept = 0;
+  for (std::size_t t = 0; t < tris.size(); ++t) {
+    if (!duplicate[t]) tris[kept++] = tris[t];
+  }
+  r.droppedDuplicate = tris.size() - kept;
+  tris.resize(kept);
+}
 
-  // Remove unreferenced vertices, keeping the order of the rest.
+// Removes unreferenced vertices, keeping the order of the rest: mesh gets the positions and
+// (file) normals of the vertices its triangles use, renumbered. Returns each output vertex's
+// index in raw.
+std::vector<unsigned> keepReferencedVertices(const RawMesh& raw, TriangleMesh& mesh,
+                                             MeshReport& r) {
+  const std::size_t nv = raw.positions.size();
+  std::vector<glm::uvec3>& tris = mesh.triangles;
   std::vector<unsigned> newIndex(nv, 0xffffffffu);
   for (const glm::uvec3& t : tris) newIndex[t.x] = newIndex[t.y] = newIndex[t.z] = 0;
   std::vector<unsigned> origin;
@@ -199,47 +201,45 @@ TriangleMesh cleanMesh(const std::string& path, RawMesh raw, MeshReport* report,
     if (hadNormals) mesh.normals[i] = raw.normals[origin[i]];
   }
   for (glm::uvec3& t : tris) t = glm::uvec3(newIndex[t.x], newIndex[t.y], newIndex[t.z]);
-  raw = RawMesh();
+  return origin;
+}
 
-  analyzeTopology(mesh, r);
-
-  const bool closed = r.boundaryEdges == 0 && r.nonManifoldEdges == 0 && r.misorientedEdges == 0;
-  if (closed && signedVolume(mesh) < 0.0) {
-    for (glm::uvec3& t : tris) std::swap(t.y, t.z);
-    r.orientationFlipped = true;
-  }
-
-  // Normals: keep usable file normals (renormalized only when clearly not unit, so that our own
-  // files read back bit-exactly), compute the others.
+// Normals: keep usable file normals (renormalized only when clearly not unit, so that our own
+// files read back bit-exactly), compute the others; file normals against the winding on the whole
+// are negated.
+void settleNormals(TriangleMesh& mesh, bool hadNormals, MeshReport& r) {
   const std::vector<glm::vec3> computed = computeVertexNormals(mesh);
   if (!hadNormals) {
     mesh.normals = computed;
     r.normalsComputed = true;
-  } else {
-    std::size_t replaced = 0;
-    double agreement = 0.0;
-    for (std::size_t i = 0; i < mesh.normals.size(); ++i) {
-      glm::vec3& n = mesh.normals[i];
-      const float len = glm::length(n);
-      if (!std::isfinite(len) || len < 1e-20f) {
-        n = computed[i];
-        ++replaced;
-        continue;
-      }
-      if (std::abs(len - 1.0f) > 1e-4f) n /= len;
-      agreement += glm::dot(glm::dvec3(n), glm::dvec3(computed[i]));
-    }
-    if (agreement < 0.0) {
-      for (glm::vec3& n : mesh.normals) n = -n;
-      r.normalsNegated = true;
-    }
-    if (replaced == mesh.normals.size()) r.normalsComputed = true;
-    if (replaced > 0 && replaced < mesh.normals.size()) {
-      r.warnings.push_back(plural(replaced, "vertex normal") +
-                           " zero or not finite: computed from the faces");
-    }
+    return;
   }
+  std::size_t replaced = 0;
+  double agreement = 0.0;
+  for (std::size_t i = 0; i < mesh.normals.size(); ++i) {
+    glm::vec3& n = mesh.normals[i];
+    const float len = glm::length(n);
+    if (!std::isfinite(len) || len < 1e-20f) {
+      n = computed[i];
+      ++replaced;
+      continue;
+    }
+    if (std::abs(len - 1.0f) > 1e-4f) n /= len;
+    agreement += glm::dot(glm::dvec3(n), glm::dvec3(computed[i]));
+  }
+  if (agreement < 0.0) {
+    for (glm::vec3& n : mesh.normals) n = -n;
+    r.normalsNegated = true;
+  }
+  if (replaced == mesh.normals.size()) r.normalsComputed = true;
+  if (replaced > 0 && replaced < mesh.normals.size()) {
+    r.warnings.push_back(plural(replaced, "vertex normal") +
+                         " zero or not finite: computed from the faces");
+  }
+}
 
+// One warning line per repair or topology problem the report counts.
+void addCleanupWarnings(MeshReport& r) {
   if (r.droppedDegenerate) {
     r.warnings.push_back("dropped " + plural(r.droppedDegenerate, "degenerate face") +
                          " (repeated vertex, fewer than 3 corners or zero area)");
@@ -269,6 +269,36 @@ TriangleMesh cleanMesh(const std::string& path, RawMesh raw, MeshReport* report,
   if (r.normalsNegated) {
     r.warnings.push_back("vertex normals pointed against the face winding: negated");
   }
+}
+
+}  // namespace
+
+TriangleMesh cleanMesh(const std::string& path, RawMesh raw, MeshReport* report,
+                       std::vector<unsigned>* vertexOrigin) {
+  MeshReport local;
+  MeshReport& r = report ? *report : local;
+  r.fileVertices = raw.positions.size();
+  r.fileFaces = raw.faceSizes.size();
+  checkRawMesh(path, raw);
+
+  TriangleMesh mesh;
+  mesh.triangles = triangulate(path, raw, r);
+  dropDuplicateTriangles(mesh.triangles, r);
+  if (mesh.triangles.empty()) {
+    fail(path, "all " + plural(r.fileFaces, "face") + " are degenerate or duplicate");
+  }
+  std::vector<unsigned> origin = keepReferencedVertices(raw, mesh, r);
+  const bool hadNormals = !raw.normals.empty();
+  raw = RawMesh();
+
+  analyzeTopology(mesh, r);
+  const bool closed = r.boundaryEdges == 0 && r.nonManifoldEdges == 0 && r.misorientedEdges == 0;
+  if (closed && signedVolume(mesh) < 0.0) {
+    for (glm::uvec3& t : mesh.triangles) std::swap(t.y, t.z);
+    r.orientationFlipped = true;
+  }
+  settleNormals(mesh, hadNormals, r);
+  addCleanupWarnings(r);
   if (vertexOrigin) *vertexOrigin = std::move(origin);
   return mesh;
 }
@@ -281,12 +311,7 @@ TriangleMesh loadMesh(const std::string& path, MeshReport* report) {
   RawMesh raw;
   if (ext == "ply") {
     ply::PlyMesh ply = ply::readPly(path);
-    r.format = ply.format;
-    r.warnings = std::move(ply.warnings);
-    raw.positions = std::move(ply.positions);
-    raw.normals = std::move(ply.normals);
-    raw.faceCorners = std::move(ply.faceCorners);
-    raw.faceSizes = std::move(ply.faceSizes);
+    raw = ply::takeMesh(ply, r);
   } else if (ext == "obj" || ext == "off" || ext == "stl" || ext == "om") {
     r.format = ext;
     raw = readWithOpenMesh(path, ext);

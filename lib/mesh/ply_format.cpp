@@ -400,4 +400,15 @@ PlyMesh readPly(const std::string& path) {
   return Reader(path, std::move(data)).read();
 }
 
+RawMesh takeMesh(PlyMesh& ply, MeshReport& report) {
+  report.format = ply.format;
+  report.warnings = std::move(ply.warnings);
+  RawMesh raw;
+  raw.positions = std::move(ply.positions);
+  raw.normals = std::move(ply.normals);
+  raw.faceCorners = std::move(ply.faceCorners);
+  raw.faceSizes = std::move(ply.faceSizes);
+  return raw;
+}
+
 }  // namespace sss::ply

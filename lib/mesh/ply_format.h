@@ -14,6 +14,8 @@
 
 #include <glm/vec3.hpp>
 
+#include "mesh/load_mesh.h"
+
 namespace sss::ply {
 
 // What the reader keeps: positions, normals (when nx, ny, nz are all present), every other
@@ -31,5 +33,9 @@ struct PlyMesh {
 
 // Reads `path`; throws Error("<path>: <problem>").
 PlyMesh readPly(const std::string& path);
+
+// Moves ply's positions, normals and faces into a RawMesh for cleanMesh, and its format and
+// warnings into report (replacing its warnings).
+RawMesh takeMesh(PlyMesh& ply, MeshReport& report);
 
 }  // namespace sss::ply

@@ -1,5 +1,5 @@
 // An indexed triangle mesh with unit per-vertex normals, and the per-vertex quantities the
-// diffusion sums need (vertex areas: the paper's M(x_i)).
+// diffusion sums need (vertex areas: Li & Guo's M(x_i)).
 #pragma once
 
 #include <cstddef>
@@ -19,7 +19,7 @@ struct TriangleMesh {
 };
 
 // Area of each vertex's share of the surface: one third of the areas of its adjacent triangles
-// (the paper's M(x_i); a correction of its unspecified "area of the vertex"). The sum equals
+// (Li & Guo's M(x_i); a correction of their unspecified "area of the vertex"). The sum equals
 // surfaceArea(mesh).
 std::vector<float> vertexAreas(const TriangleMesh& mesh);
 

@@ -11,7 +11,7 @@ double parseUnit(const std::string& unit) {
   if (unit == "mm") return 1.0;
   if (unit == "cm") return 10.0;
   if (unit == "m") return 1000.0;
-  fail("--unit", "unknown unit '" + unit + "' (expected mm, cm or m)");
+  fail("", "unknown length unit '" + unit + "' (use mm, cm or m)");
 }
 
 double checkMmPerUnit(double mmPerUnit, const std::string& what) {

@@ -11,6 +11,6 @@ namespace sss {
 double parseUnit(const std::string& unit);
 
 // Checks a --mm-per-unit value: finite and positive; throws Error("<what>: ...") otherwise.
-double checkMmPerUnit(double mmPerUnit, const std::string& what = "--mm-per-unit");
+double checkMmPerUnit(double mmPerUnit, const std::string& what = "mm per unit");
 
 }  // namespace sss

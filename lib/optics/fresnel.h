@@ -39,8 +39,8 @@ inline float fresnelSchlick(float cosThetaI, float eta) {
 }
 
 // Fresnel moment C_n(eta) = integral_0^1 F_r(mu, eta) mu^n dmu, by Gauss-Legendre-free
-// composite Simpson quadrature (F_r has a kink only at the critical angle for eta < 1, where
-// 2000 panels still give ~1e-6).
+// composite Simpson quadrature (F_r has a kink only at the critical angle for eta < 1, which
+// 2000 panels resolve).
 inline double fresnelMoment(float eta, int n) {
   const int panels = 2000;
   const double h = 1.0 / panels;

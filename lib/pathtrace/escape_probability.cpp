@@ -126,6 +126,17 @@ class EscapeWalker {
   float eta_;
 };
 
+// Mean and variance of the mean per probe and channel, over the walks that were not lost.
+struct ProbeEstimates {
+  std::vector<glm::dvec3> mean, variance;
+};
+
+// The Gaussian that spreads the probes over the surface: its width and the squared reach.
+struct Smoothing {
+  double sigma = 0.0;
+  double reach2 = 0.0;  // 3 sigma, squared
+};
+
 }  // namespace
 
 struct EscapeWalks::State {
@@ -148,6 +159,10 @@ struct EscapeWalks::State {
   uint32_t probeVertex(std::size_t k) const {
     return static_cast<uint32_t>(k * mesh.positions.size() / probes);
   }
+  ProbeEstimates probeEstimates() const;
+  Smoothing smoothing(double totalArea) const;
+  void smoothAt(std::size_t i, const ProbeEstimates& probe, const Smoothing& smooth,
+                glm::vec3& probability, glm::dvec3& variance) const;
 
   const TriangleMesh& mesh;
   std::span<const float> areas;
@@ -224,73 +239,86 @@ void EscapeWalks::add(int walksPerProbe) {
   st.seconds += clock.seconds();
 }
 
+// A probe without any kept walk carries no weight.
+ProbeEstimates EscapeWalks::State::probeEstimates() const {
+  ProbeEstimates probe{std::vector<glm::dvec3>(probes), std::vector<glm::dvec3>(probes)};
+  for (std::size_t k = 0; k < probes; ++k)
+    for (int c = 0; c < 3; ++c) {
+      const double w = kept[k][c];
+      const double mean = w > 0.0 ? sum[k][c] / w : 0.0;
+      probe.mean[k][c] = mean;
+      probe.variance[k][c] =
+          w > 1.0 ? std::max(0.0, sumSq[k][c] / w - mean * mean) / (w - 1.0) : mean * mean;
+    }
+  return probe;
+}
+
+// One width for all channels: P varies with the object's shape, which the longest diffusion
+// length sees; never below two probe spacings.
+Smoothing EscapeWalks::State::smoothing(double totalArea) const {
+  const double spacing = std::sqrt(totalArea / double(probes));
+  const double shortestTr = std::min({sigmaTr.x, sigmaTr.y, sigmaTr.z});
+  const double length =
+      shortestTr > 0.0 ? options.smoothing / shortestTr : double(scene.diagonal());
+  const double sigma = std::max(length, 2.0 * spacing);
+  return Smoothing{sigma, 9.0 * sigma * sigma};
+}
+
+// P at vertex i: the area- and Gaussian-weighted mean of the probes within reach; else the nearest
+// probe; else (no walk nearby stayed in the mesh) the half-space albedo.
+void EscapeWalks::State::smoothAt(std::size_t i, const ProbeEstimates& probe,
+                                  const Smoothing& smooth, glm::vec3& probability,
+                                  glm::dvec3& variance) const {
+  const double sigma = smooth.sigma;
+  const glm::vec3 x = mesh.positions[i];
+  glm::dvec3 num(0.0), den(0.0), var(0.0);
+  std::size_t nearest = 0;
+  float nearestD2 = std::numeric_limits<float>::infinity();
+  for (std::size_t k = 0; k < probes; ++k) {
+    const uint32_t v = probeVertex(k);
+    const glm::vec3 dx = mesh.positions[v] - x;
+    const float d2 = glm::dot(dx, dx);
+    if (d2 < nearestD2) {
+      nearestD2 = d2;
+      nearest = k;
+    }
+    if (d2 > smooth.reach2) continue;
+    const double weight = std::exp(-0.5 * d2 / (sigma * sigma)) * areas[v];
+    for (int c = 0; c < 3; ++c) {
+      if (kept[k][c] == 0.0) continue;
+      num[c] += weight * probe.mean[k][c];
+      den[c] += weight;
+      var[c] += weight * weight * probe.variance[k][c];
+    }
+  }
+  for (int c = 0; c < 3; ++c) {
+    if (den[c] > 0.0) {
+      probability[c] = static_cast<float>(std::min(1.0, num[c] / den[c]));
+      variance[c] = var[c] / (den[c] * den[c]);
+    } else if (kept[nearest][c] > 0.0) {
+      probability[c] = static_cast<float>(std::min(1.0, probe.mean[nearest][c]));
+      variance[c] = probe.variance[nearest][c];
+    } else {
+      probability[c] = static_cast<float>(halfSpace[c]);
+      variance[c] = 0.0;
+    }
+  }
+}
+
 EscapeResult EscapeWalks::result() const {
   const Stopwatch clock;
   const State& st = *state_;
-  const TriangleMesh& mesh = st.mesh;
-  const std::size_t n = mesh.positions.size(), probes = st.probes;
-  // Mean and variance of the mean per probe and channel, over the walks that were not lost; a
-  // probe without any carries no weight.
-  std::vector<glm::dvec3> probeMean(probes), probeVariance(probes);
-  for (std::size_t k = 0; k < probes; ++k)
-    for (int c = 0; c < 3; ++c) {
-      const double w = st.kept[k][c];
-      const double mean = w > 0.0 ? st.sum[k][c] / w : 0.0;
-      probeMean[k][c] = mean;
-      probeVariance[k][c] =
-          w > 1.0 ? std::max(0.0, st.sumSq[k][c] / w - mean * mean) / (w - 1.0) : mean * mean;
-    }
-
-  // Smoothing over the surface.
+  const std::size_t n = st.mesh.positions.size();
+  const ProbeEstimates probe = st.probeEstimates();
   double totalArea = 0.0;
   for (float a : st.areas) totalArea += a;
-  const double spacing = std::sqrt(totalArea / double(probes));
-  // One width for all channels: P varies with the object's shape, which the longest diffusion
-  // length sees.
-  const double shortestTr = std::min({st.sigmaTr.x, st.sigmaTr.y, st.sigmaTr.z});
-  const double length =
-      shortestTr > 0.0 ? st.options.smoothing / shortestTr : double(st.scene.diagonal());
-  const double sigma = std::max(length, 2.0 * spacing);
-  const double reach2 = 9.0 * sigma * sigma;  // 3 sigma
+  const Smoothing smooth = st.smoothing(totalArea);
   EscapeResult result;
   result.probability.assign(n, glm::vec3(0.0f));
   std::vector<glm::dvec3> variance(n);
   parallelFor(n, st.options.threads, 64, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i) {
-      const glm::vec3 x = mesh.positions[i];
-      glm::dvec3 num(0.0), den(0.0), var(0.0);
-      std::size_t nearest = 0;
-      float nearestD2 = std::numeric_limits<float>::infinity();
-      for (std::size_t k = 0; k < probes; ++k) {
-        const uint32_t v = st.probeVertex(k);
-        const glm::vec3 dx = mesh.positions[v] - x;
-        const float d2 = glm::dot(dx, dx);
-        if (d2 < nearestD2) {
-          nearestD2 = d2;
-          nearest = k;
-        }
-        if (d2 > reach2) continue;
-        const double weight = std::exp(-0.5 * d2 / (sigma * sigma)) * st.areas[v];
-        for (int c = 0; c < 3; ++c) {
-          if (st.kept[k][c] == 0.0) continue;
-          num[c] += weight * probeMean[k][c];
-          den[c] += weight;
-          var[c] += weight * weight * probeVariance[k][c];
-        }
-      }
-      for (int c = 0; c < 3; ++c) {
-        if (den[c] > 0.0) {
-          result.probability[i][c] = static_cast<float>(std::min(1.0, num[c] / den[c]));
-          variance[i][c] = var[c] / (den[c] * den[c]);
-        } else if (st.kept[nearest][c] > 0.0) {  // none within reach: the nearest probe
-          result.probability[i][c] = static_cast<float>(std::min(1.0, probeMean[nearest][c]));
-          variance[i][c] = probeVariance[nearest][c];
-        } else {  // no walk nearby stayed in the mesh: the half-space albedo
-          result.probability[i][c] = static_cast<float>(st.halfSpace[c]);
-          variance[i][c] = 0.0;
-        }
-      }
-    }
+    for (std::size_t i = begin; i < end; ++i)
+      st.smoothAt(i, probe, smooth, result.probability[i], variance[i]);
   });
 
   double errorSq = 0.0, valueSq = 0.0;
@@ -304,11 +332,11 @@ EscapeResult EscapeWalks::result() const {
   }
   result.mean = totalArea > 0.0 ? weighted / totalArea : glm::dvec3(0.0);
   result.relativeStdError = valueSq > 0.0 ? std::sqrt(errorSq / valueSq) : 0.0;
-  result.probes = probes;
-  result.walks = uint64_t(probes) * 3u * uint64_t(st.walks);
+  result.probes = st.probes;
+  result.walks = uint64_t(st.probes) * 3u * uint64_t(st.walks);
   result.lostWalks = st.lost;
   result.meanScatteringEvents = double(st.events) / double(std::max<uint64_t>(result.walks, 1));
-  result.smoothingSigmaMm = glm::dvec3(sigma);
+  result.smoothingSigmaMm = glm::dvec3(smooth.sigma);
   result.seconds = st.seconds + clock.seconds();
   return result;
 }

@@ -3,12 +3,12 @@
 // least one scattering, instead of being absorbed. Energy for the diffusion profiles on real
 // meshes (lib/bake/bake.h, energy "escape").
 //
-// Why: a half-space profile returns R_total of the light that enters (marble red: 0.875, the rest
-// is absorbed on long paths deep in the medium). A finite object has no depth to lose it in: a
-// marble sphere 20 mm across returns 0.97 (walks leave sooner, so absorb less; by the mean path
-// length invariance, Blanco & Fournier 2003, a body's mean path length is 4V/S, finite where the
-// half-space's is not), a 2 mm slab returns light through both faces. The profiles' shape still
-// says where light leaves; this measures how much.
+// Why: a half-space profile returns R_total of the light that enters (the rest is absorbed on
+// long paths deep in the medium). A finite object has no depth to lose it in: a small sphere
+// returns more (walks leave sooner, so absorb less; by the mean path length invariance, Blanco &
+// Fournier 2003, a body's mean path length is 4V/S, finite where the half-space's is not), a thin
+// slab returns light through both faces (README, "Finite objects are not half-spaces", has the
+// measured values). The profiles' shape still says where light leaves; this measures how much.
 //
 // Estimator: analog random walks per channel at probe vertices (all vertices, or an even stride
 // of them). Each walk enters at a uniform point of the vertex's triangles (area-weighted: the
@@ -21,13 +21,14 @@
 // [0, 1]), reflects or leaves at the boundary with the exact Fresnel probability and scores its
 // weight when it leaves. Walks lost through holes of an open mesh are left out (the mesh says
 // nothing about the medium behind a hole); where no walk nearby stayed inside (an open sheet) P
-// is the half-space albedo. On a thick box it reproduces the
-// half-space albedo table (lib/material/halfspace_albedo.h) within 0.3%. The probe estimates are
-// smoothed over the surface with a Gaussian of sigma = smoothing x the longest diffusion length
-// 1/sigma_tr (at least twice the probe spacing), weights G(|x - x_p|) A_p: P follows the object's
-// shape, which varies slowly on that scale (the accuracy study finds the same error for sigma of
-// 0.5 to 2 diffusion lengths), and the wide kernel averages many walks. Deterministic for any
-// thread count: each walk draws from its own Pcg32 stream (vertex, channel, walk index).
+// is the half-space albedo. On a thick box it reproduces the half-space albedo table
+// (lib/material/halfspace_albedo.h; tests/pathtrace/escape_probability_test.cpp). The probe
+// estimates are smoothed over the surface with a Gaussian of sigma = smoothing x the longest
+// diffusion length 1/sigma_tr (at least twice the probe spacing), weights G(|x - x_p|) A_p: P
+// follows the object's shape, which varies slowly on that scale (the accuracy study,
+// tests/bench/accuracy_study.cpp, compares widths), and the wide kernel averages many walks.
+// Deterministic for any thread count: each walk draws from its own Pcg32 stream (vertex, channel,
+// walk index).
 #pragma once
 
 #include <cstddef>

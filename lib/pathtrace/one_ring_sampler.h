@@ -1,6 +1,6 @@
 // Uniform points on the triangles around a vertex (area-weighted), with their face normals: where
 // walks enter for "the surface a vertex stands for" (its one third of each adjacent triangle,
-// the paper's M(x_i)) rather than at the vertex itself, which on a coarse convex mesh is the apex
+// Li & Guo's M(x_i)) rather than at the vertex itself, which on a coarse convex mesh is the apex
 // of a cone of facets (light leaves it too easily) and on a concave one the bottom of a pit.
 #pragma once
 

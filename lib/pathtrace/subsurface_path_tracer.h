@@ -16,8 +16,8 @@
 //
 // Faceted meshes: the vertex normal's hemisphere is the smooth surface's, but near a vertex the
 // mesh is its 1-ring of flat triangles, which cuts off grazing inward directions (a walk would
-// leave through a neighbouring triangle before its first scattering: about the squared sine of
-// the facet angle, 10% of the directions on a 42-vertex sphere, 0.5% on 642 vertices). Such
+// leave through a neighbouring triangle before its first scattering: a fraction of about the
+// squared sine of the facet angle, PathTraceResult::redrawnDirections counts them). Such
 // exitance directions are redrawn, i.e. B averages over the directions the facets let in;
 // radiance directions are fixed and not redrawn.
 //

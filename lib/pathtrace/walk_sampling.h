@@ -1,6 +1,6 @@
-// Direction sampling shared by the random walks of lib/pathtrace: an orthonormal basis, the
-// Henyey-Greenstein phase function, refraction through and reflection at a smooth boundary and the
-// cosine-weighted outside direction whose refraction starts a walk.
+// Direction sampling shared by the random walks of lib/pathtrace: the Henyey-Greenstein phase
+// function, refraction through and reflection at a smooth boundary and the cosine-weighted outside
+// direction whose refraction starts a walk (the basis around a direction: core/sampling.h).
 #pragma once
 
 #include <algorithm>
@@ -10,17 +10,9 @@
 #include <glm/vec3.hpp>
 
 #include "core/random.h"
+#include "core/sampling.h"
 
 namespace sss {
-
-// Orthonormal basis around a unit vector (Duff et al. 2017).
-inline void orthonormalBasis(const glm::vec3& n, glm::vec3& b1, glm::vec3& b2) {
-  const float sign = std::copysign(1.0f, n.z);
-  const float a = -1.0f / (sign + n.z);
-  const float b = n.x * n.y * a;
-  b1 = glm::vec3(1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x);
-  b2 = glm::vec3(b, sign + n.y * n.y * a, -n.y);
-}
 
 // New propagation direction after scattering: Henyey-Greenstein in the cosine to the old one
 // (symmetric, so an adjoint walk samples it the same way); uniform for g = 0.

@@ -8,6 +8,7 @@
 #include <embree3/rtcore.h>
 #include <glm/geometric.hpp>
 
+#include "core/bounds.h"
 #include "core/error.h"
 
 namespace sss {
@@ -67,14 +68,11 @@ TriangleScene::TriangleScene(std::span<const glm::vec3> positions,
   rtcCommitScene(impl_->scene);
   checkDevice(impl_->device, "building the BVH");
 
-  glm::vec3 lo(INFINITY), hi(-INFINITY);
   float maxAbs = 0.0f;
   for (const auto& p : positions) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
     maxAbs = std::max({maxAbs, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
   }
-  diagonal_ = glm::length(hi - lo);
+  diagonal_ = glm::length(boundsOf(positions).extent());
   epsilon_ = 4e-6f * std::max(diagonal_, maxAbs);
   faceNormals_.reserve(triangles.size());
   for (const auto& t : triangles) {
@@ -135,9 +133,8 @@ bool TriangleScene::occluded(const glm::vec3& o, const glm::vec3& d, float tNear
   return ray.tfar < 0.0f;  // Embree sets tfar = -inf on a hit
 }
 
-// Measured on the 100K-vertex dragon, 64 rays per vertex, one thread: 1.6 s for the stream
-// against 2.0 s for single rays, 1.75 s for packets of 16 and 2.0 s for packets of 8
-// (tests/bench/results/bake).
+// One rtcOccluded1M stream per batch: faster than single rays and than packets of 8 or 16 on the
+// dragons (README, visibility).
 void TriangleScene::occluded(std::span<const OcclusionRay> rays, std::vector<char>& blocked) const {
   thread_local std::vector<RTCRay> stream;  // reused across calls: no allocation per batch
   stream.resize(rays.size());

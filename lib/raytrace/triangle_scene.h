@@ -1,7 +1,7 @@
 // An Embree 3 BVH over one triangle mesh, shared by the visibility pass of the bake (streams of
-// occlusion rays per vertex) and the Monte Carlo walks and interior-segment guard of the path
-// tracer (nearest hit with its face normal, single occlusion rays). Embree stays out of this
-// header.
+// occlusion rays per vertex), the Monte Carlo walks of lib/pathtrace (nearest hit with its face
+// normal, single occlusion rays) and the interior-segment guard study (tests/bench). Embree stays
+// out of this header.
 #pragma once
 
 #include <cstdint>

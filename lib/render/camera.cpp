@@ -2,12 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
-#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/trigonometric.hpp>
+
+#include "core/bounds.h"
 
 namespace sss {
 
@@ -22,12 +22,7 @@ glm::mat4 Camera::projection(float aspect) const {
 BoundingSphere boundingSphere(const std::vector<glm::vec3>& points) {
   BoundingSphere s;
   if (points.empty()) return s;
-  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-  for (const glm::vec3& p : points) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
-  }
-  s.centre = 0.5f * (lo + hi);
+  s.centre = boundsOf(points).center();
   float r2 = 0.0f;
   for (const glm::vec3& p : points) r2 = std::max(r2, glm::dot(p - s.centre, p - s.centre));
   s.radius = std::max(std::sqrt(r2), 1e-6f);

@@ -55,9 +55,9 @@ struct Candidate {
   std::function<EGLDisplay()> open;
 };
 
-}  // namespace
-
-GlContext::GlContext() {
+// The displays to try, in the order of gl_context.h: device platform (hardware first), Mesa's
+// surfaceless platform, the default display.
+std::vector<Candidate> displayCandidates() {
   const char* clientExtensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
   auto getPlatformDisplay = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(
       eglGetProcAddress("eglGetPlatformDisplayEXT"));
@@ -92,69 +92,78 @@ GlContext::GlContext() {
                           }});
   }
   candidates.push_back({"default display", [] { return eglGetDisplay(EGL_DEFAULT_DISPLAY); }});
+  return candidates;
+}
 
-  std::string attempts;
-  auto note = [&](const std::string& label, const std::string& what) {
-    attempts += (attempts.empty() ? "" : "; ") + label + ": " + what;
+// Initializes `display` and makes an OpenGL 4.5 core context current on it (surfaceless). On
+// failure returns what went wrong, with nothing left open; "" on success.
+std::string makeContextCurrent(EGLDisplay display, EGLContext& context) {
+  if (!eglInitialize(display, nullptr, nullptr)) {
+    return "eglInitialize failed (" + eglErrorName(eglGetError()) + ")";
+  }
+  // The reason is formed (and the EGL error read) before the display is terminated.
+  const auto terminated = [display](std::string why) {
+    eglTerminate(display);
+    return why;
   };
-  for (const Candidate& c : candidates) {
+  if (!hasExtension(eglQueryString(display, EGL_EXTENSIONS), "EGL_KHR_surfaceless_context")) {
+    return terminated("no EGL_KHR_surfaceless_context");
+  }
+  if (!eglBindAPI(EGL_OPENGL_API)) {
+    return terminated("no desktop OpenGL (" + eglErrorName(eglGetError()) + ")");
+  }
+  const EGLint configAttribs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE,
+                                  EGL_OPENGL_BIT, EGL_NONE};
+  EGLConfig config = nullptr;
+  EGLint numConfigs = 0;
+  if (!eglChooseConfig(display, configAttribs, &config, 1, &numConfigs) || numConfigs < 1) {
+    return terminated("no OpenGL config");
+  }
+  const EGLint contextAttribs[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                   4,
+                                   EGL_CONTEXT_MINOR_VERSION,
+                                   5,
+                                   EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                   EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                   EGL_NONE};
+  context = eglCreateContext(display, config, EGL_NO_CONTEXT, contextAttribs);
+  if (context == EGL_NO_CONTEXT) {
+    return terminated("no OpenGL 4.5 core context (" + eglErrorName(eglGetError()) + ")");
+  }
+  if (!eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context)) {
+    const std::string why = "eglMakeCurrent failed (" + eglErrorName(eglGetError()) + ")";
+    eglDestroyContext(display, context);
+    return terminated(why);
+  }
+  GLint major = 0, minor = 0;
+  glGetIntegerv(GL_MAJOR_VERSION, &major);
+  glGetIntegerv(GL_MINOR_VERSION, &minor);
+  if (major * 10 + minor < 45) {
+    eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    eglDestroyContext(display, context);
+    return terminated("OpenGL " + std::to_string(major) + "." + std::to_string(minor) +
+                      " is older than the 4.5 needed");
+  }
+  return {};
+}
+
+std::string glString(GLenum name) {
+  const GLubyte* s = glGetString(name);
+  return s ? std::string(reinterpret_cast<const char*>(s)) : std::string();
+}
+
+}  // namespace
+
+GlContext::GlContext() {
+  std::string attempts;
+  for (const Candidate& c : displayCandidates()) {
     EGLDisplay display = c.open();
-    if (display == EGL_NO_DISPLAY) {
-      note(c.label, "no display (" + eglErrorName(eglGetError()) + ")");
-      continue;
-    }
-    if (!eglInitialize(display, nullptr, nullptr)) {
-      note(c.label, "eglInitialize failed (" + eglErrorName(eglGetError()) + ")");
-      continue;
-    }
-    const char* displayExtensions = eglQueryString(display, EGL_EXTENSIONS);
-    if (!hasExtension(displayExtensions, "EGL_KHR_surfaceless_context")) {
-      note(c.label, "no EGL_KHR_surfaceless_context");
-      eglTerminate(display);
-      continue;
-    }
-    if (!eglBindAPI(EGL_OPENGL_API)) {
-      note(c.label, "no desktop OpenGL (" + eglErrorName(eglGetError()) + ")");
-      eglTerminate(display);
-      continue;
-    }
-    const EGLint configAttribs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE,
-                                    EGL_OPENGL_BIT, EGL_NONE};
-    EGLConfig config = nullptr;
-    EGLint numConfigs = 0;
-    if (!eglChooseConfig(display, configAttribs, &config, 1, &numConfigs) || numConfigs < 1) {
-      note(c.label, "no OpenGL config");
-      eglTerminate(display);
-      continue;
-    }
-    const EGLint contextAttribs[] = {EGL_CONTEXT_MAJOR_VERSION,
-                                     4,
-                                     EGL_CONTEXT_MINOR_VERSION,
-                                     5,
-                                     EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                                     EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
-                                     EGL_NONE};
-    EGLContext context = eglCreateContext(display, config, EGL_NO_CONTEXT, contextAttribs);
-    if (context == EGL_NO_CONTEXT) {
-      note(c.label, "no OpenGL 4.5 core context (" + eglErrorName(eglGetError()) + ")");
-      eglTerminate(display);
-      continue;
-    }
-    if (!eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context)) {
-      note(c.label, "eglMakeCurrent failed (" + eglErrorName(eglGetError()) + ")");
-      eglDestroyContext(display, context);
-      eglTerminate(display);
-      continue;
-    }
-    GLint major = 0, minor = 0;
-    glGetIntegerv(GL_MAJOR_VERSION, &major);
-    glGetIntegerv(GL_MINOR_VERSION, &minor);
-    if (major * 10 + minor < 45) {
-      note(c.label, "OpenGL " + std::to_string(major) + "." + std::to_string(minor) +
-                        " is older than the 4.5 needed");
-      eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-      eglDestroyContext(display, context);
-      eglTerminate(display);
+    EGLContext context = EGL_NO_CONTEXT;
+    const std::string failure = display == EGL_NO_DISPLAY
+                                    ? "no display (" + eglErrorName(eglGetError()) + ")"
+                                    : makeContextCurrent(display, context);
+    if (!failure.empty()) {
+      attempts += (attempts.empty() ? "" : "; ") + c.label + ": " + failure;
       continue;
     }
     display_ = display;
@@ -162,13 +171,9 @@ GlContext::GlContext() {
     eglPath_ = c.label;
     const char* eglVendor = eglQueryString(display, EGL_VENDOR);
     eglVendor_ = eglVendor ? eglVendor : "";
-    auto str = [](GLenum name) {
-      const GLubyte* s = glGetString(name);
-      return s ? std::string(reinterpret_cast<const char*>(s)) : std::string();
-    };
-    glVendor_ = str(GL_VENDOR);
-    glRenderer_ = str(GL_RENDERER);
-    glVersion_ = str(GL_VERSION);
+    glVendor_ = glString(GL_VENDOR);
+    glRenderer_ = glString(GL_RENDERER);
+    glVersion_ = glString(GL_VERSION);
     glGetIntegerv(GL_MAX_SAMPLES, &maxSamples_);
     software_ = glRenderer_.find("llvmpipe") != std::string::npos ||
                 glRenderer_.find("softpipe") != std::string::npos ||

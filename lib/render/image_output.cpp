@@ -15,9 +15,15 @@ bool isLinearImagePath(const std::string& path) {
   return ext == "exr" || ext == "hdr" || ext == "pfm";
 }
 
+void checkRenderedImagePath(const std::string& path) {
+  if (lowerExtension(path).empty()) {
+    fail(path, "no file extension to choose the image format (.png or .exr)");
+  }
+}
+
 void writeRenderedImage(const std::string& path, const RenderedImage& image,
                         const std::string& software) {
-  if (lowerExtension(path).empty()) fail(path, "no file extension to choose the image format");
+  checkRenderedImagePath(path);
   if (isLinearImagePath(path) != image.linear) {
     fail(path, image.linear ? "a linear image needs .exr, .hdr or .pfm"
                             : "an 8-bit image cannot go into a float format");

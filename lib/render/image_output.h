@@ -10,6 +10,8 @@ namespace sss {
 
 // True for the float formats (.exr, .hdr, .pfm), which get linear values.
 bool isLinearImagePath(const std::string& path);
+// Throws Error naming the file when it has no extension to choose the image format from.
+void checkRenderedImagePath(const std::string& path);
 
 // Writes the image (RGB, top row first) through OpenImageIO; throws Error naming the file.
 // `software` is recorded in the file's metadata where the format allows.

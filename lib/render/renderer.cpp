@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "core/timer.h"
 #include "envmap/cubemap.h"
+#include "envmap/image.h"
 #include "render/gl.h"
 
 namespace sss {
@@ -262,8 +263,7 @@ void Renderer::draw() {
   glm::vec3 bg = shading_.backgroundColor.value_or(glm::vec3(0.0f));
   if (srgb) {
     for (int c = 0; c < 3; ++c) {
-      const float v = std::clamp(bg[c], 0.0f, 1.0f);
-      bg[c] = v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+      bg[c] = srgbToLinear(std::clamp(bg[c], 0.0f, 1.0f));
     }
   }
   setSrgb(srgb);

@@ -11,6 +11,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "core/enum_names.h"
 #include "render/camera.h"
 #include "render/shader_sources.h"
 
@@ -25,9 +26,26 @@ struct RenderMesh {
   std::vector<uint32_t> indices;  // three per triangle
 };
 
+// sss: the baked exitance B through the exit model, plus Fresnel reflections; brdf: a Lambertian
+// surface of the material's albedo lit by the transmitted irradiance cubemap (no transport); the
+// baked irradiance E and the normals, for inspection.
 enum class ShadingMode { Sss, Brdf, Irradiance, Normals };
+inline constexpr EnumNames<ShadingMode, 4> kShadingModeNames{
+    "shading mode",
+    {{{ShadingMode::Sss, "sss"},
+      {ShadingMode::Brdf, "brdf"},
+      {ShadingMode::Irradiance, "irradiance"},
+      {ShadingMode::Normals, "normals"}}}};
+// Exact dielectric Fresnel or Schlick 1994's approximation (optics/fresnel.h).
 enum class FresnelModel { Exact, Schlick };
+inline constexpr EnumNames<FresnelModel, 2> kFresnelModelNames{
+    "Fresnel model", {{{FresnelModel::Exact, "exact"}, {FresnelModel::Schlick, "schlick"}}}};
+// Display transform after exposure: none (clamped), Reinhard et al. 2002's x / (1 + x), or the
+// ACES filmic curve (Narkowicz 2015's fit; shaders/common.glsl).
 enum class Tonemap { None, Reinhard, Aces };
+inline constexpr EnumNames<Tonemap, 3> kTonemapNames{
+    "tonemap",
+    {{{Tonemap::None, "none"}, {Tonemap::Reinhard, "reinhard"}, {Tonemap::Aces, "aces"}}}};
 
 struct ShadingOptions {
   ShadingMode mode = ShadingMode::Sss;

@@ -30,6 +30,18 @@ std::string ShaderSources::describe(const std::string& name) const {
 
 namespace {
 
+// A shader's or program's info log (glGetShaderiv + glGetShaderInfoLog, or the program pair),
+// without trailing NULs and newlines.
+std::string infoLog(GLuint object, void (*getParameter)(GLuint, GLenum, GLint*),
+                    void (*getLog)(GLuint, GLsizei, GLsizei*, GLchar*)) {
+  GLint length = 0;
+  getParameter(object, GL_INFO_LOG_LENGTH, &length);
+  std::string log(static_cast<std::size_t>(std::max(length, 1)), '\0');
+  getLog(object, length, nullptr, log.data());
+  while (!log.empty() && (log.back() == '\0' || log.back() == '\n')) log.pop_back();
+  return log;
+}
+
 GLuint compileStage(const ShaderSources& sources, GLenum stage, const std::string& file,
                     const std::string& defines) {
   // #line resets keep the driver's line numbers pointing into each file (source string 1 is
@@ -43,12 +55,8 @@ GLuint compileStage(const ShaderSources& sources, GLenum stage, const std::strin
   GLint ok = GL_FALSE;
   glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
   if (!ok) {
-    GLint length = 0;
-    glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
-    std::string log(static_cast<std::size_t>(std::max(length, 1)), '\0');
-    glGetShaderInfoLog(shader, length, nullptr, log.data());
+    const std::string log = infoLog(shader, glGetShaderiv, glGetShaderInfoLog);
     glDeleteShader(shader);
-    while (!log.empty() && (log.back() == '\0' || log.back() == '\n')) log.pop_back();
     fail(sources.describe(file),
          "GLSL compile error (source 1 = common.glsl, 2 = this file):\n" + log);
   }
@@ -76,12 +84,8 @@ unsigned buildProgram(const ShaderSources& sources, const std::string& vertexFil
   GLint ok = GL_FALSE;
   glGetProgramiv(program, GL_LINK_STATUS, &ok);
   if (!ok) {
-    GLint length = 0;
-    glGetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
-    std::string log(static_cast<std::size_t>(std::max(length, 1)), '\0');
-    glGetProgramInfoLog(program, length, nullptr, log.data());
+    const std::string log = infoLog(program, glGetProgramiv, glGetProgramInfoLog);
     glDeleteProgram(program);
-    while (!log.empty() && (log.back() == '\0' || log.back() == '\n')) log.pop_back();
     fail(sources.describe(vertexFile) + " + " + fragmentFile, "GLSL link error:\n" + log);
   }
   return program;

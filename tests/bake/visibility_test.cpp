@@ -1,4 +1,4 @@
-// Visibility (Eq. 6 with shadows) against independent references: the texel sum of the
+// Visibility (Li & Guo Eq. 6 with shadows) against independent references: the texel sum of the
 // transmitted-cosine kernel (no shadows), and direction quadrature with an analytic occluder.
 #include "bake/visibility.h"
 
@@ -11,6 +11,8 @@
 #include <glm/geometric.hpp>
 
 #include "core/error.h"
+#include "core/luminance.h"
+#include "envmap/environment_sampler.h"
 #include "floor_and_wall.h"
 #include "mesh/primitives.h"
 #include "optics/fresnel.h"
@@ -54,10 +56,6 @@ glm::dvec3 texelSum(const Cubemap& env, const glm::vec3& n) {
     }
   }
   return sum;
-}
-
-double luminance(const glm::dvec3& c) {
-  return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b;
 }
 
 // Transmitted irradiance at floor point p under uniform unit radiance with the wall above,

@@ -8,7 +8,7 @@
 // The reference is evaluated at each vertex, entering through its smooth normal (what the bake's
 // per-vertex E and B assume); `--entry onering` averages over the vertex's facets instead (entry
 // through the face normals: the faceted surface). On the coarse dragon the diffusion models are
-// further from the latter (escape-energy dipole 0.12 against 0.077).
+// further from the latter (README, "The reference's meaning on coarse meshes").
 // Writes OUT_DIR/halfspace.csv and OUT_DIR/scenes.csv (see tests/bench/accuracy_study.sh, which
 // draws the charts). Data: SSS_SOURCE_DIR/data/cache (run data/fetch.sh).
 //
@@ -38,8 +38,10 @@
 #include <glm/geometric.hpp>
 
 #include "bake/diffusion.h"
+#include "bake/error_budget.h"
 #include "bake/finite_object_energy.h"
 #include "bake/visibility.h"
+#include "bench/interior_segment_guard.h"
 #include "core/error.h"
 #include "core/timer.h"
 #include "envmap/environment.h"
@@ -48,7 +50,6 @@
 #include "mesh/load_mesh.h"
 #include "mesh/primitives.h"
 #include "optics/fresnel.h"
-#include "pathtrace/interior_segment_guard.h"
 #include "pathtrace/subsurface_path_tracer.h"
 
 namespace {
@@ -298,7 +299,8 @@ void sceneStudy(const Scene& scene, int walks, int visibilitySamples, WalkEntry 
         dopt.method = method;
         dopt.tolerance = tol;
         const DiffusionResult r = diffuse(input, *profile, dopt);
-        record(profileName, toString(method), toString(r.report.method), tol, r.report.gaussians,
+        record(profileName, kDiffusionMethodNames.name(method),
+               kDiffusionMethodNames.name(r.report.method), tol, r.report.gaussians,
                r.report.totalSeconds, r.exitance, &exact.exitance);
       }
     }
@@ -319,7 +321,8 @@ void sceneStudy(const Scene& scene, int walks, int visibilitySamples, WalkEntry 
   // tolerance (the visibility stage is fixed here, so its share goes to the diffusion sum).
   for (double tol : {0.1, 0.03, 0.01}) {
     EnergyOptions energyOptions;
-    energyOptions.noiseBudget = kEscapeNoiseShare * tol;
+    const ErrorBudget budget(tol);
+    energyOptions.noiseBudget = budget.walkBudget();
     const EnergyPlan plan = planFiniteObjectEnergy(mesh, areas, scene.material, energyOptions);
     const std::string profileName = autoProfileName(plan.model);
     const auto profile = makeProfile(profileName, scene.material);
@@ -327,15 +330,16 @@ void sceneStudy(const Scene& scene, int walks, int visibilitySamples, WalkEntry 
     dopt.quiet = true;
     const double energyError =
         plan.model == EnergyModel::Escape ? plan.escape.relativeStdError : 0.0;
-    dopt.tolerance = std::max(std::sqrt(1.0 - sq(kEscapeNoiseShare)) * tol,
-                              std::sqrt(std::max(0.0, tol * tol - sq(energyError))));
+    dopt.tolerance =
+        budget.diffusionTolerance(plan.model == EnergyModel::Escape, energyError, std::nullopt);
     const Stopwatch clock;
     const DiffusionResult r = diffuseWithEnergy(input, *profile, dopt, plan, scene.material);
     const double seconds = plan.seconds + clock.seconds();
     const std::vector<glm::vec3>& b = r.exitance;
-    record("auto", "bake-auto", profileName + "/" + toString(r.report.method), tol,
-           r.report.gaussians, seconds, b, &exactSums.at(profileName + "/" + toString(plan.model)),
-           0.0, toString(plan.model));
+    record("auto", "bake-auto", profileName + "/" + kDiffusionMethodNames.name(r.report.method),
+           tol, r.report.gaussians, seconds, b,
+           &exactSums.at(profileName + "/" + kEnergyModelNames.name(plan.model)), 0.0,
+           kEnergyModelNames.name(plan.model));
   }
 }
 

@@ -1,9 +1,7 @@
 # The whole sss-bake pipeline on the sample dragons (data/fetch.sh): bake_bench (Google Benchmark:
 # the 100K-vertex dragon, stage times and peak memory) and bake_sweep (methods x tolerances x
 # resolutions, CSV). bake_sweep.sh runs both and draws tests/bench/results/bake/*.png.
-if(TARGET sss_bake)
-  sss_add_benchmark(bake_bench SOURCES ${CMAKE_CURRENT_LIST_DIR}/bake_bench.cpp
-                    LIBS sss_bake sss_mesh sss_envmap nlohmann_json::nlohmann_json)
-  sss_add_benchmark(bake_sweep SOURCES ${CMAKE_CURRENT_LIST_DIR}/bake_sweep.cpp
-                    LIBS sss_bake sss_mesh sss_envmap sss_material)
-endif()
+sss_add_benchmark(bake_bench SOURCES ${CMAKE_CURRENT_LIST_DIR}/bake_bench.cpp
+                  LIBS sss_bake sss_mesh sss_envmap nlohmann_json::nlohmann_json)
+sss_add_benchmark(bake_sweep SOURCES ${CMAKE_CURRENT_LIST_DIR}/bake_sweep.cpp
+                  LIBS sss_bake sss_mesh sss_envmap sss_material)

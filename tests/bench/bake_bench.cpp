@@ -12,8 +12,6 @@
 #include <filesystem>
 #include <string>
 
-#include <nlohmann/json.hpp>
-
 #include "bake/bake.h"
 #include "core/tool.h"
 
@@ -34,30 +32,32 @@ void BM_BakeDragon(benchmark::State& state, const char* mesh, const char* visibi
   settings.environment = kData + "/env/forest.exr";
   settings.material = sss::findMaterialPreset("marble");
   settings.sizeMm = 150.0;
-  settings.visibility = sss::parseVisibilityMode(visibility);
+  settings.visibility = sss::kVisibilityModeNames.parse(visibility);
   settings.samples = samples;
   settings.tolerance = 0.01;
-  settings.energy = energy;
-  settings.profile = profile;
+  settings.energy = sss::kEnergyModelNames.parse(energy);
+  settings.profile = sss::kProfileChoiceNames.parse(profile);
   settings.threads = static_cast<int>(state.range(0));
   settings.quiet = true;
-  nlohmann::json report;
+  sss::BakeReport report;
   for (auto _ : state) {
     sss::BakeOutput out = sss::bake(settings);
-    report = nlohmann::json::parse(out.reportJson);
+    report = std::move(out.report);
     benchmark::DoNotOptimize(out.baked.exitance.data());
   }
-  for (const auto& [stage, seconds] : report["stages"].items()) {
-    state.counters[stage] = seconds.get<double>();
+  state.counters["load_mesh_s"] = report.mesh.seconds;
+  state.counters["load_environment_s"] = report.environment.seconds;
+  state.counters["energy_s"] = report.energy.seconds;
+  state.counters["irradiance_s"] = report.lighting.seconds;
+  state.counters["exitance_s"] = report.transport.seconds;
+  state.counters["total_s"] = report.totalSeconds;
+  state.counters["vertices"] = static_cast<double>(report.mesh.vertices);
+  if (report.lighting.mode == sss::VisibilityMode::Rays) {
+    state.counters["samples"] = report.lighting.rays.samples;
   }
-  state.counters["vertices"] = report["mesh"]["vertices"].get<double>();
-  if (report["visibility"].contains("samples")) {
-    state.counters["samples"] = report["visibility"]["samples"].get<double>();
-  }
-  state.counters["estimated_error"] = report["estimated_error"]["total"].get<double>();
-  state.SetLabel(report["profile"]["name"].get<std::string>() + "/" +
-                 report["exitance"]["method"].get<std::string>() + "/" +
-                 report["energy"]["model"].get<std::string>());
+  state.counters["estimated_error"] = report.errors.total;
+  state.SetLabel(report.energy.profileName + "/" + report.transport.methodName() + "/" +
+                 sss::toString(report.energy.plan.model));
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   state.counters["peak_rss_mb"] = static_cast<double>(usage.ru_maxrss) / 1024.0;

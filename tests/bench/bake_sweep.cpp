@@ -198,9 +198,9 @@ int main(int argc, char** argv) {
                    double seconds) {
       char line[512];
       std::snprintf(line, sizeof line, "%s,%zu,%s,%s,%g,%.4f,%.4f,%.4f,%.4f,%.6g,%s,%.4g,%d\n",
-                    name.c_str(), n, method.c_str(), sss::toString(r.report.method).c_str(),
-                    tolerance, seconds, visibilitySeconds, loadSeconds,
-                    loadSeconds + visibilitySeconds + seconds,
+                    name.c_str(), n, method.c_str(),
+                    sss::kDiffusionMethodNames.name(r.report.method), tolerance, seconds,
+                    visibilitySeconds, loadSeconds, loadSeconds + visibilitySeconds + seconds,
                     relativeRms(r.exitance, reference.exitance), referenceName.c_str(),
                     r.report.estimatedError, r.report.gaussians);
       csv << line;
@@ -213,7 +213,7 @@ int main(int argc, char** argv) {
       if (n > slowLimit && (method == "gauss" || method == "incremental")) continue;
       for (double tolerance : {0.03, 0.01, 0.003}) {
         double seconds = 0.0;
-        const auto r = run(sss::parseDiffusionMethod(method), tolerance, seconds);
+        const auto r = run(sss::kDiffusionMethodNames.parse(method), tolerance, seconds);
         row(method, tolerance, r, seconds);
       }
     }

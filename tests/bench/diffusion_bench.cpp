@@ -87,7 +87,7 @@ const std::vector<glm::vec3>& reference(Scene& s) {
     const DiffusionMethod method =
         n <= 120000 ? DiffusionMethod::Gauss : DiffusionMethod::Hierarchical;
     s.reference = run(s, method, 0.001).exitance;
-    s.referenceName = toString(method);
+    s.referenceName = kDiffusionMethodNames.name(method);
   }
   return s.reference;
 }
@@ -114,7 +114,8 @@ void benchDiffusion(benchmark::State& state, std::string mesh, DiffusionMethod m
   state.counters["estimated_error"] = result.report.estimatedError;
   if (!std::getenv("SSS_BENCH_NO_REFERENCE")) {
     state.counters["error"] = relativeRms(result.exitance, reference(s));
-    state.SetLabel("ran " + toString(result.report.method) + "; reference " + s.referenceName);
+    state.SetLabel("ran " + std::string(kDiffusionMethodNames.name(result.report.method)) +
+                   "; reference " + s.referenceName);
   }
 }
 
@@ -148,7 +149,8 @@ int main(int argc, char** argv) {
   for (const Case& c : cases)
     for (double tol : c.tolerances) {
       char name[128];
-      std::snprintf(name, sizeof name, "%s/%s/%g", c.mesh, sss::toString(c.method).c_str(), tol);
+      std::snprintf(name, sizeof name, "%s/%s/%g", c.mesh,
+                    sss::kDiffusionMethodNames.name(c.method), tol);
       benchmark::RegisterBenchmark(name, benchDiffusion, std::string(c.mesh), c.method, tol)
           ->Unit(benchmark::kMillisecond)
           ->UseRealTime()

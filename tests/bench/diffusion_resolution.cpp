@@ -70,7 +70,7 @@ int main() {
             num += d * d, den += double(reference[i][c]) * reference[i][c];
           }
         std::printf("%s,%d,%zu,%.4g,%.4g,%s,%.5g\n", name, level, b.size(), spacing,
-                    spacing / minMfp, toString(method).c_str(), std::sqrt(num / den));
+                    spacing / minMfp, kDiffusionMethodNames.name(method), std::sqrt(num / den));
         std::fflush(stdout);
       }
     }

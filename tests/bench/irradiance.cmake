@@ -1,8 +1,6 @@
 # Irradiance speed (Google Benchmark) and the methods x sizes sweep behind the error-versus-time
 # chart (irradiance_sweep.sh runs both and draws tests/bench/results/irradiance/*.png).
-if(TARGET sss_irradiance)
-  sss_add_benchmark(irradiance_bench SOURCES ${CMAKE_CURRENT_LIST_DIR}/irradiance_bench.cpp
-                    LIBS sss_irradiance sss_envmap)
-  sss_add_benchmark(irradiance_sweep SOURCES ${CMAKE_CURRENT_LIST_DIR}/irradiance_sweep.cpp
-                    LIBS sss_irradiance sss_envmap)
-endif()
+sss_add_benchmark(irradiance_bench SOURCES ${CMAKE_CURRENT_LIST_DIR}/irradiance_bench.cpp
+                  LIBS sss_irradiance sss_envmap)
+sss_add_benchmark(irradiance_sweep SOURCES ${CMAKE_CURRENT_LIST_DIR}/irradiance_sweep.cpp
+                  LIBS sss_irradiance sss_envmap)

@@ -1,4 +1,2 @@
 # Mesh loading and baked-PLY writing on the sample dragons (data/fetch.sh).
-if(TARGET sss_mesh)
-  sss_add_benchmark(bench_mesh SOURCES ${CMAKE_CURRENT_LIST_DIR}/bench_mesh.cpp LIBS sss_mesh)
-endif()
+sss_add_benchmark(mesh_bench SOURCES ${CMAKE_CURRENT_LIST_DIR}/mesh_bench.cpp LIBS sss_mesh)

@@ -2,6 +2,8 @@
 // so that every pixel can be predicted from the camera ray.
 #include <cmath>
 #include <memory>
+#include <ostream>
+#include <string>
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
@@ -97,8 +99,19 @@ FrameOptions linearFrame(int size) {
 
 struct ExitCase {
   FresnelModel fresnel;
-  bool normalized;
+  bool normalized;  // exit scale F_t-normalized (exitRadianceScale) rather than 1/pi
 };
+
+// The test name's suffix (exact_normalized, schlick_over_pi), also what ctest -N and a failure
+// print.
+std::string exitCaseName(const ExitCase& c) {
+  return std::string(c.fresnel == FresnelModel::Exact ? "exact" : "schlick") +
+         (c.normalized ? "_normalized" : "_over_pi");
+}
+
+void PrintTo(const ExitCase& c, std::ostream* out) {
+  *out << exitCaseName(c);
+}
 
 class ExitModelTest : public RenderTest, public ::testing::WithParamInterface<ExitCase> {};
 
@@ -148,7 +161,8 @@ TEST_P(ExitModelTest, SphereWithConstantExitanceMatchesTheExitModel) {
 
 INSTANTIATE_TEST_SUITE_P(FresnelAndExit, ExitModelTest,
                          ::testing::Values(ExitCase{FresnelModel::Exact, true},
-                                           ExitCase{FresnelModel::Schlick, false}));
+                                           ExitCase{FresnelModel::Schlick, false}),
+                         [](const auto& info) { return exitCaseName(info.param); });
 
 // The paper's constant mix with factor 1 is a perfect mirror: each pixel shows the environment
 // along the reflected view ray (a mirrored lookup would swap sides).

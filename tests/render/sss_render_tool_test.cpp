@@ -1,4 +1,5 @@
 // sss-render end to end on llvmpipe: output formats, brdf vs sss, and every bad input.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -226,10 +227,22 @@ TEST_F(SssRenderTool, BadOptionsAreRejectedBeforeAnyOutput) {
   writeBakedPly(path("sphere.ply"), bakedSphere());
   writeUniformEnvironment("env.exr", glm::vec3(0.5f));
   const std::string mesh = path("sphere.ply"), env = " -e " + path("env.exr");
-  for (const std::string& args : {mesh + env + " -o " + path("out.png") + " --size 0x64",
-                                  mesh + env + " -o " + path("out.png") + " --background 1,2",
-                                  mesh + env + " -o " + path("out"),
-                                  mesh + " -e " + path("missing.exr") + " -o " + path("out.png"),
+  // Usage errors (the command line itself is wrong): exit 2.
+  for (const std::string& args :
+       {mesh + env + " -o " + path("out.png") + " --size 0x64",
+        mesh + env + " -o " + path("out.png") + " --background 1,2",
+        mesh + env + " -o " + path("out"), mesh + env + " -o " + path("out.png") + " --mode fast",
+        mesh + env + " -o " + path("out.png") + " --eta abc", mesh + env}) {
+    const ToolRun r = run(args);
+    EXPECT_EQ(r.exitCode, 2) << args;
+    EXPECT_EQ(r.output.rfind("sss-render: error: ", 0), 0u) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  }
+  EXPECT_EQ(run(mesh + env + " -o " + path("out.png") + " --mode fast").output,
+            "sss-render: error: --mode: unknown shading mode 'fast' (use sss, brdf, irradiance or "
+            "normals)\n");
+  // Bad input files: exit 1.
+  for (const std::string& args : {mesh + " -e " + path("missing.exr") + " -o " + path("out.png"),
                                   path("missing.ply") + env + " -o " + path("out.png")}) {
     const ToolRun r = run(args);
     EXPECT_EQ(r.exitCode, 1) << args;

@@ -1,4 +1,6 @@
-// The interior-segment guard for the diffusion sum B(x_o) = sum_i R_d(|x_i - x_o|) E_i A_i.
+// The interior-segment guard for the diffusion sum B(x_o) = sum_i R_d(|x_i - x_o|) E_i A_i
+// (Li & Guo Eq. 7). Study-only (accuracy_study's guard rows; the bake does not use it): the
+// library sss_bench_guard of tests/bench, tested by interior_segment_guard_test.cpp.
 //
 // A diffusion profile assumes light travels from x_i to x_o through the medium; on concave or
 // disconnected geometry (a dragon's claws, the gap between a leg and the body) the Euclidean

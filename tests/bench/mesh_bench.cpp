@@ -1,5 +1,5 @@
 // Load (strict PLY reader + cleanup + topology checks) and baked-PLY write/read times on the
-// sample meshes. Run: bench_mesh --benchmark_repetitions=5 --benchmark_format=csv
+// sample meshes. Run: mesh_bench --benchmark_repetitions=5 --benchmark_format=csv
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
@@ -41,7 +41,7 @@ void BM_BakedPlyWriteRead(benchmark::State& state) {
   baked.exitance.assign(baked.mesh.vertexCount(), glm::vec3(0.5f, 0.25f, 0.125f));
   baked.materialName = "marble";
   const std::string out =
-      (std::filesystem::temp_directory_path() / "bench_mesh_baked.ply").string();
+      (std::filesystem::temp_directory_path() / "mesh_bench_baked.ply").string();
   for (auto _ : state) {
     sss::writeBakedPly(out, baked);
     benchmark::DoNotOptimize(sss::readBakedPly(out).baked.exitance.data());

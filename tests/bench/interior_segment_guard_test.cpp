@@ -3,10 +3,10 @@
 
 #include <vector>
 
+#include "bench/interior_segment_guard.h"
 #include "material/diffusion_profile.h"
 #include "material/material.h"
 #include "mesh/primitives.h"
-#include "pathtrace/interior_segment_guard.h"
 
 namespace sss {
 namespace {

@@ -2,6 +2,8 @@
 // OFF, STL and OBJ files are errors.
 #include <gtest/gtest.h>
 
+#include <ostream>
+
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
@@ -42,6 +44,11 @@ struct Format {
   bool normals;     // the format carries vertex normals
   bool exactOrder;  // vertices come back in the same order
 };
+
+// What ctest -N and a failure print for a parameter (instead of its bytes).
+void PrintTo(const Format& f, std::ostream* out) {
+  *out << f.name;
+}
 
 class MeshFormatRoundTrip : public ::testing::TestWithParam<Format> {};
 

@@ -1,5 +1,5 @@
 // Speed of what the bake does once per run: build a profile and fit its Gaussians (goal: the
-// fit under 50 ms). Run: bench_material --benchmark_repetitions=5 --benchmark_format=csv
+// fit under 50 ms). Run: material_bench --benchmark_repetitions=5 --benchmark_format=csv
 #include <benchmark/benchmark.h>
 
 #include "material/diffusion_profile.h"

@@ -5,6 +5,7 @@
 #include <glm/geometric.hpp>
 
 #include "core/error.h"
+#include "core/luminance.h"
 #include "envmap/environment.h"
 
 namespace sss {
@@ -34,7 +35,14 @@ TEST(Sky, BadSpecsAreRefused) {
     parseSkySpec("colour=3");
     ADD_FAILURE() << "no error";
   } catch (const Error& e) {
-    EXPECT_EQ(std::string(e.what()).rfind("--sky: unknown key 'colour'", 0), 0u);
+    EXPECT_EQ(std::string(e.what()).rfind("unknown key 'colour'", 0), 0u);
+  }
+  // Read as an environment source, the error names the source.
+  try {
+    loadEnvironment("sky:elevation=95");
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "sky:elevation=95: elevation must be in [0, 90] degrees");
   }
 }
 
@@ -48,7 +56,7 @@ TEST(Sky, SunIsTheBrightestTexelAndCarriesItsFlux) {
   for (int f = 0; f < 6; ++f) {
     for (int y = 0; y < 32; ++y) {
       for (int x = 0; x < 32; ++x) {
-        const float lum = glm::dot(sky.at(f, x, y), glm::vec3(0.2126f, 0.7152f, 0.0722f));
+        const float lum = luminance(sky.at(f, x, y));
         ASSERT_TRUE(std::isfinite(lum));
         ASSERT_GE(lum, 0.0f);
         if (lum > best) best = lum, bf = f, bx = x, by = y;
@@ -74,8 +82,7 @@ TEST(Sky, SunIsTheBrightestTexelAndCarriesItsFlux) {
     for (int y = 0; y < 64; ++y) {
       for (int x = 0; x < 64; ++x) {
         if (glm::dot(big.direction(f, x, y), sun) > std::cos(0.25)) {
-          bigFlux += glm::dot(big.at(f, x, y), glm::vec3(0.2126f, 0.7152f, 0.0722f)) *
-                     big.solidAngle(f, x, y);
+          bigFlux += luminance(big.at(f, x, y)) * big.solidAngle(f, x, y);
         }
       }
     }

@@ -1,4 +1,4 @@
-// The diffusion sums of Eq. 7 (lib/bake/diffusion.h) against analytic cases (a plane under
+// The diffusion sums of Li & Guo Eq. 7 (lib/bake/diffusion.h) against analytic cases (a plane under
 // uniform light), refinement (a sphere at four subdivision levels), the O(N^2) reference, and
 // thread counts.
 #include "bake/diffusion.h"
@@ -109,7 +109,7 @@ TEST(Diffusion, PlaneUnderUniformLightGivesTotalReflectanceGaussian) {
                             DiffusionMethod::Incremental, DiffusionMethod::Auto}) {
     const DiffusionResult r = run(s, profile, m);
     expectPlaneInteriorMatchesTotal(s, r.exitance, profile.totalReflectance(), 100, 30, 0.01,
-                                    toString(m).c_str());
+                                    kDiffusionMethodNames.name(m));
   }
 }
 
@@ -122,7 +122,7 @@ TEST(Diffusion, CoarsePlaneStaysCloseToTotalReflectance) {
                             DiffusionMethod::Hierarchical, DiffusionMethod::Incremental}) {
     const DiffusionResult r = run(s, profile, m);
     expectPlaneInteriorMatchesTotal(s, r.exitance, profile.totalReflectance(), 120, 40, 0.05,
-                                    toString(m).c_str());
+                                    kDiffusionMethodNames.name(m));
   }
 }
 
@@ -149,7 +149,8 @@ TEST(Diffusion, FastMethodsMatchExactWithinTolerance) {
   for (DiffusionMethod m : {DiffusionMethod::Gauss, DiffusionMethod::Hierarchical,
                             DiffusionMethod::Incremental, DiffusionMethod::Auto}) {
     const DiffusionResult r = run(s, profile, m);
-    EXPECT_LT(relativeRms(r.exitance, exact.exitance, s.irradiance.size()), 0.01) << toString(m);
+    EXPECT_LT(relativeRms(r.exitance, exact.exitance, s.irradiance.size()), 0.01)
+        << kDiffusionMethodNames.name(m);
     if (m != DiffusionMethod::Auto) {
       EXPECT_EQ(r.report.method, m);
     }
@@ -179,7 +180,7 @@ TEST(Diffusion, OtherProfilesMatchExact) {
     for (DiffusionMethod m : {DiffusionMethod::Gauss, DiffusionMethod::Hierarchical}) {
       const DiffusionResult r = run(s, *profile, m);
       EXPECT_LT(relativeRms(r.exitance, exact.exitance, s.irradiance.size()), 0.02)
-          << kind << " " << toString(m);
+          << kind << " " << kDiffusionMethodNames.name(m);
     }
   }
 }
@@ -193,7 +194,7 @@ TEST(Diffusion, SameResultForOneAndTwoThreads) {
     ASSERT_EQ(one.exitance.size(), two.exitance.size());
     EXPECT_EQ(0, std::memcmp(one.exitance.data(), two.exitance.data(),
                              one.exitance.size() * sizeof(glm::vec3)))
-        << toString(m);
+        << kDiffusionMethodNames.name(m);
   }
 }
 
@@ -230,12 +231,12 @@ TEST(Diffusion, RejectsBadInput) {
   s = litScene(makeIcosphere(1, 10), false);
   EXPECT_THROW(run(s, profile, DiffusionMethod::Gauss, 0, 0.0), Error);
   try {
-    parseDiffusionMethod("fast");
+    kDiffusionMethodNames.parse("fast");
     FAIL() << "unknown method accepted";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("hierarchical"), std::string::npos);
   }
-  EXPECT_EQ(parseDiffusionMethod("incremental"), DiffusionMethod::Incremental);
+  EXPECT_EQ(kDiffusionMethodNames.parse("incremental"), DiffusionMethod::Incremental);
 }
 
 TEST(Diffusion, EmptyInputGivesEmptyOutput) {

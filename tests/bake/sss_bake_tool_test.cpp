@@ -94,9 +94,10 @@ class BakeTool : public ::testing::Test {
     return path(mesh) + " -e " + path("white.exr") + " -o " + path("out.ply") + " --samples " +
            std::to_string(samples) + " -q " + extra;
   }
-  // An error: exit code 1, one "sss-bake: error:" line containing `text`, nothing written.
-  void expectError(const RunResult& r, const std::string& text) const {
-    EXPECT_EQ(r.exitCode, 1) << r.output;
+  // An error: exit code 1 (bad input; 2 for a usage error, core/tool.h), one "sss-bake: error:"
+  // line containing `text`, nothing written.
+  void expectError(const RunResult& r, const std::string& text, int exitCode = 1) const {
+    EXPECT_EQ(r.exitCode, exitCode) << r.output;
     EXPECT_NE(r.output.find("sss-bake: error:"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find(text), std::string::npos) << "expected '" << text << "' in:\n"
                                                       << r.output;
@@ -105,6 +106,10 @@ class BakeTool : public ::testing::Test {
       EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos)
           << "left behind: " << entry.path();
     }
+  }
+
+  void expectUsageError(const RunResult& r, const std::string& text) const {
+    expectError(r, text, 2);
   }
 
   fs::path dir_;
@@ -323,7 +328,7 @@ TEST_F(BakeTool, ListsMaterials) {
 }
 
 TEST_F(BakeTool, MissingUnitsIsAnError) {
-  expectError(run(args("sphere.ply", "-m marble")), "units are missing");
+  expectUsageError(run(args("sphere.ply", "-m marble")), "--mm-per-unit,--unit,--size-mm");
 }
 
 TEST_F(BakeTool, MissingMeshIsAnError) {
@@ -400,24 +405,26 @@ TEST_F(BakeTool, BadCoefficientsAreErrors) {
   expectError(run(args("sphere.ply", "--sigma-a -0.1,0.1,0.1 --sigma-s 1 --unit mm")), "negative");
   expectError(run(args("sphere.ply", "--sigma-a 1e9 --sigma-s 1 --unit mm")), "material");
   expectError(run(args("sphere.ply", "-m marble --eta 0.9 --unit mm")), "eta");
-  expectError(run(args("sphere.ply", "--sigma-a 0.1,x,0.1 --sigma-s 1 --unit mm")), "--sigma-a");
-  expectError(run(args("sphere.ply", "--sigma-a 0.1 --unit mm")), "--sigma-s");
+  expectUsageError(run(args("sphere.ply", "--sigma-a 0.1,x,0.1 --sigma-s 1 --unit mm")),
+                   "--sigma-a");
+  expectUsageError(run(args("sphere.ply", "--sigma-a 0.1 --unit mm")), "--sigma-s");
 }
 
 TEST_F(BakeTool, BadChoicesAreErrors) {
-  expectError(run(args("sphere.ply", "-m jelly --unit mm")), "marble");
-  expectError(run(args("sphere.ply", "-m marble --unit furlong")), "furlong");
-  expectError(run(args("sphere.ply", "-m marble --mm-per-unit -2")), "--mm-per-unit");
-  expectError(run(args("sphere.ply", "-m marble --unit mm --method fastest")), "fastest");
-  expectError(run(args("sphere.ply", "-m marble --unit mm --visibility some")), "some");
-  expectError(run(args("sphere.ply", "-m marble --unit mm --energy lots")), "lots");
-  expectError(run(args("sphere.ply", "-m marble --unit mm --profile gaussian")), "gaussian");
-  expectError(run(args("sphere.ply", "-m marble --unit mm", 1)), "--samples");
-  expectError(run(path("sphere.ply") + " -e " + path("white.exr") + " -o " + path("out.ply") +
-                  " -m marble --unit mm --samples many"),
-              "--samples");
-  expectError(run(args("sphere.ply", "-m marble --unit mm --tolerance 0")), "--tolerance");
-  expectError(run(path("sphere.ply") + " -m marble --unit mm -o " + path("out.ply")), "-e ENV");
+  expectUsageError(run(args("sphere.ply", "-m jelly --unit mm")), "marble");  // names the presets
+  expectUsageError(run(args("sphere.ply", "-m marble --unit furlong")), "furlong");
+  expectUsageError(run(args("sphere.ply", "-m marble --mm-per-unit -2")), "--mm-per-unit");
+  expectUsageError(run(args("sphere.ply", "-m marble --unit mm --method fastest")), "fastest");
+  expectUsageError(run(args("sphere.ply", "-m marble --unit mm --visibility some")), "some");
+  expectUsageError(run(args("sphere.ply", "-m marble --unit mm --energy lots")), "lots");
+  expectUsageError(run(args("sphere.ply", "-m marble --unit mm --profile gaussian")), "gaussian");
+  expectUsageError(run(args("sphere.ply", "-m marble --unit mm", 1)), "--samples");
+  expectUsageError(run(path("sphere.ply") + " -e " + path("white.exr") + " -o " + path("out.ply") +
+                       " -m marble --unit mm --samples many"),
+                   "--samples");
+  expectUsageError(run(args("sphere.ply", "-m marble --unit mm --tolerance 0")), "--tolerance");
+  expectUsageError(run(path("sphere.ply") + " -m marble --unit mm -o " + path("out.ply")),
+                   "-e,--env,--sky");
 }
 
 TEST_F(BakeTool, BadEnvironmentIsAnError) {

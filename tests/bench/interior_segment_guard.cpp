@@ -1,4 +1,4 @@
-#include "pathtrace/interior_segment_guard.h"
+#include "bench/interior_segment_guard.h"
 
 #include <algorithm>
 #include <atomic>

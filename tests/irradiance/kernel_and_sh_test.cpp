@@ -138,7 +138,7 @@ TEST(SphericalHarmonics, WindowsDampHighBands) {
   }
   EXPECT_DOUBLE_EQ(shWindowWeight(ShWindow::None, 2, 2), 1.0);
   EXPECT_NEAR(shWindowWeight(ShWindow::Hann, 1, 2), 0.75, 1e-12);  // (1 + cos(pi / 3)) / 2
-  EXPECT_EQ(parseShWindow("lanczos"), ShWindow::Lanczos);
+  EXPECT_EQ(kShWindowNames.parse("lanczos"), ShWindow::Lanczos);
 }
 
 }  // namespace

@@ -37,7 +37,7 @@ TEST(Irradiance, UniformEnvironmentGivesPiL) {
       o.tolerance = method == IrradianceMethod::Brute ? 0.0 : 0.01;
       const IrradianceResult r = computeIrradiance(uniform, o);
       EXPECT_LT(maxRelativeError(r.irradiance, expected), 1e-4)
-          << irradianceMethodName(method) << " eta " << eta;
+          << kIrradianceMethodNames.name(method) << " eta " << eta;
       EXPECT_LT(r.estimatedError, 1e-4);
     }
   }
@@ -183,7 +183,7 @@ TEST(Irradiance, FaceSizeFollowsTheTolerance) {
   EXPECT_LT(loose.irradiance.size(), tight.irradiance.size());
   EXPECT_LE(loose.estimatedError, 0.05);
   EXPECT_LE(tight.estimatedError, 2e-4);
-  EXPECT_THROW(parseIrradianceMethod("fast"), Error);
+  EXPECT_THROW(kIrradianceMethodNames.parse("fast"), Error);
 }
 
 }  // namespace

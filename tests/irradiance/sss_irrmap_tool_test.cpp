@@ -166,21 +166,39 @@ TEST_F(SssIrrmap, NegativeTexelsAreClampedWithAWarning) {
   for (std::size_t i = 0; i < radiance.texelCount(); ++i) EXPECT_GE(radiance.data()[i].x, 0.0f);
 }
 
+// A usage error (the command line itself is wrong): one error line, exit 2, nothing written.
 TEST_F(SssIrrmap, BadOptions) {
-  EXPECT_EQ(run("-o " + path("e.exr")).output,
-            "sss-irrmap: error: no environment: give INPUT (equirect, cross or cubemap image) or "
-            "--sky\n");
-  EXPECT_EQ(
-      run("--sky").output,
-      "sss-irrmap: error: nothing to write: give --radiance, -o/--irradiance, --sh or --json\n");
-  EXPECT_EQ(run("--sky -o " + path("e.png")).output,
-            "sss-irrmap: error: " + path("e.png") + ": --irradiance needs a .exr file\n");
-  EXPECT_EQ(run("--sky=elevation=95 -o " + path("e.exr")).output,
-            "sss-irrmap: error: --sky: elevation must be in [0, 90] degrees\n");
-  EXPECT_EQ(run("--sky --method fast -o " + path("e.exr")).output,
-            "sss-irrmap: error: unknown irradiance method 'fast' (auto, brute, sh)\n");
+  auto expectUsageError = [&](const std::string& args, const std::string& message) {
+    const ToolRun r = run(args);
+    EXPECT_EQ(r.exitCode, 2) << args;
+    EXPECT_EQ(r.output, "sss-irrmap: error: " + message + "\n") << args;
+  };
+  expectUsageError("-o " + path("e.exr"),
+                   "no environment: give INPUT (equirect, cross or cubemap image) or --sky");
+  expectUsageError("--sky", "nothing to write: give --radiance, -o/--irradiance, --sh or --json");
+  expectUsageError("--sky -o " + path("e.png"), path("e.png") + ": --irradiance needs a .exr file");
+  expectUsageError("--sky=elevation=95 -o " + path("e.exr"),
+                   "--sky: elevation must be in [0, 90] degrees");
+  expectUsageError("--sky --method fast -o " + path("e.exr"),
+                   "--method: unknown irradiance method 'fast' (use auto, brute or sh)");
+  // CLI11's own parse errors get the same line and status.
+  expectUsageError("--sky --size abc -o " + path("e.exr"), "Could not convert: --size = abc");
+  expectUsageError("--sky --size -1 -o " + path("e.exr"),
+                   "--size: must be a finite number >= 0, got '-1'");
+  expectUsageError("--sky --eta 0 -o " + path("e.exr"), "--eta: eta must be a positive number");
+  expectUsageError("--sky --frobnicate -o " + path("e.exr"),
+                   "The following argument was not expected: --frobnicate");
+  expectUsageError(path("x.exr") + " --sky -o " + path("e.exr"), "INPUT excludes --sky");
+  // A missing output folder is a failure of the run, not of the command line.
   EXPECT_EQ(run("--sky -o " + path("no/such/dir/e.exr")).exitCode, 1);
   EXPECT_TRUE(files().empty());
+}
+
+TEST_F(SssIrrmap, HelpGoesToStdoutWithStatusZero) {
+  const ToolRun r = test::runTool("sss-irrmap", "--help", Capture::StdoutAndStderr);
+  EXPECT_EQ(r.exitCode, 0);
+  EXPECT_NE(r.output.find("--method auto|brute|sh"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("sss-irrmap: error"), std::string::npos) << r.output;
 }
 
 }  // namespace

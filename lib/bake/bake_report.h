@@ -1,0 +1,42 @@
+// What a bake did, stage by stage: each stage's own report (counts, choices and why, timings),
+// gathered once. bake_report_json.h turns it into the JSON of `sss-bake --json`.
+#pragma once
+
+#include <string>
+
+#include "bake/light_vertices.h"
+#include "bake/plan_energy.h"
+#include "bake/prepare_mesh.h"
+#include "bake/transport.h"
+#include "material/material.h"
+
+namespace sss {
+
+struct EnvironmentStageReport {
+  std::string source;  // the file, or "sky[:spec]"
+  int faceSize = 0;    // of the radiance cubemap
+  double seconds = 0.0;
+};
+
+// Predicted relative RMS errors of B, independent, so they add in quadrature (error_budget.h).
+struct BakeErrorReport {
+  double visibility = 0.0;  // from E (visibility noise or the irradiance cubemap)
+  double exitance = 0.0;    // the transport method's own
+  double energy = 0.0;      // the escape walks' noise
+  double total = 0.0;
+  double tolerance = 0.0;
+};
+
+struct BakeReport {
+  MeshStageReport mesh;
+  EnvironmentStageReport environment;
+  Material material;
+  EnergyStageReport energy;  // also the profile; empty for the path tracer
+  LightingReport lighting;
+  TransportReport transport;
+  BakeErrorReport errors;
+  int threads = 0;
+  double totalSeconds = 0.0;
+};
+
+}  // namespace sss

@@ -1,0 +1,166 @@
+#include "bake/bake_report_json.h"
+
+namespace sss {
+
+namespace {
+
+Json toJson(const glm::dvec3& v) {
+  return Json::array({v.x, v.y, v.z});
+}
+
+Json pilotJson(const RayLightingReport& r) {
+  const VisibilityPilot& pilot = r.visibility.pilot;
+  return {{"vertices", pilot.vertices.size()},
+          {"replicas", pilot.replicas},
+          {"rays_per_replica", {pilot.coarseRays, pilot.fineRays}},
+          {"convergence_rate", r.noiseModel.rate},
+          {"rays", pilot.rays},
+          {"effective_vertices", r.noiseModel.meanEffectiveVertices},
+          {"seconds", pilot.seconds},
+          {"noise_model_s", r.noiseModelSeconds}};
+}
+
+Json profileJson(const EnergyStageReport& r) {
+  return {{"name", r.profileName},
+          {"requested", kProfileChoiceNames.name(r.profileRequested)},
+          {"total_reflectance", toJson(r.profileTotalReflectance)}};
+}
+
+Json materialJson(const Material& m) {
+  return {{"name", m.name},
+          {"sigma_a_per_mm", toJson(m.sigmaA)},
+          {"sigma_s_prime_per_mm", toJson(m.sigmaSPrime)},
+          {"eta", m.eta},
+          {"diffuse_mean_free_path_mm", toJson(m.diffuseMeanFreePath())}};
+}
+
+}  // namespace
+
+Json toJson(const MeshStageReport& r) {
+  const MeshReport& m = r.load;
+  return {{"file", r.file},
+          {"format", m.format},
+          {"vertices", r.vertices},
+          {"triangles", r.triangles},
+          {"file_vertices", m.fileVertices},
+          {"file_faces", m.fileFaces},
+          {"dropped_degenerate", m.droppedDegenerate},
+          {"dropped_duplicate", m.droppedDuplicate},
+          {"dropped_unreferenced", m.droppedUnreferenced},
+          {"non_manifold_edges", m.nonManifoldEdges},
+          {"non_manifold_vertices", m.nonManifoldVertices},
+          {"boundary_edges", m.boundaryEdges},
+          {"components", m.components},
+          {"normals_computed", m.normalsComputed},
+          {"orientation_flipped", m.orientationFlipped},
+          {"surface_area_mm2", r.surfaceAreaMm2}};
+}
+
+Json toJson(const EnergyStageReport& r) {
+  const EnergyPlan& plan = r.plan;
+  Json j = {{"model", toString(plan.model)},
+            {"requested", toString(r.requested)},
+            {"reason", plan.reason},
+            {"halfspace_albedo", toJson(plan.halfSpaceAlbedo)},
+            {"seconds", plan.seconds}};
+  if (r.requested != EnergyModel::HalfSpace) {
+    j["halfspace_deviation"] = plan.halfSpaceDeviation;
+    j["mean_escape_probability"] = toJson(plan.escape.mean);
+    j["probes"] = plan.escape.probes;
+    j["walks_per_probe"] = plan.walks;
+    j["lost_walks"] = plan.escape.lostWalks;
+    j["mean_scattering_events"] = plan.escape.meanScatteringEvents;
+    j["smoothing_sigma_mm"] = toJson(plan.escape.smoothingSigmaMm);
+    j["estimated_error"] = r.walkError();
+  }
+  return j;
+}
+
+Json toJson(const LightingReport& r) {
+  Json j;
+  j["mode"] = kVisibilityModeNames.name(r.mode);
+  if (r.mode == VisibilityMode::None) {
+    j["irradiance_method"] = kIrradianceMethodNames.name(r.cubemap.method);
+    j["irradiance_face_size"] = r.cubemap.faceSize;
+    j["estimated_error"] = r.estimatedError;
+    j["reason"] = r.cubemap.reason;
+    return j;
+  }
+  const RayLightingReport& rays = r.rays;
+  j["samples"] = rays.samples;
+  j["samples_requested"] = rays.samplesRequested == 0 ? Json("auto") : Json(rays.samplesRequested);
+  j["samples_reason"] = rays.samplesReason;
+  j["seed"] = rays.seed;
+  j["rays"] = rays.visibility.rays;
+  j["occluded_fraction"] = rays.visibility.occludedFraction;
+  j["estimated_error"] = r.estimatedError;  // of B, from the noise model
+  j["estimated_error_E"] = rays.irradianceError;
+  // The per-technique bound of one estimate (ignores stratification, so it is too high).
+  j["error_bound_E"] = rays.visibility.relativeStdError;
+  j["budget"] = rays.budget;
+  j["pilot"] = pilotJson(rays);
+  j["bvh_build_s"] = rays.visibility.buildSeconds;
+  j["trace_s"] = rays.visibility.traceSeconds;
+  return j;
+}
+
+Json toJson(const TransportReport& r) {
+  Json j;
+  if (r.pathTrace) {
+    const PathTraceStageReport& p = r.pathTracer;
+    j["method"] = r.methodName();
+    j["walks"] = p.walks;
+    j["g"] = p.g;
+    j["mean_scattering_events"] = p.meanScatteringEvents;
+    j["truncated_walks"] = p.truncatedWalks;
+    j["escaped_walks"] = p.escapedWalks;
+    j["estimated_error"] = r.estimatedError;
+    j["warnings"] = p.warnings;
+    return j;
+  }
+  const DiffusionReport& d = r.diffusion;
+  j["method"] = r.methodName();
+  j["requested"] = kBakeMethodNames.name(r.requested);
+  j["reason"] = d.reason;
+  j["tolerance"] = r.diffusionTolerance;
+  j["cutoffs_mm"] = d.cutoffs;
+  if (d.clusterTheta > 0) j["cluster_theta"] = d.clusterTheta;
+  j["interactions"] = d.interactions;
+  j["estimated_error"] = d.estimatedError;
+  j["fit_s"] = d.fitSeconds;
+  j["index_s"] = d.indexSeconds;
+  j["sum_s"] = d.sumSeconds;
+  j["profile_fit"] = {
+      {"gaussians", d.gaussians}, {"error", d.fitError}, {"variances_mm2", d.variances}};
+  return j;
+}
+
+Json toJson(const BakeErrorReport& r) {
+  return {{"visibility", r.visibility},
+          {"exitance", r.exitance},
+          {"energy", r.energy},
+          {"total", r.total},
+          {"tolerance", r.tolerance}};
+}
+
+Json toJson(const BakeReport& r) {
+  Json j;
+  j["mesh"] = toJson(r.mesh);
+  j["units"] = {{"mm_per_unit", r.mesh.mmPerUnit}, {"longest_side_mm", r.mesh.longestSideMm}};
+  j["environment"] = {{"source", r.environment.source}, {"face_size", r.environment.faceSize}};
+  j["material"] = materialJson(r.material);
+  if (!r.transport.pathTrace) {
+    j["profile"] = profileJson(r.energy);
+    j["energy"] = toJson(r.energy);
+  }
+  j["visibility"] = toJson(r.lighting);
+  j["exitance"] = toJson(r.transport);
+  j["estimated_error"] = toJson(r.errors);
+  j["threads"] = r.threads;
+  j["stages"] = {{"load_mesh_s", r.mesh.seconds},     {"load_environment_s", r.environment.seconds},
+                 {"energy_s", r.energy.seconds},      {"irradiance_s", r.lighting.seconds},
+                 {"exitance_s", r.transport.seconds}, {"total_s", r.totalSeconds}};
+  return j;
+}
+
+}  // namespace sss

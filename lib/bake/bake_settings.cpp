@@ -1,0 +1,63 @@
+#include "bake/bake_settings.h"
+
+#include <cmath>
+
+#include "core/error.h"
+#include "material/diffusion_profile.h"
+#include "mesh/units.h"
+
+namespace sss {
+
+DiffusionMethod diffusionMethodOf(BakeMethod method) {
+  switch (method) {
+    case BakeMethod::Exact:
+      return DiffusionMethod::Exact;
+    case BakeMethod::Gauss:
+      return DiffusionMethod::Gauss;
+    case BakeMethod::Incremental:
+      return DiffusionMethod::Incremental;
+    case BakeMethod::Hierarchical:
+      return DiffusionMethod::Hierarchical;
+    case BakeMethod::Auto:
+    case BakeMethod::PathTrace:
+      break;
+  }
+  return DiffusionMethod::Auto;
+}
+
+void checkTolerance(double tolerance) {
+  if (!(tolerance > 0.0 && tolerance < 1.0)) {
+    fail("", "the tolerance must be in (0, 1), e.g. 0.01 for 1%");
+  }
+}
+
+void checkVisibilitySamples(int samples) {
+  if (samples != 0 && samples < 2) fail("", "visibility rays per vertex must be at least 2");
+}
+
+void checkPathTracerWalks(int walks) {
+  if (walks < 1) fail("", "the path tracer needs at least 1 walk per vertex");
+}
+
+void checkSizeMm(double sizeMm) {
+  if (!(std::isfinite(sizeMm) && sizeMm > 0.0)) {
+    fail("", "the mesh size must be a positive, finite length in mm");
+  }
+}
+
+void validateBakeSettings(const BakeSettings& s) {
+  validateMaterial(s.material, "material");
+  if (s.profile != ProfileChoice::Auto) {
+    makeProfile(kProfileChoiceNames.name(s.profile), s.material);  // validates the pair
+  }
+  if (s.sizeMm > 0.0) {
+    checkSizeMm(s.sizeMm);
+  } else {
+    checkMmPerUnit(s.mmPerUnit, "millimetres per mesh unit");
+  }
+  checkVisibilitySamples(s.samples);
+  if (s.method == BakeMethod::PathTrace) checkPathTracerWalks(s.walks);
+  checkTolerance(s.tolerance);
+}
+
+}  // namespace sss

@@ -1,0 +1,74 @@
+// What one bake is asked to do: the inputs (mesh, environment, material, units) and the choices
+// (visibility, transport method, profile, energy model, tolerance), each choice an enum with one
+// name table used for parsing, printing and --help.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "bake/finite_object_energy.h"
+#include "core/enum_names.h"
+#include "material/material.h"
+
+namespace sss {
+
+// E per vertex: the irradiance cubemap looked up at the vertex normal (no shadows), or Embree
+// visibility rays against the mesh itself (lib/bake/visibility.h).
+enum class VisibilityMode { None, Rays };
+inline constexpr EnumNames<VisibilityMode, 2> kVisibilityModeNames{
+    "visibility", {{{VisibilityMode::None, "none"}, {VisibilityMode::Rays, "rays"}}}};
+
+// B per vertex: a diffusion sum of Li & Guo Eq. 7 (lib/bake/diffusion.h; Auto picks the cheapest
+// that meets the tolerance) or the volumetric Monte Carlo reference (lib/pathtrace).
+enum class BakeMethod { Auto, Exact, Gauss, Incremental, Hierarchical, PathTrace };
+inline constexpr EnumNames<BakeMethod, 6> kBakeMethodNames{
+    "method",
+    {{{BakeMethod::Auto, "auto"},
+      {BakeMethod::Exact, "exact"},
+      {BakeMethod::Gauss, "gauss"},
+      {BakeMethod::Incremental, "incremental"},
+      {BakeMethod::Hierarchical, "hierarchical"},
+      {BakeMethod::PathTrace, "pathtrace"}}}};
+// The diffusion method of a method other than PathTrace.
+DiffusionMethod diffusionMethodOf(BakeMethod method);
+
+// The diffusion profile R_d (lib/material, makeProfile's names); Auto: autoProfileName() of the
+// energy model in use.
+enum class ProfileChoice { Auto, Dipole, Beam, Burley };
+inline constexpr EnumNames<ProfileChoice, 4> kProfileChoiceNames{
+    "profile",
+    {{{ProfileChoice::Auto, "auto"},
+      {ProfileChoice::Dipole, "dipole"},
+      {ProfileChoice::Beam, "beam"},
+      {ProfileChoice::Burley, "burley"}}}};
+
+struct BakeSettings {
+  std::string meshPath;
+  std::string environment;  // an environment file, or "sky" / "sky:<spec>" (loadEnvironment)
+  Material material;
+  double mmPerUnit = 0.0;  // millimetres per mesh unit (> 0), unless sizeMm > 0
+  double sizeMm = 0.0;     // > 0: scale so that the longest bounding-box side is this long
+  VisibilityMode visibility = VisibilityMode::Rays;
+  int samples = 0;    // visibility rays per vertex (>= 2); 0: auto (chooseVisibilitySamples)
+  uint64_t seed = 1;  // visibility rays and Monte Carlo walks
+  BakeMethod method = BakeMethod::Auto;
+  ProfileChoice profile = ProfileChoice::Auto;  // unused by PathTrace
+  EnergyModel energy = EnergyModel::Auto;       // unused by PathTrace
+  // Relative RMS of B; ErrorBudget (error_budget.h) splits it between the estimates.
+  double tolerance = 0.01;
+  int walks = 256;              // PathTrace: random walks per vertex (>= 1)
+  int environmentFaceSize = 0;  // 0: from the source resolution
+  int threads = 0;              // <= 0: all cores
+  bool quiet = false;           // no progress bars or info lines
+};
+
+// Everything that needs no file, so that a typo costs nothing: the material, the units, the
+// counts and the tolerance. Throws Error naming the setting in the library's terms.
+void validateBakeSettings(const BakeSettings& settings);
+// The single checks it makes, for tools that check an option as it is parsed.
+void checkTolerance(double tolerance);     // in (0, 1)
+void checkVisibilitySamples(int samples);  // 0 (auto) or >= 2
+void checkPathTracerWalks(int walks);      // >= 1
+void checkSizeMm(double sizeMm);           // finite, > 0
+
+}  // namespace sss

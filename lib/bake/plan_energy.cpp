@@ -1,0 +1,35 @@
+#include "bake/plan_energy.h"
+
+#include "core/timer.h"
+#include "core/tool.h"
+
+namespace sss {
+
+EnergyStage planEnergy(const EnergyStageInput& in) {
+  const Stopwatch clock;
+  EnergyStage out;
+  EnergyStageReport& report = out.report;
+  report.requested = in.energy;
+  report.walkBudget = in.walkBudget;
+  report.profileRequested = in.profile;
+  if (in.runWalks) {
+    EnergyOptions options;
+    options.model = in.energy;
+    options.noiseBudget = in.walkBudget;
+    options.seed = in.seed;
+    options.threads = in.threads;
+    options.quiet = in.quiet;
+    report.plan = planFiniteObjectEnergy(in.meshMm, in.areasMm2, in.material, options);
+    info("energy: " + toString(report.plan.model) + " (" + report.plan.reason + ")", in.quiet);
+    if (report.escape() && report.plan.escape.relativeStdError > in.walkBudget)
+      warn("energy: " + report.plan.reason);
+  }
+  report.profileName = in.profile == ProfileChoice::Auto ? autoProfileName(report.plan.model)
+                                                         : kProfileChoiceNames.name(in.profile);
+  out.profile = makeProfile(report.profileName, in.material);
+  report.profileTotalReflectance = out.profile->totalReflectance();
+  report.seconds = clock.seconds();
+  return out;
+}
+
+}  // namespace sss

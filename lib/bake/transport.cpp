@@ -1,0 +1,81 @@
+#include "bake/transport.h"
+
+#include <cmath>
+
+#include "core/format.h"
+#include "core/luminance.h"
+#include "core/timer.h"
+#include "core/tool.h"
+#include "mesh/triangle_mesh.h"
+#include "pathtrace/subsurface_path_tracer.h"
+
+namespace sss {
+
+namespace {
+
+// Root mean square over vertices of |stderr| / |value| in luminance, for vertices with light.
+double relativeRms(const std::vector<glm::vec3>& value, const std::vector<glm::vec3>& stdErr) {
+  double sum = 0.0;
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < value.size() && i < stdErr.size(); ++i) {
+    const double y = luminance(glm::dvec3(value[i]));
+    const double e = luminance(glm::dvec3(stdErr[i]));
+    if (y > 0.0) {
+      sum += (e / y) * (e / y);
+      ++count;
+    }
+  }
+  return count ? std::sqrt(sum / static_cast<double>(count)) : 0.0;
+}
+
+std::vector<glm::vec3> pathTrace(const TransportInput& in, TransportReport& report) {
+  PathTraceOptions options;
+  options.samples = in.walks;
+  options.seed = in.seed;
+  options.threads = in.threads;
+  options.quiet = in.quiet;
+  options.estimateRadiance = false;
+  PathTraceResult result = pathTraceSubsurface(in.meshMm, in.radiance, in.material, options);
+  PathTraceStageReport& r = report.pathTracer;
+  r.walks = in.walks;
+  r.g = in.material.g;
+  r.meanScatteringEvents = result.meanScatteringEvents;
+  r.truncatedWalks = result.truncatedWalks;
+  r.escapedWalks = result.escapedWalks;
+  r.warnings = result.warnings;
+  report.estimatedError = relativeRms(result.exitance, result.exitanceStdErr);
+  return std::move(result.exitance);
+}
+
+std::vector<glm::vec3> diffusionSum(const TransportInput& in, TransportReport& report) {
+  const DiffusionInput input{in.meshMm.positions, in.meshMm.normals, in.areasMm2, in.irradiance};
+  DiffusionOptions options;
+  options.method = diffusionMethodOf(in.method);
+  options.tolerance = in.diffusionTolerance;
+  options.threads = in.threads;
+  options.quiet = in.quiet;
+  DiffusionResult result = diffuseWithEnergy(input, in.profile, options, in.energy, in.material);
+  report.diffusion = std::move(result.report);
+  report.diffusionTolerance = in.diffusionTolerance;
+  report.estimatedError = report.diffusion.estimatedError;
+  return std::move(result.exitance);
+}
+
+}  // namespace
+
+std::string TransportReport::methodName() const {
+  return pathTrace ? kBakeMethodNames.name(BakeMethod::PathTrace) : toString(diffusion.method);
+}
+
+VertexExitance transport(const TransportInput& in) {
+  const Stopwatch clock;
+  VertexExitance out;
+  out.report.requested = in.method;
+  out.report.pathTrace = in.method == BakeMethod::PathTrace;
+  out.exitance = out.report.pathTrace ? pathTrace(in, out.report) : diffusionSum(in, out.report);
+  out.report.seconds = clock.seconds();
+  info(out.report.methodName() + ": " + format("%.3f s", out.report.seconds), in.quiet);
+  return out;
+}
+
+}  // namespace sss

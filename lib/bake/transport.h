@@ -1,0 +1,66 @@
+// Bake stage 4: the exitance B per vertex from E: a diffusion sum of Li & Guo Eq. 7
+// (diffusion.h) with the energy model of finite_object_energy.h, or the volumetric Monte Carlo
+// reference (lib/pathtrace/subsurface_path_tracer.h), which needs neither E nor a profile.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "bake/bake_settings.h"
+#include "bake/diffusion.h"
+#include "bake/finite_object_energy.h"
+
+namespace sss {
+
+class Cubemap;           // envmap/cubemap.h
+class DiffusionProfile;  // material/diffusion_profile.h
+struct TriangleMesh;     // mesh/triangle_mesh.h
+
+struct TransportInput {
+  const TriangleMesh& meshMm;
+  std::span<const float> areasMm2;
+  std::span<const glm::vec3> irradiance;  // E per vertex (diffusion)
+  const Cubemap& radiance;                // the environment (path tracer)
+  const Material& material;
+  const DiffusionProfile& profile;
+  const EnergyPlan& energy;
+  BakeMethod method = BakeMethod::Auto;
+  double diffusionTolerance = 0.01;  // ErrorBudget::diffusionTolerance
+  int walks = 256;                   // path tracer: walks per vertex
+  uint64_t seed = 1;
+  int threads = 0;
+  bool quiet = false;
+};
+
+struct PathTraceStageReport {
+  int walks = 0;
+  double g = 0.0;
+  double meanScatteringEvents = 0.0;
+  uint64_t truncatedWalks = 0, escapedWalks = 0;
+  std::vector<std::string> warnings;
+};
+
+struct TransportReport {
+  BakeMethod requested = BakeMethod::Auto;
+  bool pathTrace = false;
+  DiffusionReport diffusion;  // diffusion methods
+  double diffusionTolerance = 0.0;
+  PathTraceStageReport pathTracer;  // pathTrace
+  double estimatedError = 0.0;      // the method's own relative RMS error of B
+  double seconds = 0.0;
+  // The name of the method that ran ("hierarchical", "pathtrace", ...).
+  std::string methodName() const;
+};
+
+struct VertexExitance {
+  std::vector<glm::vec3> exitance;  // B per vertex
+  TransportReport report;
+};
+
+VertexExitance transport(const TransportInput& in);
+
+}  // namespace sss

@@ -1,0 +1,22 @@
+// The pilot of the visibility rays (VisibilityPilot, visibility.h): replicas of the per-vertex
+// estimate on an evenly strided subset of vertices, at two ray counts. Private to lib/bake.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <utility>
+
+#include "bake/visibility.h"
+#include "bake/visibility_vertex_estimator.h"
+
+namespace sss {
+
+// Throws Error unless options ask for at least 2 replicas of at least 2 rays and coarse < fine.
+// `makeEstimator` gives each thread its estimator; the replicas' rotations come from their own
+// stream family of `seed`, apart from the full pass's.
+VisibilityPilot runVisibilityPilot(std::size_t vertexCount, const VisibilityPilotOptions& options,
+                                   uint64_t seed, int threads,
+                                   const std::function<VertexEstimator()>& makeEstimator);
+
+}  // namespace sss

@@ -1,0 +1,88 @@
+#include "bake/visibility_vertex_estimator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <glm/geometric.hpp>
+
+#include "core/luminance.h"
+#include "core/sampling.h"
+#include "optics/fresnel.h"
+
+namespace sss {
+
+void VertexEstimator::traceCandidates(std::size_t v, uint32_t envCount, uint32_t cosCount,
+                                      Pcg32& rng) {
+  const float nEnv = static_cast<float>(envCount), nCos = static_cast<float>(cosCount);
+  // The cosine technique's pdf is cosine / pi; kept as (n_cos cosine) / pi in this order.
+  const float invPi = static_cast<float>(1.0 / M_PI);
+  const glm::vec3 n = normals_[v];
+  const glm::vec3 p = positions_[v];
+  const float r0 = rng.uniform(), r1 = rng.uniform(), r2 = rng.uniform(), r3 = rng.uniform();
+  glm::vec3 tangent, bitangent;
+  orthonormalBasis(n, tangent, bitangent);
+  const float scale = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z), extent_});
+  const float offset = 2e-5f * scale;
+  const glm::vec3 origin = p + offset * n;
+
+  // Candidate rays: direction and unoccluded contribution f / (n_env p_env + n_cos p_cos).
+  rays_.clear();
+  candidates_.clear();
+  auto add = [&](const glm::vec3& w, float cosine, const glm::vec3& l, float pdfEnv, int tech) {
+    const glm::vec3 f = fresnelTransmittance(cosine, eta_) * cosine * l;
+    if (f.r <= 0.0f && f.g <= 0.0f && f.b <= 0.0f) return;
+    rays_.push_back({origin, w, offset, std::numeric_limits<float>::infinity()});
+    candidates_.push_back({f / (nEnv * pdfEnv + nCos * cosine * invPi), tech});
+  };
+  for (uint32_t j = 0; j < envCount; ++j) {
+    float u1, u2;
+    hammersley(j, envCount, r0, r1, u1, u2);
+    const EnvironmentSampler::Sample s = sampler_.sample(u1, u2);
+    const float cosine = glm::dot(s.direction, n);
+    if (cosine > 0.0f) add(s.direction, cosine, s.radiance, s.pdf, 0);
+  }
+  for (uint32_t j = 0; j < cosCount; ++j) {
+    float u1, u2;
+    hammersley(j, cosCount, r2, r3, u1, u2);
+    const glm::vec3 local = sampleCosineHemisphereConcentric(u1, u2);
+    const float cosine = local.z;
+    if (cosine <= 0.0f) continue;
+    const glm::vec3 w = glm::normalize(local.x * tangent + local.y * bitangent + local.z * n);
+    add(w, cosine, sampler_.radiance(w), sampler_.pdf(w), 1);
+  }
+  scene_.occluded(rays_, blocked_);
+}
+
+VertexEstimate VertexEstimator::estimate(std::size_t v, int samples, Pcg32& rng) {
+  const uint32_t envCount = static_cast<uint32_t>((samples + 1) / 2);
+  const uint32_t cosCount = static_cast<uint32_t>(samples) - envCount;
+  traceCandidates(v, envCount, cosCount, rng);
+
+  VertexEstimate result{glm::vec3(0.0f), -1.0f, static_cast<uint32_t>(rays_.size()), 0};
+  double sum[2] = {0.0, 0.0}, sumSq[2] = {0.0, 0.0};
+  for (std::size_t k = 0; k < candidates_.size(); ++k) {
+    if (blocked_[k]) {
+      ++result.occluded;
+      continue;
+    }
+    const glm::vec3 c = candidates_[k].contribution;
+    result.irradiance += c;
+    const double y = luminance(c);
+    sum[candidates_[k].technique] += y;
+    sumSq[candidates_[k].technique] += y * y;
+  }
+  // Var(sum of n iid terms) = n Var(term); per technique, zeros included.
+  double variance = 0.0;
+  const double counts[2] = {static_cast<float>(envCount), static_cast<float>(cosCount)};
+  for (int t = 0; t < 2; ++t) {
+    if (counts[t] < 2) continue;
+    const double mean = sum[t] / counts[t];
+    variance += counts[t] / (counts[t] - 1.0) * std::max(0.0, sumSq[t] - counts[t] * mean * mean);
+  }
+  const double y = luminance(result.irradiance);
+  if (y > 0.0) result.relativeVariance = static_cast<float>(variance / (y * y));
+  return result;
+}
+
+}  // namespace sss

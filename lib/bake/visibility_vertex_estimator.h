@@ -1,0 +1,60 @@
+// One vertex's estimate of the transmitted irradiance with visibility (visibility.h): the
+// multiple-importance-sampling estimator over environment and cosine samples, traced as one
+// stream of Embree occlusion rays. Private to lib/bake.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "core/random.h"
+#include "envmap/environment_sampler.h"
+#include "raytrace/triangle_scene.h"
+
+namespace sss {
+
+struct VertexEstimate {
+  glm::vec3 irradiance;
+  float relativeVariance;  // per-technique estimate of the luminance's; < 0: unlit
+  uint32_t rays, occluded;
+};
+
+// Everything one vertex's estimate needs, and per-thread buffers: one estimator per thread.
+class VertexEstimator {
+ public:
+  // `extent`: the mesh's longest bounding-box side, a floor for the ray offset's scale.
+  VertexEstimator(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
+                  const EnvironmentSampler& sampler, const TriangleScene& scene, float eta,
+                  float extent)
+      : positions_(positions),
+        normals_(normals),
+        sampler_(sampler),
+        scene_(scene),
+        eta_(eta),
+        extent_(extent) {}
+
+  // E at vertex v from `samples` rays (half environment, rounded up, half cosine); rng supplies
+  // the four rotations of the two Hammersley sets.
+  VertexEstimate estimate(std::size_t v, int samples, Pcg32& rng);
+
+ private:
+  struct Candidate {
+    glm::vec3 contribution;  // if unoccluded
+    int technique;           // 0: environment, 1: cosine
+  };
+  // Fills rays_ and candidates_ with the samples that can contribute, and traces them.
+  void traceCandidates(std::size_t v, uint32_t envCount, uint32_t cosCount, Pcg32& rng);
+
+  std::span<const glm::vec3> positions_, normals_;
+  const EnvironmentSampler& sampler_;
+  const TriangleScene& scene_;
+  float eta_, extent_;
+  std::vector<OcclusionRay> rays_;
+  std::vector<Candidate> candidates_;
+  std::vector<char> blocked_;
+};
+
+}  // namespace sss

@@ -1,0 +1,69 @@
+#include "render/baked_shading.h"
+
+#include <cmath>
+
+#include "material/dipole_profile.h"
+#include "optics/fresnel.h"
+
+namespace sss {
+namespace {
+
+std::string channels(const char* prefix) {
+  return std::string(prefix) + "_r, " + prefix + "_g, " + prefix + "_b";
+}
+
+// The total diffuse reflectance of the material's dipole, per channel.
+glm::vec3 dipoleAlbedo(const BakedMesh& baked, float eta) {
+  const glm::dvec3 albedo = baked.sigmaSPrime / (baked.sigmaA + baked.sigmaSPrime);
+  glm::vec3 out;
+  for (int c = 0; c < 3; ++c) out[c] = static_cast<float>(dipoleTotalReflectance(albedo[c], eta));
+  return out;
+}
+
+}  // namespace
+
+ShadingParameters shadingFor(const BakedPlyContents& contents, const ShadingRequest& request) {
+  ShadingParameters p;
+  p.eta = contents.hasMaterial ? static_cast<float>(contents.baked.eta) : kFallbackEta;
+  if (request.eta) p.eta = *request.eta;
+  p.etaIsFallback = !contents.hasMaterial && !request.eta && request.mode == ShadingMode::Sss;
+  p.exitScale = request.exitModel == ExitModel::Jensen
+                    ? static_cast<float>(1.0 / M_PI)
+                    : static_cast<float>(exitRadianceScale(p.eta));
+  if (request.mode == ShadingMode::Brdf) {
+    if (request.albedo) {
+      p.albedo = *request.albedo;
+    } else if (contents.hasMaterial) {
+      p.albedo = dipoleAlbedo(contents.baked, p.eta);
+    } else {
+      p.albedo = glm::vec3(kFallbackAlbedo);
+      p.albedoIsFallback = true;
+    }
+  }
+  const MeshReport& report = contents.report;
+  const bool closedAndConsistent =
+      report.boundaryEdges == 0 && report.misorientedEdges == 0 && report.nonManifoldEdges == 0;
+  p.cullBackFaces =
+      request.cull == CullMode::Back || (request.cull == CullMode::Auto && closedAndConsistent);
+  return p;
+}
+
+std::string missingBakedValues(const BakedPlyContents& contents, ShadingMode mode) {
+  if (mode == ShadingMode::Sss && !contents.hasExitance) return channels("exitance");
+  if (mode == ShadingMode::Irradiance && !contents.hasIrradiance) return channels("irradiance");
+  return {};
+}
+
+RenderMesh renderMeshFor(const BakedMesh& baked, ShadingMode mode) {
+  RenderMesh mesh;
+  mesh.positions = baked.mesh.positions;
+  mesh.normals = baked.mesh.normals;
+  if (mode == ShadingMode::Sss) mesh.values = baked.exitance;
+  if (mode == ShadingMode::Irradiance) mesh.values = baked.irradiance;
+  mesh.indices.reserve(baked.mesh.triangles.size() * 3);
+  for (const glm::uvec3& t : baked.mesh.triangles)
+    mesh.indices.insert(mesh.indices.end(), {t.x, t.y, t.z});
+  return mesh;
+}
+
+}  // namespace sss

@@ -57,7 +57,8 @@ void addMaterialOptions(CLI::App& app, MaterialOptions& m) {
   mfp->needs(albedo);
   preset->excludes(sigmaS)->excludes(mfp);
   m.sigmaAOption->excludes(mfp);
-  app.add_option("--eta", m.eta, "Relative index of refraction (default: the preset's, or 1.3)");
+  app.add_option("--eta", m.eta, "Relative index of refraction (default: the preset's, or 1.3)")
+      ->check(cli::checkedBy<double>([](double eta) { sss::checkMaterialEta(eta); }));
   app.add_option("--g", m.g, "Henyey-Greenstein mean cosine (--method pathtrace)")
       ->capture_default_str();
   app.add_flag_callback(

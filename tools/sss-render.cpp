@@ -18,6 +18,7 @@
 #include "core/tool.h"
 #include "envmap/environment.h"
 #include "irradiance/irradiance.h"
+#include "material/material.h"
 #include "mesh/baked_ply.h"
 #include "render/baked_shading.h"
 #include "render/camera.h"
@@ -309,7 +310,7 @@ void addShadingOptions(CLI::App& app, Arguments& a) {
                  "The paper's constant mix(base, reflection, F) instead of Fresnel weights")
       ->check(CLI::Range(0.0f, 1.0f));
   app.add_option("--eta", a.request.eta, "Relative index (default: the material's)")
-      ->check(CLI::Range(1.0f, 3.0f));
+      ->check(cli::checkedBy<double>([](double eta) { checkMaterialEta(eta); }));
   cli::addParsedOption(app, "--albedo", a.request.albedo, parseXyz,
                        "brdf: diffuse albedo r,g,b (default: the material's dipole total "
                        "reflectance)")

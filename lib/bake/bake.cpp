@@ -78,9 +78,9 @@ BakedMesh assembleBakedMesh(TriangleMesh mesh, VertexLighting& lighting, VertexE
   const bool rays = s.visibility == VisibilityMode::Rays;
   baked.extraComments.push_back(
       "bake method=" + r.transport.methodName() +
-      (r.transport.pathTrace
-           ? ""
-           : " profile=" + r.energy.profileName + " energy=" + toString(r.energy.plan.model)) +
+      (r.transport.pathTrace ? ""
+                             : " profile=" + r.energy.profileName +
+                                   " energy=" + kEnergyModelNames.name(r.energy.plan.model)) +
       " visibility=" + kVisibilityModeNames.name(s.visibility) + " samples=" +
       std::to_string(rays ? r.lighting.rays.samples : 0) + " seed=" + std::to_string(s.seed));
   return baked;

@@ -58,8 +58,8 @@ Json toJson(const MeshStageReport& r) {
 
 Json toJson(const EnergyStageReport& r) {
   const EnergyPlan& plan = r.plan;
-  Json j = {{"model", toString(plan.model)},
-            {"requested", toString(r.requested)},
+  Json j = {{"model", kEnergyModelNames.name(plan.model)},
+            {"requested", kEnergyModelNames.name(r.requested)},
             {"reason", plan.reason},
             {"halfspace_albedo", toJson(plan.halfSpaceAlbedo)},
             {"seconds", plan.seconds}};

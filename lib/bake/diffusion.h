@@ -51,17 +51,6 @@ inline constexpr EnumNames<DiffusionMethod, 5> kDiffusionMethodNames{
       {DiffusionMethod::Incremental, "incremental"},
       {DiffusionMethod::Hierarchical, "hierarchical"}}}};
 
-// Wrappers over kDiffusionMethodNames until lib/bake/bake.cpp and tools/ use it directly.
-inline std::string toString(DiffusionMethod method) {
-  return kDiffusionMethodNames.name(method);
-}
-inline DiffusionMethod parseDiffusionMethod(const std::string& name) {
-  return kDiffusionMethodNames.parse(name);
-}
-inline std::vector<std::string> listDiffusionMethods() {
-  return kDiffusionMethodNames.names();
-}
-
 // Plain per-vertex arrays, all of the same length (checked).
 struct DiffusionInput {
   std::span<const glm::vec3> positions;   // mm

@@ -53,17 +53,6 @@ inline constexpr EnumNames<EnergyModel, 3> kEnergyModelNames{
       {EnergyModel::HalfSpace, "halfspace"},
       {EnergyModel::Escape, "escape"}}}};
 
-// Wrappers over kEnergyModelNames until lib/bake/bake.cpp and tools/ use it directly.
-inline std::string toString(EnergyModel model) {
-  return kEnergyModelNames.name(model);
-}
-inline EnergyModel parseEnergyModel(const std::string& name) {
-  return kEnergyModelNames.parse(name);
-}
-inline std::vector<std::string> listEnergyModels() {
-  return kEnergyModelNames.names();
-}
-
 struct EnergyOptions {
   EnergyModel model = EnergyModel::Auto;
   // Allowed relative RMS error of B from the escape walks' noise: the walks per probe are raised
@@ -105,9 +94,5 @@ DiffusionResult diffuseWithEnergy(const DiffusionInput& input, const DiffusionPr
 // the closest to the Monte Carlo reference once the energy is right), burley with halfspace (its
 // total is calibrated).
 std::string autoProfileName(EnergyModel model);
-
-// The share of the tolerance the escape walks' noise may take (sss-bake; the errors add in
-// quadrature).
-inline constexpr double kEscapeNoiseShare = 0.6;
 
 }  // namespace sss

@@ -20,7 +20,9 @@ EnergyStage planEnergy(const EnergyStageInput& in) {
     options.threads = in.threads;
     options.quiet = in.quiet;
     report.plan = planFiniteObjectEnergy(in.meshMm, in.areasMm2, in.material, options);
-    info("energy: " + toString(report.plan.model) + " (" + report.plan.reason + ")", in.quiet);
+    info("energy: " + std::string(kEnergyModelNames.name(report.plan.model)) + " (" +
+             report.plan.reason + ")",
+         in.quiet);
     if (report.escape() && report.plan.escape.relativeStdError > in.walkBudget)
       warn("energy: " + report.plan.reason);
   }

@@ -64,7 +64,8 @@ std::vector<glm::vec3> diffusionSum(const TransportInput& in, TransportReport& r
 }  // namespace
 
 std::string TransportReport::methodName() const {
-  return pathTrace ? kBakeMethodNames.name(BakeMethod::PathTrace) : toString(diffusion.method);
+  return pathTrace ? kBakeMethodNames.name(BakeMethod::PathTrace)
+                   : kDiffusionMethodNames.name(diffusion.method);
 }
 
 VertexExitance transport(const TransportInput& in) {

@@ -25,7 +25,7 @@ namespace {
 void validateInput(std::size_t vertexCount, std::span<const glm::vec3> normals,
                    std::span<const glm::uvec3> triangles, const VisibilityOptions& options) {
   if (normals.size() != vertexCount) fail("", "visibility: one normal per vertex required");
-  if (!options.chooseSamples && options.samples < 2) fail("", "--samples must be at least 2");
+  if (!options.chooseSamples && options.samples < 2) fail("", "visibility rays per vertex must be at least 2");
   if (triangles.empty()) fail("", "visibility: the mesh has no triangles");
   for (const glm::uvec3& t : triangles) {
     if (t.x >= vertexCount || t.y >= vertexCount || t.z >= vertexCount) {
@@ -123,7 +123,7 @@ std::vector<glm::vec3> transmittedIrradianceWithVisibility(std::span<const glm::
                                makeEstimator);
   }
   const int samples = options.chooseSamples ? options.chooseSamples(pilot) : options.samples;
-  if (samples < 2) fail("", "--samples must be at least 2");
+  if (samples < 2) fail("", "visibility rays per vertex must be at least 2");
 
   FullPass pass = traceAllVertices(vertexCount, samples, options, makeEstimator);
   if (report) {

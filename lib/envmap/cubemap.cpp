@@ -145,14 +145,8 @@ Cubemap Cubemap::resized(int faceSize) const {
   for (int f = 0; f < 6; ++f) {
     for (int y = 0; y < faceSize; ++y) {
       for (int x = 0; x < faceSize; ++x) {
-        glm::vec3 sum(0.0f);
-        for (int j = 0; j < k; ++j) {
-          for (int i = 0; i < k; ++i) {
-            sum += sample(
-                unproject(f, (x + (i + 0.5f) / k) / faceSize, (y + (j + 0.5f) / k) / faceSize));
-          }
-        }
-        out.at(f, x, y) = sum / static_cast<float>(k * k);
+        out.at(f, x, y) = averageOverTexel<glm::vec3>(
+            f, x, y, faceSize, k, [this](const glm::vec3& d) { return sample(d); });
       }
     }
   }

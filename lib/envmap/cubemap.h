@@ -57,6 +57,21 @@ class Cubemap {
   static CubeCoord project(const glm::vec3& direction);
   static glm::vec3 unproject(int face, float s, float t);  // not normalized
 
+  // The mean of sample(d) over k x k directions d (unproject's, not normalized) at the centres of
+  // a regular grid over texel (x, y) of a face of faceSize texels: the supersampling every
+  // resampler shares. Sum (glm::vec3 or glm::dvec3) sets the precision of the accumulation.
+  template <typename Sum, typename Sample>
+  static Sum averageOverTexel(int face, int x, int y, int faceSize, int k, Sample&& sample) {
+    Sum sum(0);
+    for (int j = 0; j < k; ++j) {
+      for (int i = 0; i < k; ++i) {
+        sum += sample(
+            unproject(face, (x + (i + 0.5f) / k) / faceSize, (y + (j + 0.5f) / k) / faceSize));
+      }
+    }
+    return sum / static_cast<typename Sum::value_type>(k * k);
+  }
+
  private:
   int size_ = 0;
   std::vector<glm::vec3> texels_;

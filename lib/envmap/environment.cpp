@@ -39,15 +39,11 @@ Cubemap cubemapFromEquirect(const ImageRgb& image, int faceSize, int threads) {
         for (std::size_t row = begin; row < end; ++row) {
           const int f = static_cast<int>(row / faceSize), y = static_cast<int>(row % faceSize);
           for (int x = 0; x < faceSize; ++x) {
-            glm::vec3 sum(0.0f);
-            for (int j = 0; j < k; ++j) {
-              for (int i = 0; i < k; ++i) {
-                const glm::vec2 uv = equirectCoord(Cubemap::unproject(
-                    f, (x + (i + 0.5f) / k) / faceSize, (y + (j + 0.5f) / k) / faceSize));
-                sum += sampleEquirect(image, uv.x, uv.y);
-              }
-            }
-            cube.at(f, x, y) = sum / static_cast<float>(k * k);
+            cube.at(f, x, y) =
+                Cubemap::averageOverTexel<glm::vec3>(f, x, y, faceSize, k, [&](glm::vec3 d) {
+                  const glm::vec2 uv = equirectCoord(d);
+                  return sampleEquirect(image, uv.x, uv.y);
+                });
           }
         }
       });

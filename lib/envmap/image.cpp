@@ -14,16 +14,6 @@
 
 namespace sss {
 
-float srgbToLinear(float c) {
-  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
-
-float linearToSrgb(float linear) {
-  if (!(linear > 0.0f)) return 0.0f;
-  if (linear >= 1.0f) return 1.0f;
-  return linear <= 0.0031308f ? 12.92f * linear : 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
-}
-
 ImageRgb readImage(const std::string& path, const ImageReadOptions& options) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) fail(path, "no such file");

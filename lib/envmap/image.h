@@ -8,6 +8,8 @@
 
 #include <glm/vec3.hpp>
 
+#include "core/srgb.h"  // linearToSrgb / srgbToLinear for 8-bit images
+
 namespace sss {
 
 struct ImageRgb {
@@ -35,10 +37,5 @@ ImageRgb readImage(const std::string& path, const ImageReadOptions& options = {}
 using ImageAttributes = std::vector<std::pair<std::string, std::string>>;
 void writeImage(const std::string& path, const ImageRgb& image,
                 const ImageAttributes& attributes = {});
-
-// Linear -> sRGB transfer function (IEC 61966-2-1), for 8-bit previews: clamped to [0, 1].
-float linearToSrgb(float linear);
-// sRGB -> linear, for c in [0, 1]: what 8-bit images and display colours are decoded with.
-float srgbToLinear(float c);
 
 }  // namespace sss

@@ -116,15 +116,11 @@ void drawSkyAndGround(Cubemap& cube, const PreethamSky& sky, const glm::dvec3& g
         for (std::size_t row = begin; row < end; ++row) {
           const int f = static_cast<int>(row / faceSize), y = static_cast<int>(row % faceSize);
           for (int x = 0; x < faceSize; ++x) {
-            glm::dvec3 sum(0.0);
-            for (int j = 0; j < k; ++j) {
-              for (int i = 0; i < k; ++i) {
-                const glm::dvec3 w = glm::normalize(glm::dvec3(Cubemap::unproject(
-                    f, (x + (i + 0.5f) / k) / faceSize, (y + (j + 0.5f) / k) / faceSize)));
-                sum += w.y >= 0.0 ? sky(w) : ground;
-              }
-            }
-            cube.at(f, x, y) = glm::vec3(sum / static_cast<double>(k * k));
+            cube.at(f, x, y) = glm::vec3(
+                Cubemap::averageOverTexel<glm::dvec3>(f, x, y, faceSize, k, [&](glm::vec3 d) {
+                  const glm::dvec3 w = glm::normalize(glm::dvec3(d));
+                  return w.y >= 0.0 ? sky(w) : ground;
+                }));
           }
         }
       });

@@ -43,6 +43,14 @@ glm::dvec3 Material::sigmaTr() const {
                     std::sqrt(3.0 * sigmaA.z * st.z));
 }
 
+void checkMaterialEta(double eta, const std::string& context) {
+  if (!std::isfinite(eta) || eta < 1.0 || eta > 3.0) {
+    std::ostringstream out;
+    out << "eta " << eta << " is outside [1, 3]";
+    fail(context, out.str());
+  }
+}
+
 void validateMaterial(const Material& m, const std::string& context) {
   checkCoefficient(context, "sigma_a", m.sigmaA);
   checkCoefficient(context, "sigma_s'", m.sigmaSPrime);
@@ -51,11 +59,7 @@ void validateMaterial(const Material& m, const std::string& context) {
     if (st[c] <= 0.0)
       fail(context,
            "zero extinction (sigma_a + sigma_s' = 0) in channel " + std::string(1, "RGB"[c]));
-  if (!std::isfinite(m.eta) || m.eta < 1.0 || m.eta > 3.0) {
-    std::ostringstream out;
-    out << "eta " << m.eta << " is outside [1, 3]";
-    fail(context, out.str());
-  }
+  checkMaterialEta(m.eta, context);
   if (!std::isfinite(m.g) || std::abs(m.g) >= 1.0) {
     std::ostringstream out;
     out << "phase anisotropy g " << m.g << " is outside (-1, 1)";
@@ -98,11 +102,7 @@ Material findMaterialPreset(const std::string& name) {
 
 Material materialFromAlbedoMfp(const glm::dvec3& albedo, const glm::dvec3& mfpMm, double eta,
                                const std::string& name) {
-  if (!std::isfinite(eta) || eta < 1.0 || eta > 3.0) {
-    std::ostringstream out;
-    out << "eta " << eta << " is outside [1, 3]";
-    fail(name, out.str());
-  }
+  checkMaterialEta(eta, name);
   const double maxAlbedo = dipoleTotalReflectance(1.0, eta);
   Material m;
   m.name = name;

@@ -48,6 +48,9 @@ struct Material {
 // above kMaxCoefficient, zero extinction in a channel, eta outside [1, 3], |g| >= 1.
 inline constexpr double kMaxCoefficient = 1e4;  // mm^-1: a 0.1 micrometre mean free path
 void validateMaterial(const Material& material, const std::string& context = "material");
+// The relative index of refraction a material may have: finite, in [1, 3] (validateMaterial's
+// check, for tools that check --eta as it is parsed).
+void checkMaterialEta(double eta, const std::string& context = "");
 
 // The measured presets of Jensen et al. 2001 (apple ... wholemilk), eta = 1.3.
 const std::vector<Material>& materialPresets();

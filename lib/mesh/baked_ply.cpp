@@ -10,6 +10,7 @@
 
 #include "core/atomic_output.h"
 #include "core/error.h"
+#include "core/srgb.h"
 #include "core/file_extension.h"
 #include "mesh/ply_format.h"
 
@@ -47,11 +48,9 @@ bool parseTriple(std::string_view text, glm::dvec3& v) {
   return true;
 }
 
-// sRGB transfer function of a linear value in [0, 1], quantized to 8 bits.
+// sRGB transfer function of a linear value, clamped to [0, 1], quantized to 8 bits.
 unsigned char srgb8(float linear) {
-  const float x = std::clamp(linear, 0.0f, 1.0f);
-  const float e = x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.0f / 2.4f) - 0.055f;
-  return static_cast<unsigned char>(std::lround(e * 255.0f));
+  return static_cast<unsigned char>(std::lround(linearToSrgb(linear) * 255.0f));
 }
 
 double autoPreviewScale(const std::vector<glm::vec3>& exitance) {

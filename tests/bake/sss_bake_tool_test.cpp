@@ -404,7 +404,7 @@ TEST_F(BakeTool, InsideOutMeshIsFlippedWithAWarning) {
 TEST_F(BakeTool, BadCoefficientsAreErrors) {
   expectError(run(args("sphere.ply", "--sigma-a -0.1,0.1,0.1 --sigma-s 1 --unit mm")), "negative");
   expectError(run(args("sphere.ply", "--sigma-a 1e9 --sigma-s 1 --unit mm")), "material");
-  expectError(run(args("sphere.ply", "-m marble --eta 0.9 --unit mm")), "eta");
+  expectUsageError(run(args("sphere.ply", "-m marble --eta 0.9 --unit mm")), "--eta");
   expectUsageError(run(args("sphere.ply", "--sigma-a 0.1,x,0.1 --sigma-s 1 --unit mm")),
                    "--sigma-a");
   expectUsageError(run(args("sphere.ply", "--sigma-a 0.1 --unit mm")), "--sigma-s");

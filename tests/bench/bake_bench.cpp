@@ -57,7 +57,7 @@ void BM_BakeDragon(benchmark::State& state, const char* mesh, const char* visibi
   }
   state.counters["estimated_error"] = report.errors.total;
   state.SetLabel(report.energy.profileName + "/" + report.transport.methodName() + "/" +
-                 sss::toString(report.energy.plan.model));
+                 sss::kEnergyModelNames.name(report.energy.plan.model));
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   state.counters["peak_rss_mb"] = static_cast<double>(usage.ru_maxrss) / 1024.0;

@@ -69,6 +69,15 @@ IrradianceOptions irradianceOptions(const Arguments& a) {
   return options;
 }
 
+// The input image; a non-finite texel names the flag that accepts it.
+ImageRgb readInputImage(const Arguments& a) {
+  try {
+    return readImage(a.input, {a.sanitize});
+  } catch (const NonFiniteTexelsError& e) {
+    throw Error(std::string(e.what()) + " (use --sanitize to replace them by 0)");
+  }
+}
+
 // The radiance cubemap from the sky or the input image; the report's input and read timings.
 Cubemap loadRadiance(const Arguments& a, nlohmann::json& report) {
   Stopwatch watch;
@@ -81,7 +90,7 @@ Cubemap loadRadiance(const Arguments& a, nlohmann::json& report) {
     report["timings_ms"]["to_cubemap"] = watch.milliseconds();
     return radiance;
   }
-  const ImageRgb image = readImage(a.input, {a.sanitize});
+  const ImageRgb image = readInputImage(a);
   report["timings_ms"]["read"] = watch.milliseconds();
   const EnvironmentLayout layout = detectLayout(a.input, image.width, image.height);
   watch.restart();

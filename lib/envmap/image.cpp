@@ -65,7 +65,7 @@ ImageRgb readImage(const std::string& path, const ImageReadOptions& options) {
   if (nonFinite > 0) {
     const std::string what = std::to_string(nonFinite) + " NaN/Inf texel values, first at (" +
                              std::to_string(firstX) + ", " + std::to_string(firstY) + ")";
-    if (!options.sanitize) fail(path, what + " (use --sanitize to replace them by 0)");
+    if (!options.sanitize) throw NonFiniteTexelsError(path + ": " + what);
     warn(path + ": " + what + " replaced by 0");
   }
   if (negative > 0) {

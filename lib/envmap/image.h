@@ -8,6 +8,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "core/error.h"
 #include "core/srgb.h"  // linearToSrgb / srgbToLinear for 8-bit images
 
 namespace sss {
@@ -21,6 +22,12 @@ struct ImageRgb {
   }
 };
 
+// readImage's error for NaN/Inf texels without sanitize (a tool may name its flag for it).
+class NonFiniteTexelsError : public Error {
+ public:
+  using Error::Error;
+};
+
 // What readImage does with non-finite and negative texels.
 struct ImageReadOptions {
   bool sanitize = false;  // replace NaN/Inf by 0 (with a warning) instead of failing
@@ -28,7 +35,8 @@ struct ImageReadOptions {
 
 // Reads any format OIIO knows (.hdr, .exr, .pfm, .tif, .png, ...) as linear float RGB (grey is
 // replicated, alpha dropped). Throws Error naming the file for: missing/unreadable file, zero
-// size, failed pixel read, NaN/Inf texels (count and first position) unless sanitize; negative
+// size, failed pixel read, NaN/Inf texels (NonFiniteTexelsError: count and first position) unless
+// sanitize; negative
 // texels are clamped to 0 with a warning.
 ImageRgb readImage(const std::string& path, const ImageReadOptions& options = {});
 

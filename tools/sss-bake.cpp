@@ -13,8 +13,10 @@
 #include "core/atomic_output.h"
 #include "core/cli.h"
 #include "core/error.h"
+#include "core/paths.h"
 #include "core/timer.h"
 #include "core/tool.h"
+#include "envmap/environment.h"
 #include "material/material.h"
 #include "mesh/baked_ply.h"
 #include "mesh/units.h"
@@ -138,7 +140,9 @@ void addBakeOptions(CLI::App& app, sss::BakeSettings& s) {
       ->capture_default_str();
   app.add_option("--env-size", s.environmentFaceSize,
                  "Cubemap face size for the environment (0: from the source)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(cli::checkedBy<int>([](int size) {
+        if (size != 0) sss::checkFaceSize(size);
+      }))
       ->capture_default_str();
   cli::addThreadsOption(app, s.threads);
   cli::addQuietFlag(app, s.quiet);
@@ -193,6 +197,8 @@ int main(int argc, char** argv) {
   app.add_option("--json", jsonPath, "Write a JSON report");
 
   return sss::runTool("sss-bake", app, argc, argv, [&]() -> int {
+    sss::checkOutputsAreNotInputs({{"-o", output}, {"--json", jsonPath}},
+                                  {{"the mesh", s.meshPath}, {"the environment", s.environment}});
     if (skyOption->count() > 0) s.environment = sky.empty() ? "sky" : "sky:" + sky;
     s.material = materialFrom(material);
     const sss::Stopwatch clock;

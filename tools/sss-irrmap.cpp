@@ -10,11 +10,13 @@
 #include "core/cli.h"
 #include "core/error.h"
 #include "core/file_extension.h"
+#include "core/paths.h"
 #include "core/timer.h"
 #include "core/tool.h"
 #include "envmap/cubemap_io.h"
 #include "envmap/environment.h"
 #include "irradiance/irradiance.h"
+#include "material/material.h"
 
 namespace {
 
@@ -54,6 +56,16 @@ void checkArguments(const Arguments& a) {
   checkOutput(a.irradiance, "exr", "--irradiance");
   checkOutput(a.sh, "json", "--sh");
   checkOutput(a.json, "json", "--json");
+  auto preview = [&](const std::string& cube) {
+    return a.preview && !cube.empty() ? cubemapPreviewPath(cube) : std::string();
+  };
+  checkOutputsAreNotInputs({{"--radiance", a.radiance},
+                            {"-o", a.irradiance},
+                            {"--sh", a.sh},
+                            {"--json", a.json},
+                            {"the preview of --radiance", preview(a.radiance)},
+                            {"the preview of -o", preview(a.irradiance)}},
+                           {{"the input", a.input}});
 }
 
 IrradianceOptions irradianceOptions(const Arguments& a) {
@@ -206,7 +218,7 @@ void addOptions(CLI::App& app, Arguments& a) {
                  "Relative index: irradiance transmitted through a smooth dielectric "
                  "(exact Fresnel); 1 = plain irradiance")
       ->capture_default_str()
-      ->check(cli::checkedBy<float>(checkSurfaceEta));
+      ->check(cli::checkedBy<float>([](float eta) { checkMaterialEta(eta); }));
   app.add_option("--sh", a.sh, "Write the SH coefficients of radiance and irradiance (.json)");
   app.add_option("--json", a.json, "Write a report: method, estimated error, timings (.json)");
   cli::addEnumOption(app, "--method", a.method, kIrradianceMethodNames,
@@ -221,10 +233,10 @@ void addOptions(CLI::App& app, Arguments& a) {
       ->capture_default_str()
       ->check(cli::finiteAtLeast(0.0));
   app.add_option("--size", a.size, "Irradiance face size (default: from the content)")
-      ->check(cli::finiteAtLeast(0.0));
+      ->check(cli::checkedBy<int>(checkFaceSize));
   app.add_option("--radiance-size", a.radianceSize,
                  "Radiance face size (default: the source's resolution; 128 for --sky)")
-      ->check(cli::finiteAtLeast(0.0));
+      ->check(cli::checkedBy<int>(checkFaceSize));
   app.add_flag("--sanitize", a.sanitize, "Replace NaN/Inf texels by 0 instead of failing");
   app.add_flag(
       "--no-preview", [&a](std::int64_t) { a.preview = false; },

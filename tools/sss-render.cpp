@@ -14,6 +14,7 @@
 #include "core/cli.h"
 #include "core/error.h"
 #include "core/format.h"
+#include "core/paths.h"
 #include "core/timer.h"
 #include "core/tool.h"
 #include "envmap/environment.h"
@@ -60,6 +61,13 @@ std::array<int, 2> parseImageSize(const std::string& text) {
     throw Error("expected WIDTHxHEIGHT, each 1 to 16384, got '" + text + "'");
   }
   return size;
+}
+
+// A BRDF's diffuse albedo: each channel in [0, 1] (checkDiffuseAlbedo).
+glm::vec3 parseAlbedo(const std::string& text) {
+  const glm::vec3 albedo = parseXyz(text);
+  checkDiffuseAlbedo(albedo);
+  return albedo;
 }
 
 std::optional<glm::vec3> parseBackground(const std::string& text) {
@@ -232,6 +240,8 @@ void describeContext(const GlContext& context) {
 }
 
 int run(const Arguments& a) {
+  checkOutputsAreNotInputs({{"-o", a.output}, {"--json", a.jsonPath}},
+                           {{"the mesh", a.input}, {"the environment", a.environment}});
   const Stopwatch total;
   FrameOptions frame;
   frame.width = a.size[0];
@@ -294,7 +304,9 @@ void addInputOptions(CLI::App& app, Arguments& a) {
       ->required()
       ->check(cli::parsedBy(checkRenderedImagePath));
   app.add_option("--env-size", a.envSize, "Radiance cubemap face size (0: from the source)")
-      ->check(CLI::Range(0, 4096));
+      ->check(cli::checkedBy<int>([](int size) {
+        if (size != 0) checkFaceSize(size);
+      }));
   app.add_option("--shader-dir", a.shaderDir, "Read shaders from this folder (development)");
   app.add_option("--json", a.jsonPath, "Report: GL renderer, sizes, timings");
 }
@@ -308,10 +320,10 @@ void addShadingOptions(CLI::App& app, Arguments& a) {
                      "normalized: B F_t / (pi (1 - 2 C_1)), flux = B; jensen: B F_t / pi");
   app.add_option("--reflect-factor", a.reflectFactor,
                  "The paper's constant mix(base, reflection, F) instead of Fresnel weights")
-      ->check(CLI::Range(0.0f, 1.0f));
+      ->check(cli::finiteIn(0.0, 1.0));
   app.add_option("--eta", a.request.eta, "Relative index (default: the material's)")
       ->check(cli::checkedBy<double>([](double eta) { checkMaterialEta(eta); }));
-  cli::addParsedOption(app, "--albedo", a.request.albedo, parseXyz,
+  cli::addParsedOption(app, "--albedo", a.request.albedo, parseAlbedo,
                        "brdf: diffuse albedo r,g,b (default: the material's dipole total "
                        "reflectance)")
       ->type_name("R,G,B");
@@ -319,16 +331,18 @@ void addShadingOptions(CLI::App& app, Arguments& a) {
                        "env, or a colour r,g,b stored as given (0..1 display values)")
       ->type_name("env|R,G,B")
       ->default_str("env");
-  app.add_option("--exposure", a.exposure, "Exposure in EV (stops)");
+  app.add_option("--exposure", a.exposure, "Exposure in EV (stops)")->check(cli::finiteIn());
   cli::addEnumOption(app, "--tonemap", a.tonemap, kTonemapNames, "Display transform");
   cli::addEnumOption(app, "--cull", a.request.cull, kCullModeNames,
                      "Back-face culling (auto: only for closed, consistently wound meshes)");
 }
 
 void addCameraOptions(CLI::App& app, Arguments& a) {
-  app.add_option("--azimuth", a.azimuth, "Camera azimuth about +Y in degrees (0: from +Z)");
-  app.add_option("--elevation", a.elevation, "Camera elevation in degrees");
-  app.add_option("--distance", a.distance, "Camera distance in mesh units (default: framed)");
+  app.add_option("--azimuth", a.azimuth, "Camera azimuth about +Y in degrees (0: from +Z)")
+      ->check(cli::finiteIn());
+  app.add_option("--elevation", a.elevation, "Camera elevation in degrees")->check(cli::finiteIn());
+  app.add_option("--distance", a.distance, "Camera distance in mesh units (default: framed)")
+      ->check(cli::finiteAtLeast(0.0));
   cli::addParsedOption(app, "--eye", a.eye, parseXyz, "Camera position x,y,z (overrides the orbit)")
       ->type_name("X,Y,Z");
   cli::addParsedOption(app, "--target", a.target, parseXyz,
@@ -338,7 +352,7 @@ void addCameraOptions(CLI::App& app, Arguments& a) {
       ->type_name("X,Y,Z")
       ->default_str("0,1,0");
   app.add_option("--fov", a.fov, "Vertical field of view in degrees")
-      ->check(CLI::Range(1.0f, 170.0f));
+      ->check(cli::finiteIn(1.0, 170.0));
 }
 
 void addFrameOptions(CLI::App& app, Arguments& a) {

@@ -2,6 +2,7 @@
 // the unit of the material's coefficients.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -35,7 +36,15 @@ struct PreparedMesh {
 };
 
 // Warns (warn()) about the mesh's cleanup and about an implausible size. Throws Error naming the
-// file.
+// file, also when the bake would not fit in memory (checkBakeMemory: before loading when the
+// header gives the counts).
 PreparedMesh prepareMesh(const MeshPreparation& in);
+
+// sss-bake's peak memory for a mesh of `vertices` and `triangles` (vertices 0: unknown), an upper
+// estimate from measurements (tests/bench/results/bake/memory.csv).
+std::uint64_t estimateBakeBytes(std::uint64_t vertices, std::uint64_t triangles);
+// Throws Error("<path>: baking N triangles needs about X GB, Y GB available") when the estimate
+// exceeds core/memory.h's availableMemory() (SSS_MEMORY_LIMIT_MB caps it).
+void checkBakeMemory(const std::string& path, std::uint64_t vertices, std::uint64_t triangles);
 
 }  // namespace sss

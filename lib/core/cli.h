@@ -68,6 +68,23 @@ inline CLI::Validator finiteAtLeast(double min) {
       "");
 }
 
+// A check that the option's number is finite and within [min, max] (defaults: any finite
+// number): "--fov: must be a finite number in [1, 170], got 'nan'".
+inline CLI::Validator finiteIn(double min = -HUGE_VAL, double max = HUGE_VAL) {
+  return CLI::Validator(
+      [min, max](std::string& text) -> std::string {
+        double value = 0.0;
+        if (!CLI::detail::lexical_cast(text, value)) return {};  // CLI11's conversion error
+        if (std::isfinite(value) && value >= min && value <= max) return {};
+        const bool any = std::isinf(min) && std::isinf(max);
+        return "must be a finite number" +
+               (any ? std::string()
+                    : " in [" + format("%g", min) + ", " + format("%g", max) + "]") +
+               ", got '" + text + "'";
+      },
+      "");
+}
+
 // An option whose text `parse` turns into `value` (checked by parsedBy first, so the assignment
 // after parsing cannot fail).
 template <typename T, typename Parse>

@@ -15,6 +15,11 @@
 //      option, a value that does not convert or fails its ->check, a missing required option,
 //      options that exclude or need each other) and UsageError from the body (combinations CLI11
 //      cannot express, e.g. "nothing to write")
+//   130, 143, 129  interrupted by SIGINT (Ctrl-C), SIGTERM or SIGHUP (128 + the signal) while the
+//      body ran: the outputs being written are removed (their temporary files, core/
+//      atomic_output.h; finished outputs stay) and "<tool>: error: interrupted by SIGINT ..." is
+//      printed. A signal the parent ignores stays ignored. After SIGKILL, only a temporary
+//      ".<name>.<pid>.<random>.tmp.<ext>" can remain, never a partial file under the output's name.
 // Every error is one line on stderr, "<tool>: error: <message>"; nothing is written to stdout.
 #pragma once
 

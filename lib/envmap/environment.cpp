@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "core/error.h"
 #include "core/parallel.h"
@@ -121,6 +122,13 @@ ImageRgb cubemapToStack(const Cubemap& cubemap) {
   image.height = 6 * cubemap.size();
   image.pixels.assign(cubemap.data(), cubemap.data() + cubemap.texelCount());
   return image;
+}
+
+void checkFaceSize(int faceSize) {
+  if (faceSize < 1 || faceSize > kMaxFaceSize) {
+    fail("", "a cubemap face size must be 1 to " + std::to_string(kMaxFaceSize) + " texels, got " +
+                 std::to_string(faceSize));
+  }
 }
 
 Cubemap loadEnvironment(const std::string& source, const EnvironmentOptions& options) {

@@ -48,6 +48,12 @@ struct SkyParameters {
 SkyParameters parseSkySpec(const std::string& spec);
 Cubemap makeSky(const SkyParameters& sky, int faceSize, int threads = 0);
 
+// The largest cubemap face a tool may ask for (--size, --radiance-size, --env-size): twice the
+// face of a 16K equirect (16384 / 4), the largest common HDRI; a float RGB cubemap of 8192^2
+// faces takes 4.5 GiB. Throws Error unless 1 <= faceSize <= kMaxFaceSize.
+inline constexpr int kMaxFaceSize = 8192;
+void checkFaceSize(int faceSize);
+
 struct EnvironmentOptions {
   ImageReadOptions read;
   int faceSize = 0;  // 0: chosen from the source resolution

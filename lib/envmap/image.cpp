@@ -1,5 +1,6 @@
 #include "envmap/image.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -10,14 +11,61 @@
 #include "core/atomic_output.h"
 #include "core/error.h"
 #include "core/file_extension.h"
+#include "core/paths.h"
 #include "core/tool.h"
+#include "envmap/exr_header.h"
 
 namespace sss {
+
+namespace {
+
+// The header's size against kMaxImagePixels and the file's size, before the pixels are
+// allocated (OIIO opens a file whose header lies and fails only when reading the pixels).
+void checkDeclaredSize(const std::string& path, const OIIO::ImageInput& in) {
+  const OIIO::ImageSpec& spec = in.spec();
+  const std::string size = std::to_string(spec.width) + "x" + std::to_string(spec.height);
+  if (spec.depth > 1) {
+    fail(path,
+         "is a volume image (" + size + "x" + std::to_string(spec.depth) + "), not a picture");
+  }
+  const long long pixels = static_cast<long long>(spec.width) * spec.height;
+  if (pixels > kMaxImagePixels) {
+    fail(path, "header declares " + size + " pixels, more than the " +
+                   std::to_string(kMaxImagePixels) + " (2^28) an image may have");
+  }
+  std::error_code ec;
+  const unsigned long long bytes = std::filesystem::file_size(path, ec);
+  const unsigned long long needed =
+      minimumImageFileBytes(in.format_name(), spec.width, spec.height, spec.nchannels,
+                            spec.format.basetype == OIIO::TypeDesc::FLOAT);
+  if (!ec && bytes < needed) {
+    fail(path, "header declares " + size + " pixels, which take at least " +
+                   std::to_string(needed) + " bytes, but the file has " + std::to_string(bytes) +
+                   " (truncated?)");
+  }
+}
+
+}  // namespace
+
+unsigned long long minimumImageFileBytes(const std::string& format, long long width,
+                                         long long height, int channels, bool floatSamples) {
+  const unsigned long long w = static_cast<unsigned long long>(std::max(width, 0LL));
+  const unsigned long long h = static_cast<unsigned long long>(std::max(height, 0LL));
+  const unsigned long long c = static_cast<unsigned long long>(std::max(channels, 0));
+  if (format == "hdr") {
+    // Widths outside [8, 32767] cannot be run-length encoded.
+    const unsigned long long row = w < 8 || w > 32767 ? 4 * w : 4 + 8 * ((w + 126) / 127);
+    return h * row;
+  }
+  if (format == "pnm") return floatSamples ? w * h * c * 4 : w * h * c / 8;
+  return w * h / 65536;
+}
 
 ImageRgb readImage(const std::string& path, const ImageReadOptions& options) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) fail(path, "no such file");
-  if (std::filesystem::is_directory(path, ec)) fail(path, "is a directory, not an image");
+  checkInputFile(path);
+  checkExrHeader(path);  // by content: OIIO tries its EXR reader on any file the others refuse
   auto in = OIIO::ImageInput::open(path);
   if (!in) {
     std::string why = OIIO::geterror();
@@ -29,7 +77,9 @@ ImageRgb readImage(const std::string& path, const ImageReadOptions& options) {
     fail(path, "image has zero size (" + std::to_string(spec.width) + "x" +
                    std::to_string(spec.height) + ")");
   }
-  const int w = spec.width, h = spec.height, nch = spec.nchannels;
+  checkDeclaredSize(path, *in);
+  // Only the channels used (RGB, or grey): an EXR may declare thousands.
+  const int w = spec.width, h = spec.height, nch = std::min(spec.nchannels, 3);
   const bool srgb = spec.format.basetype == OIIO::TypeDesc::UINT8 ||
                     spec.get_string_attribute("oiio:ColorSpace") == "sRGB";
   std::vector<float> buffer(static_cast<std::size_t>(w) * h * nch);

@@ -33,11 +33,25 @@ struct ImageReadOptions {
   bool sanitize = false;  // replace NaN/Inf by 0 (with a warning) instead of failing
 };
 
+// What a header may declare, checked before any pixel is allocated: at most kMaxImagePixels,
+// 2^28 (16384 x 16384, twice a 16K equirect, the largest common HDRI; the reader's two float RGB
+// buffers then take 6 GiB), and no more than the file's size can hold (minimumImageFileBytes).
+inline constexpr long long kMaxImagePixels = 1LL << 28;
+
+// The fewest bytes a file of OIIO format `format` ("hdr", "pnm", "openexr", ...) can hold a
+// width x height image with `channels` channels in: Radiance HDR scanlines are flat (4 bytes a
+// pixel) or run-length encoded (a 4-byte header, then at least 2 bytes per 127 pixels in each of
+// 4 channels); PFM holds every float and other PNM at least a bit per sample; the formats that
+// compress get a floor of 1 byte per 2^16 pixels (the most, DWAB-compressed EXR, was measured at
+// 2,800 pixels a byte on a constant 4096 x 4096 image). Header bytes are not counted.
+unsigned long long minimumImageFileBytes(const std::string& format, long long width,
+                                         long long height, int channels, bool floatSamples);
+
 // Reads any format OIIO knows (.hdr, .exr, .pfm, .tif, .png, ...) as linear float RGB (grey is
-// replicated, alpha dropped). Throws Error naming the file for: missing/unreadable file, zero
-// size, failed pixel read, NaN/Inf texels (NonFiniteTexelsError: count and first position) unless
-// sanitize; negative
-// texels are clamped to 0 with a warning.
+// replicated, alpha dropped). Throws Error naming the file for: missing/unreadable file, a
+// directory, zero size, a header declaring more pixels than kMaxImagePixels or than the file's
+// size holds, a volume (depth > 1), failed pixel read, NaN/Inf texels (NonFiniteTexelsError:
+// count and first position) unless sanitize; negative texels are clamped to 0 with a warning.
 ImageRgb readImage(const std::string& path, const ImageReadOptions& options = {});
 
 // Writes through AtomicOutput: .exr/.hdr/.pfm as linear float, other extensions (.png, .jpg) as

@@ -15,7 +15,9 @@
 namespace sss {
 
 // Throws Error unless eta, the surface's relative index, is a positive finite number (eta < 1:
-// light entering a less dense medium, with total internal reflection past the critical angle).
+// light entering a less dense medium, with total internal reflection past the critical angle):
+// the kernel's domain. The tools' --eta is the material's, checked by checkMaterialEta
+// (lib/material/material.h, [1, 3]) in every tool alike.
 void checkSurfaceEta(float eta);
 
 class TransmittedCosineKernel {

@@ -51,6 +51,14 @@ void checkMaterialEta(double eta, const std::string& context) {
   }
 }
 
+void checkDiffuseAlbedo(const glm::dvec3& albedo, const std::string& context) {
+  for (int c = 0; c < 3; ++c) {
+    if (!std::isfinite(albedo[c]) || albedo[c] < 0.0 || albedo[c] > 1.0) {
+      fail(context, "albedo " + channelText(albedo) + " must lie in [0, 1]");
+    }
+  }
+}
+
 void validateMaterial(const Material& m, const std::string& context) {
   checkCoefficient(context, "sigma_a", m.sigmaA);
   checkCoefficient(context, "sigma_s'", m.sigmaSPrime);

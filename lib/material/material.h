@@ -52,6 +52,11 @@ void validateMaterial(const Material& material, const std::string& context = "ma
 // check, for tools that check --eta as it is parsed).
 void checkMaterialEta(double eta, const std::string& context = "");
 
+// A diffuse (Lambertian) albedo, as sss-render's BRDF takes it: each channel finite, in [0, 1]
+// (energy conservation). Throws Error("<context>: ..."). (materialFromAlbedoMfp needs more: a
+// total reflectance in (0, 1) that the dipole can invert.)
+void checkDiffuseAlbedo(const glm::dvec3& albedo, const std::string& context = "");
+
 // The measured presets of Jensen et al. 2001 (apple ... wholemilk), eta = 1.3.
 const std::vector<Material>& materialPresets();
 std::vector<std::string> materialPresetNames();

@@ -8,6 +8,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "core/bounds.h"
 #include "core/error.h"
 #include "core/file_extension.h"
 #include "mesh/openmesh_reader.h"
@@ -116,6 +117,44 @@ void checkRawMesh(const std::string& path, const RawMesh& raw) {
       raw.faceCorners.size()) {
     fail(path, "face corner count mismatch");
   }
+}
+
+std::string number(double x, int precision = 6) {
+  std::ostringstream s;
+  s.precision(precision);
+  s << x;
+  return s.str();
+}
+
+// The largest coordinate magnitude and the vertex that has it.
+std::pair<double, std::size_t> farthestCoordinate(const TriangleMesh& mesh) {
+  double maxAbs = 0.0;
+  std::size_t vertex = 0;
+  for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+    const glm::vec3& p = mesh.positions[i];
+    const double a = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+    if (a > maxAbs) maxAbs = a, vertex = i;
+  }
+  return {maxAbs, vertex};
+}
+
+// The median edge length of an even stride sample of at most 2^16 triangles, in double.
+double medianEdgeLength(const TriangleMesh& mesh) {
+  const std::size_t nt = mesh.triangles.size();
+  const std::size_t stride = std::max<std::size_t>(1, (nt + 65535) / 65536);
+  std::vector<double> lengths;
+  lengths.reserve(3 * ((nt + stride - 1) / stride));
+  for (std::size_t t = 0; t < nt; t += stride) {
+    const glm::uvec3& tri = mesh.triangles[t];
+    for (int k = 0; k < 3; ++k) {
+      lengths.push_back(glm::length(glm::dvec3(mesh.positions[tri[k]]) -
+                                    glm::dvec3(mesh.positions[tri[(k + 1) % 3]])));
+    }
+  }
+  if (lengths.empty()) return 0.0;
+  const auto middle = lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2);
+  std::nth_element(lengths.begin(), middle, lengths.end());
+  return *middle;
 }
 
 // Triangulates (fans) and drops degenerate triangles; an out-of-range index is an error.
@@ -273,6 +312,31 @@ void addCleanupWarnings(MeshReport& r) {
 
 }  // namespace
 
+void checkCoordinateRange(const std::string& path, const TriangleMesh& mesh, double maxCoordinate,
+                          const std::string& unit) {
+  const auto [maxAbs, vertex] = farthestCoordinate(mesh);
+  if (maxAbs <= maxCoordinate) return;
+  const std::string u = unit.empty() ? "" : " " + unit;
+  const glm::vec3& p = mesh.positions[vertex];
+  fail(path, "vertex " + std::to_string(vertex) + " (" + number(p.x) + ", " + number(p.y) + ", " +
+                 number(p.z) + ") has a coordinate of " + number(maxAbs) + u +
+                 ", beyond the limit of " + number(maxCoordinate, 10) + u + " for float geometry");
+}
+
+void checkFloatPrecision(const std::string& path, const TriangleMesh& mesh) {
+  const auto [maxAbs, vertex] = farthestCoordinate(mesh);
+  const Bounds3 bounds = boundsOf(mesh.positions);
+  const double reach = std::max(maxAbs, glm::length(glm::dvec3(bounds.hi) - glm::dvec3(bounds.lo)));
+  const double edge = medianEdgeLength(mesh);
+  if (!(reach > kMaxReachInEdges * edge)) return;
+  const glm::vec3& p = mesh.positions[vertex];
+  fail(path, "the mesh reaches " + number(reach) + " (vertex " + std::to_string(vertex) + " at (" +
+                 number(p.x) + ", " + number(p.y) + ", " + number(p.z) + ")), " +
+                 number(reach / edge, 3) + " times its median edge length " + number(edge, 3) +
+                 ": float ray tracing resolves at most " + number(kMaxReachInEdges) +
+                 " (2^16); a stray vertex, or a mesh far from its origin?");
+}
+
 TriangleMesh cleanMesh(const std::string& path, RawMesh raw, MeshReport* report,
                        std::vector<unsigned>* vertexOrigin) {
   MeshReport local;
@@ -290,6 +354,8 @@ TriangleMesh cleanMesh(const std::string& path, RawMesh raw, MeshReport* report,
   std::vector<unsigned> origin = keepReferencedVertices(raw, mesh, r);
   const bool hadNormals = !raw.normals.empty();
   raw = RawMesh();
+  checkCoordinateRange(path, mesh, kMaxCoordinate);
+  checkFloatPrecision(path, mesh);
 
   analyzeTopology(mesh, r);
   const bool closed = r.boundaryEdges == 0 && r.nonManifoldEdges == 0 && r.misorientedEdges == 0;

@@ -8,6 +8,8 @@
 // other formats through OpenMesh's readers into a raw face list (no OpenMesh topology), and the
 // cleanup below is ours for every format:
 //   - NaN/Inf coordinates, out-of-range indices, zero faces: errors;
+//   - coordinates too large or too far apart for float ray tracing (kMaxCoordinate,
+//     kMaxReachInEdges below, on the vertices the faces use): errors;
 //   - polygons are fan-triangulated; degenerate triangles (repeated index or zero area) and
 //     duplicate triangles (same three vertices, any order or winding) are dropped and counted;
 //   - unreferenced vertices are removed (counted); a mesh whose faces all drop is an error;
@@ -65,6 +67,36 @@ struct RawMesh {
     faceSizes.push_back(static_cast<unsigned>(corners.size()));
   }
 };
+
+// Geometry that float arithmetic cannot carry: positions are floats (a 24-bit significand, so a
+// coordinate x is stored to within |x| 2^-24), and the ray tracer (lib/raytrace) offsets its rays
+// by 4e-6, about 2^-18, of the mesh's reach (its farthest coordinate or its bounding-box diagonal,
+// whichever is larger). cleanMesh checks, for every reader:
+//  - kMaxCoordinate: no coordinate beyond 1e18, under the 1.84e18 Embree allows a ray origin
+//    (beyond it its ray.valid() assertion aborts) and under sqrt(FLT_MAX) = 1.8e19, so that
+//    squared lengths stay finite in float (bounds, camera distances, the renderer's matrices);
+//  - kMaxReachInEdges: the reach is at most 2^16 median edge lengths. Float then resolves an edge
+//    in 128 steps or more (spacing <= reach 2^-23) and the ray offset stays under about a quarter
+//    of an edge; beyond, rays step over whole triangles and random walks stall where one step
+//    does not move a point (a 42-vertex sphere with one vertex 1.7e15 away ran for more than
+//    120 s). Scale-free: a whole mesh far from its origin, or one stray vertex, fails alike. The
+//    sample meshes reach 22 (teapot) to 643 (871K-triangle dragon) median edges; a regular
+//    tessellation reaches 2^16 with some 10^10 triangles.
+inline constexpr double kMaxCoordinate = 1e18;
+inline constexpr double kMaxReachInEdges = 65536.0;
+// The bake's bound after scaling to millimetres (lib/bake/prepare_mesh.cpp): floats hold every
+// whole millimetre up to 2^24 mm (16.8 km); beyond, they are 2 mm or more apart, longer than the
+// mean free path of all but one preset material (0.14 to 6 mm): walk steps stop moving a point.
+inline constexpr double kMaxCoordinateMm = 16777216.0;
+
+// Throws Error("<path>: ...") naming the vertex and the limit when a coordinate's magnitude
+// exceeds `maxCoordinate` (`unit` names its unit in the message: "mm", or "" for the file's).
+void checkCoordinateRange(const std::string& path, const TriangleMesh& mesh, double maxCoordinate,
+                          const std::string& unit = "");
+// Throws Error("<path>: ...") naming the farthest vertex when the mesh's reach exceeds
+// kMaxReachInEdges median edge lengths (the median of a stride sample of at most 2^16
+// triangles' edges: O(n) time, 1.5 MB at most).
+void checkFloatPrecision(const std::string& path, const TriangleMesh& mesh);
 
 // The validation and cleanup step of loadMesh on in-memory data. `path` only names the source
 // in errors. `vertexOrigin` (optional) receives, for each output vertex, its index in

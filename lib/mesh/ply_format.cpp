@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "core/error.h"
+#include "core/paths.h"
 
 namespace sss::ply {
 
@@ -389,6 +390,7 @@ class Reader {
 }  // namespace
 
 PlyMesh readPly(const std::string& path) {
+  checkInputFile(path);  // not a directory or a FIFO
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path, "cannot open file");
   in.seekg(0, std::ios::end);

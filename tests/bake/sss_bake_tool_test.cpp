@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -11,6 +12,8 @@
 #include <iterator>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -432,6 +435,117 @@ TEST_F(BakeTool, BadEnvironmentIsAnError) {
   expectError(run(path("sphere.ply") + " -e " + path("env.exr") + " -m marble --unit mm -q -o " +
                   path("out.ply")),
               "env.exr");
+}
+
+// Issue 13: hostile inputs. Each bad input is refused with one line naming the file and the
+// problem, the inputs keep their bytes and nothing else is left in the directory.
+class BakeToolHostileInput : public BakeTool {
+ protected:
+  // The directory's files and their bytes: what a refused run must leave as it was.
+  std::vector<std::pair<std::string, std::string>> snapshot() const {
+    std::vector<std::pair<std::string, std::string>> files;
+    for (const auto& entry : fs::directory_iterator(dir_)) {
+      files.emplace_back(entry.path().filename().string(),
+                         fs::is_regular_file(entry.path()) ? readFile(entry.path()) : "<dir>");
+    }
+    std::sort(files.begin(), files.end());
+    return files;
+  }
+  // Runs `arguments`; expects `exitCode`, "sss-bake: error: " and every part of `parts` in one
+  // line, and the directory unchanged.
+  RunResult expectRefused(const std::string& arguments, const std::vector<std::string>& parts,
+                          int exitCode = 1) const {
+    const auto before = snapshot();
+    const RunResult r = run(arguments);
+    EXPECT_EQ(r.exitCode, exitCode) << r.output;
+    const std::size_t at = r.output.find("sss-bake: error: ");
+    EXPECT_NE(at, std::string::npos) << r.output;
+    const std::string line = at == std::string::npos ? "" : r.output.substr(at);
+    EXPECT_EQ(std::count(line.begin(), line.end(), '\n'), 1) << r.output;
+    for (const std::string& part : parts) {
+      EXPECT_NE(line.find(part), std::string::npos) << "expected '" << part << "' in:\n" << line;
+    }
+    EXPECT_EQ(snapshot(), before) << arguments;
+    return r;
+  }
+};
+
+TEST_F(BakeToolHostileInput, CoordinateBeyondFloatRangeIsAnError) {
+  // Before: Embree's ray.valid() assertion aborted the bake (SIGABRT).
+  TriangleMesh mesh = sphere_;
+  mesh.positions[7].x = 1e38f;
+  writeAsciiPly(dir_ / "huge.ply", mesh, false);
+  expectRefused(args("huge.ply", "-m marble --unit mm"),
+                {path("huge.ply") + ": vertex 7 ", "coordinate of 1e+38", "limit of 1e+18"});
+}
+
+TEST_F(BakeToolHostileInput, StrayVertexFailsAtOnce) {
+  // Before: 42 vertices, one 1.7e15 mm away, ran for more than 120 s (escape walks that could
+  // not move a point), with a warning about the mesh's length.
+  TriangleMesh mesh = makeIcosphere(1, 10.0f);
+  ASSERT_EQ(mesh.positions.size(), 42u);
+  mesh.positions[7].x = 1.7e15f;
+  writeAsciiPly(dir_ / "far.ply", mesh, false);
+  for (const char* unit : {"--unit mm", "--unit m"}) {
+    const auto start = std::chrono::steady_clock::now();
+    expectRefused(
+        args("far.ply", std::string("-m marble ") + unit),
+        {path("far.ply") + ": the mesh reaches 1.7e+15", "vertex 7", "median edge", "65536"});
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 5.0);
+  }
+}
+
+TEST_F(BakeToolHostileInput, MeshBeyondTheMillimetreLimitAfterScalingIsAnError) {
+  // A sphere of radius 10 units at 1e6 mm per unit: coordinates of 1e7 mm pass, 2e7 do not.
+  expectRefused(args("sphere.ply", "-m marble --mm-per-unit 2e6"),
+                {path("sphere.ply") + ": vertex ", "2e+07 mm", "limit of 16777216 mm"});
+}
+
+TEST_F(BakeToolHostileInput, DirectoryAsMeshIsAnError) {
+  // Before: "error: std::bad_alloc" (a directory opens as a stream of unbounded size).
+  fs::create_directory(dir_ / "folder.ply");
+  fs::create_directory(dir_ / "folder.off");
+  for (const char* name : {"folder.ply", "folder.off"}) {
+    expectRefused(args(name, "-m marble --unit mm"), {path(name) + ": is a directory, not a file"});
+  }
+}
+
+TEST_F(BakeToolHostileInput, LyingHeadersAreErrors) {
+  std::ofstream(dir_ / "faces.off") << "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n2000000000 0 1 2\n";
+  expectRefused(args("faces.off", "-m marble --unit mm"),
+                {path("faces.off") + ": OFF face 0 declares 2000000000 corners"});
+  std::ofstream(dir_ / "tall.hdr")
+      << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 99999999999 +X 64\n";
+  expectRefused(path("sphere.ply") + " -e " + path("tall.hdr") + " -m marble --unit mm -q -o " +
+                    path("out.ply"),
+                {path("tall.hdr") + ": header declares 64x", "2^28"});
+}
+
+TEST_F(BakeToolHostileInput, OutputNamingAnInputIsAUsageError) {
+  // Before: -o naming the mesh overwrote it and exited 0.
+  fs::create_symlink(dir_ / "sphere.ply", dir_ / "link.ply");
+  fs::create_hard_link(dir_ / "sphere.ply", dir_ / "hard.ply");
+  const std::string tail = " -e " + path("white.exr") + " -m marble --unit mm -q";
+  for (const std::string& output : {path("sphere.ply"), (dir_ / "." / "sphere.ply").string(),
+                                    path("link.ply"), path("hard.ply")}) {
+    expectRefused(path("sphere.ply") + tail + " -o " + output,
+                  {"-o " + output + " is the same file as the mesh (" + path("sphere.ply") + ")",
+                   "refusing to overwrite an input"},
+                  2);
+  }
+  expectRefused(
+      path("sphere.ply") + tail + " -o " + path("out.ply") + " --json " + path("white.exr"),
+      {"--json " + path("white.exr") + " is the same file as the environment"}, 2);
+  expectRefused(path("sphere.ply") + tail + " -o " + path("out.ply") + " --json " +
+                    (dir_ / "." / "out.ply").string(),
+                {"is the same file as -o (" + path("out.ply") + "): two outputs"}, 2);
+}
+
+TEST_F(BakeToolHostileInput, ParametersOutsideTheirRangeAreUsageErrors) {
+  expectRefused(args("sphere.ply", "-m marble --unit mm --eta 0"),
+                {"--eta: eta 0 is outside [1, 3]"}, 2);
+  expectRefused(args("sphere.ply", "-m marble --unit mm --env-size 9000"),
+                {"--env-size: a cubemap face size must be 1 to 8192 texels, got 9000"}, 2);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // Image and cubemap files: round trips and every kind of bad input readImage must refuse.
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <string>
@@ -114,6 +115,55 @@ TEST_F(ImageIo, MissingUnreadableAndEmptyFiles) {
   // A header that promises more pixels than the file has.
   std::ofstream(path("short.pfm"), std::ios::binary) << "PF\n64 64\n-1.0\nabc";
   EXPECT_NE(readError(path("short.pfm")), "");
+}
+
+// Issue 13: a header's declared size is checked against kMaxImagePixels and the file's size
+// before any pixel is allocated (before: "std::bad_alloc" with no file name).
+TEST_F(ImageIo, LyingHeadersAreRefusedBeforeAllocating) {
+  const std::string rgbe = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n";
+  std::ofstream(path("tall.hdr"), std::ios::binary) << rgbe << "-Y 99999999999 +X 64\n";
+  EXPECT_EQ(readError(path("tall.hdr")),
+            path("tall.hdr") +
+                ": header declares 64x2147483647 pixels, more than the 268435456 (2^28) an "
+                "image may have");
+  std::ofstream(path("wide.hdr"), std::ios::binary) << rgbe << "-Y 400000 +X 400000\n";
+  EXPECT_NE(readError(path("wide.hdr")).find("400000x400000 pixels, more than"), std::string::npos);
+  // 1024 x 512 run-length encoded takes at least 512 x (4 + 8 x 9) bytes.
+  std::ofstream(path("short.hdr"), std::ios::binary) << rgbe << "-Y 512 +X 1024\n\x02\x02\x04";
+  EXPECT_EQ(readError(path("short.hdr")),
+            path("short.hdr") +
+                ": header declares 1024x512 pixels, which take at least 38912 bytes, but the file "
+                "has 53 (truncated?)");
+  std::ofstream(path("short.pfm"), std::ios::binary) << "PF\n4096 2048\n-1.0\nabc";
+  EXPECT_NE(readError(path("short.pfm")).find("which take at least 100663296 bytes"),
+            std::string::npos);
+  std::filesystem::create_directory(path("folder.exr"));
+  EXPECT_EQ(readError(path("folder.exr")), path("folder.exr") + ": is a directory, not a file");
+}
+
+TEST(ImageFileSize, MinimumBytesPerFormat) {
+  // HDR: flat below 8 or above 32767 pixels a row, else at least a 4-byte header and 2 bytes per
+  // 127 pixels per channel.
+  EXPECT_EQ(minimumImageFileBytes("hdr", 4, 10, 3, true), 10u * 16u);
+  EXPECT_EQ(minimumImageFileBytes("hdr", 127, 2, 3, true), 2u * 12u);
+  EXPECT_EQ(minimumImageFileBytes("hdr", 128, 1, 3, true), 4u + 16u);
+  EXPECT_EQ(minimumImageFileBytes("hdr", 40000, 1, 3, true), 160000u);
+  EXPECT_EQ(minimumImageFileBytes("pnm", 8, 4, 3, true), 8u * 4u * 3u * 4u);  // PFM
+  EXPECT_EQ(minimumImageFileBytes("pnm", 8, 4, 1, false), 4u);                // a P4 bitmap
+  EXPECT_EQ(minimumImageFileBytes("openexr", 16384, 16384, 3, false), 4096u);
+  EXPECT_EQ(minimumImageFileBytes("png", 100, 100, 3, false), 0u);
+}
+
+TEST_F(ImageIo, SmallestValidFilesPassTheSizeCheck) {
+  // Constant images compress the most; every writer's output must still read back.
+  ImageRgb flat;
+  flat.width = 512;
+  flat.height = 256;
+  flat.pixels.assign(512 * 256, glm::vec3(0.25f));
+  for (const char* name : {"flat.hdr", "flat.exr", "flat.png", "flat.tif"}) {
+    writeImage(path(name), flat);
+    EXPECT_EQ(readError(path(name)), "") << name;
+  }
 }
 
 TEST_F(ImageIo, NonFiniteTexelsAreCountedWithTheFirstPosition) {

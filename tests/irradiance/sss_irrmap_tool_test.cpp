@@ -3,8 +3,10 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -184,13 +186,92 @@ TEST_F(SssIrrmap, BadOptions) {
   // CLI11's own parse errors get the same line and status.
   expectUsageError("--sky --size abc -o " + path("e.exr"), "Could not convert: --size = abc");
   expectUsageError("--sky --size -1 -o " + path("e.exr"),
-                   "--size: must be a finite number >= 0, got '-1'");
-  expectUsageError("--sky --eta 0 -o " + path("e.exr"), "--eta: eta must be a positive number");
+                   "--size: a cubemap face size must be 1 to 8192 texels, got -1");
+  // The material's range, as sss-bake and sss-render check it (issue 13).
+  expectUsageError("--sky --eta 0 -o " + path("e.exr"), "--eta: eta 0 is outside [1, 3]");
   expectUsageError("--sky --frobnicate -o " + path("e.exr"),
                    "The following argument was not expected: --frobnicate");
   expectUsageError(path("x.exr") + " --sky -o " + path("e.exr"), "INPUT excludes --sky");
   // A missing output folder is a failure of the run, not of the command line.
   EXPECT_EQ(run("--sky -o " + path("no/such/dir/e.exr")).exitCode, 1);
+  EXPECT_TRUE(files().empty());
+}
+
+// Issue 13: the files of the scratch directory and their bytes, before and after a refused run.
+std::vector<std::pair<std::string, std::string>> contents(const test::ScratchDir& dir) {
+  std::vector<std::pair<std::string, std::string>> files;
+  for (const std::string& name : dir.fileNames()) {
+    if (fs::is_directory(dir.path(name))) {
+      files.emplace_back(name, "<directory>");
+      continue;
+    }
+    std::ifstream in(dir.path(name), std::ios::binary);
+    files.emplace_back(name, std::string(std::istreambuf_iterator<char>(in), {}));
+  }
+  return files;
+}
+
+TEST_F(SssIrrmap, LyingHeaderAndDirectoryAreNamedErrors) {
+  // Before: "sss-irrmap: error: std::bad_alloc" for both.
+  std::ofstream(path("tall.hdr"), std::ios::binary)
+      << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 99999999999 +X 64\n\x01\x02\x03\x04";
+  std::ofstream(path("short.hdr"), std::ios::binary)
+      << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 512 +X 1024\n\x01\x02\x03\x04";
+  const auto before = contents(scratch_);
+  expectRefused(path("tall.hdr"), path("tall.hdr") +
+                                      ": header declares 64x2147483647 pixels, more than the "
+                                      "268435456 (2^28) an image may have");
+  expectRefused(path("short.hdr"), path("short.hdr") +
+                                       ": header declares 1024x512 pixels, which take at least "
+                                       "38912 bytes, but the file has 54 (truncated?)");
+  EXPECT_EQ(contents(scratch_), before);
+  fs::create_directory(path("folder.exr"));
+  expectRefused(path("folder.exr"), path("folder.exr") + ": is a directory, not a file");
+}
+
+TEST_F(SssIrrmap, OutputNamingTheInputIsAUsageError) {
+  // Before: -o naming the environment overwrote it and exited 0.
+  writeImage(path("env.exr"), constantImage(32, 16, glm::vec3(1.0f)));
+  writeImage(path("env.png"), constantImage(32, 16, glm::vec3(0.5f)));
+  const std::string dotted = (fs::path(path("")) / "." / "env.exr").string();
+  struct Case {
+    std::string args, message;
+  };
+  for (const Case& c : std::vector<Case>{
+           {path("env.exr") + " -o " + path("env.exr"),
+            "-o " + path("env.exr") + " is the same file as the input (" + path("env.exr") +
+                "): refusing to overwrite an input"},
+           {path("env.exr") + " --radiance " + dotted,
+            "--radiance " + dotted + " is the same file as the input (" + path("env.exr") +
+                "): refusing to overwrite an input"},
+           // The PNG preview beside -o env.exr would replace the input env.png.
+           {path("env.png") + " -o " + path("env.exr"),
+            "the preview of -o " + path("env.png") + " is the same file as the input (" +
+                path("env.png") + "): refusing to overwrite an input"},
+           {"--sky -o " + path("e.exr") + " --radiance " + path("e.exr"),
+            "-o " + path("e.exr") + " is the same file as --radiance (" + path("e.exr") +
+                "): two outputs cannot share a file"}}) {
+    const auto before = contents(scratch_);
+    const ToolRun r = run(c.args);
+    EXPECT_EQ(r.exitCode, 2) << c.args;
+    EXPECT_EQ(r.output, "sss-irrmap: error: " + c.message + "\n");
+    EXPECT_EQ(contents(scratch_), before) << c.args;
+  }
+}
+
+TEST_F(SssIrrmap, FaceSizesAndEtaAreCheckedAsInTheOtherTools) {
+  // Before: --size 0 and --eta 0.5 exited 0 (sss-bake refused eta outside [1, 3]).
+  for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
+           {"--size 0", "--size: a cubemap face size must be 1 to 8192 texels, got 0"},
+           {"--radiance-size 0",
+            "--radiance-size: a cubemap face size must be 1 to 8192 texels, got 0"},
+           {"--size 100000", "--size: a cubemap face size must be 1 to 8192 texels, got 100000"},
+           {"--eta 0.5", "--eta: eta 0.5 is outside [1, 3]"},
+           {"--eta 3.5", "--eta: eta 3.5 is outside [1, 3]"}}) {
+    const ToolRun r = run("--sky -q -o " + path("e.exr") + " " + args);
+    EXPECT_EQ(r.exitCode, 2) << args;
+    EXPECT_EQ(r.output, "sss-irrmap: error: " + message + "\n");
+  }
   EXPECT_TRUE(files().empty());
 }
 

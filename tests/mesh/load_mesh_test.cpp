@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <filesystem>
 #include <sstream>
 
 #include <glm/geometric.hpp>
@@ -265,6 +266,66 @@ TEST(MeshPlyReader, ZeroFacesNanAndBadIndexInFiles) {
                     "vertex 2 has a non-finite coordinate");
   expectLoadRefused(dir, "index.ply", asciiPlyWith("3 0 2 3", "3 0 2 7"), "refers to vertex 7");
   expectLoadRefused(dir, "negative.ply", asciiPlyWith("3 0 2 3", "3 0 2 -1"), "out of range");
+}
+
+// Issue 13: geometry float ray tracing cannot carry (kMaxCoordinate, kMaxReachInEdges).
+TEST(MeshGeometryLimits, CoordinateBeyondTheLimitIsAnError) {
+  TriangleMesh sphere = makeIcosphere(1, 1.0f);
+  sphere.positions[7] = glm::vec3(1e38f, 0.5f, 0.25f);
+  expectError([&] { cleanMesh("huge.ply", rawOf(sphere, false), nullptr); }, "huge.ply",
+              "vertex 7 (1e+38, 0.5, 0.25) has a coordinate of 1e+38, beyond the limit of 1e+18 "
+              "for float geometry");
+  // A whole mesh scaled up: its shape is fine, its size is not.
+  TriangleMesh big = makeIcosphere(1, 1e19f);
+  expectError([&] { cleanMesh("big.ply", rawOf(big, false), nullptr); }, "big.ply",
+              "beyond the limit of 1e+18");
+  // The bake's bound in millimetres, after scaling.
+  const TriangleMesh km = makeIcosphere(1, 2e7f);
+  expectError([&] { checkCoordinateRange("km.ply", km, kMaxCoordinateMm, "mm"); }, "km.ply",
+              "has a coordinate of 2e+07 mm, beyond the limit of 16777216 mm");
+  EXPECT_NO_THROW(checkCoordinateRange("km.ply", makeIcosphere(1, 1.6e7f), kMaxCoordinateMm));
+}
+
+TEST(MeshGeometryLimits, StrayVertexOrFarMeshIsAnErrorAtOnce) {
+  // Before: accepted with a warning about its length, then more than 120 s in the bake.
+  TriangleMesh sphere = makeIcosphere(1, 10.0f);
+  ASSERT_EQ(sphere.vertexCount(), 42u);
+  sphere.positions[7].x = 1.7e15f;
+  const auto start = std::chrono::steady_clock::now();
+  expectError([&] { cleanMesh("far.ply", rawOf(sphere, false), nullptr); }, "far.ply",
+              "the mesh reaches 1.7e+15 (vertex 7 at (1.7e+15, ");
+  expectError([&] { cleanMesh("far.ply", rawOf(sphere, false), nullptr); }, "far.ply",
+              "times its median edge length 6.18: float ray tracing resolves at most 65536 (2^16)");
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 0.1);
+  // A whole mesh far from its origin fails alike; 2^15 edges away it passes.
+  TriangleMesh moved = makeIcosphere(1, 1.0f);
+  const float edge =
+      glm::length(moved.positions[moved.triangles[0].x] - moved.positions[moved.triangles[0].y]);
+  for (glm::vec3& p : moved.positions) p.x += 32768.0f * edge;
+  EXPECT_NO_THROW(cleanMesh("near.ply", rawOf(moved, false), nullptr));
+  for (glm::vec3& p : moved.positions) p.x += 131072.0f * edge;
+  expectError([&] { cleanMesh("moved.ply", rawOf(moved, false), nullptr); }, "moved.ply",
+              "a stray vertex, or a mesh far from its origin?");
+}
+
+TEST(MeshGeometryLimits, UnreferencedFarVertexIsDroppedNotAnError) {
+  const TriangleMesh sphere = makeIcosphere(1, 1.0f);
+  RawMesh raw = rawOf(sphere, false);
+  raw.positions.push_back(glm::vec3(1e38f));
+  MeshReport report;
+  const TriangleMesh m = cleanMesh("m.ply", raw, &report);
+  EXPECT_EQ(report.droppedUnreferenced, 1u);
+  EXPECT_EQ(m.positions, sphere.positions);
+}
+
+TEST(MeshPlyReader, DirectoryIsNamedNotAllocated) {
+  // Before: "std::bad_alloc" (a directory opens as a stream of unbounded size).
+  ScratchDir dir;
+  for (const char* name : {"d.ply", "d.off", "d.obj", "d.stl", "d.om"}) {
+    const std::string folder = dir.path(name);
+    std::filesystem::create_directory(folder);
+    expectError([&] { loadMesh(folder); }, folder, "is a directory, not a file");
+  }
 }
 
 TEST(MeshPlyReader, BigEndianMatchesLittleEndian) {

@@ -2,7 +2,9 @@
 // OFF, STL and OBJ files are errors.
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <ostream>
+#include <string>
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
@@ -118,6 +120,52 @@ TEST(MeshFormatErrors, TruncatedOffAndStlAndGarbage) {
   writeFile(obj, "this is not\na mesh at all\n");
   EXPECT_THROW(loadMesh(obj), Error);
   expectLoadRefused(dir, "empty.obj", "", "empty file");
+}
+
+// Issue 13: counts that OpenMesh's readers would loop and allocate over are checked first.
+TEST(MeshFormatErrors, LyingCountsAreRefusedBeforeOpenMeshReads) {
+  ScratchDir dir;
+  const std::string vertices = "0 0 0\n1 0 0\n0 1 0\n";
+  expectLoadRefused(dir, "corners.off", "OFF\n3 1 0\n" + vertices + "2000000000 0 1 2\n",
+                    "OFF face 0 declares 2000000000 corners, more than the rest of the file holds");
+  expectLoadRefused(dir, "negative.off", "OFF\n3 1 0\n" + vertices + "-5 0 1 2\n",
+                    "OFF face 0 declares -5 corners");
+  expectLoadRefused(dir, "shortfaces.off", "OFF\n3 2 0\n" + vertices + "3 0 1 2\n3 0 1\n",
+                    "OFF face 1 declares 3 corners, more than the rest of the file holds");
+  auto u32 = [](std::uint32_t v) { return std::string(reinterpret_cast<const char*>(&v), 4); };
+  auto f32 = [](float v) { return std::string(reinterpret_cast<const char*>(&v), 4); };
+  std::string binary = "OFF BINARY\n" + u32(3) + u32(1) + u32(0);
+  for (float c : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) binary += f32(c);
+  expectLoadRefused(dir, "corners_binary.off", binary + u32(2000000000) + u32(0) + u32(1) + u32(2),
+                    "OFF face 0 declares 2000000000 corners");
+  // Two faces declared, 32 bytes of face records (the size check's 16 a face), one 7-gon: past
+  // the end OpenMesh would repeat the 7 for the missing face.
+  std::string twoFaces = "OFF BINARY\n" + u32(3) + u32(2) + u32(0) + binary.substr(23) + u32(7);
+  for (int i = 0; i < 7; ++i) twoFaces += u32(i % 3);
+  expectLoadRefused(dir, "truncated_binary.off", twoFaces,
+                    "OFF header declares 2 faces, but the file ends in face 1 (truncated)");
+  // OM: magic, mesh type, version, then vertex, face and edge counts.
+  const TriangleMesh box = makeBox(glm::vec3(1.0f), 1);
+  const std::string om = dir.path("box.om");
+  ASSERT_TRUE(OpenMesh::IO::write_mesh(toOpenMesh(box), om));
+  std::string bytes = readFile(om);
+  ASSERT_EQ(bytes.compare(0, 2, "OM"), 0);
+  bytes.replace(8, 4, u32(0x7fffffff));  // faces
+  expectLoadRefused(dir, "faces.om", bytes,
+                    "OM header declares 8 vertices, 2147483647 faces and 18 edges, more than the "
+                    "file can hold");
+}
+
+TEST(MeshFormatErrors, HugeCoordinateInEveryFormatIsAnError) {
+  // Before: Embree's ray.valid() assertion aborted the bake.
+  ScratchDir dir;
+  TriangleMesh box = makeBox(glm::vec3(1.0f), 1);
+  box.positions[3].y = 1e38f;
+  for (const char* ext : {"off", "obj", "stl", "om"}) {
+    const std::string file = dir.path(std::string("huge.") + ext);
+    ASSERT_TRUE(OpenMesh::IO::write_mesh(toOpenMesh(box), file, OpenMesh::IO::Options::Binary));
+    expectError([&] { loadMesh(file); }, file, "beyond the limit of 1e+18 for float geometry");
+  }
 }
 
 TEST(MeshFormatErrors, ObjWithNanAndNonManifoldFaces) {

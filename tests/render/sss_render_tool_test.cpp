@@ -3,8 +3,10 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
@@ -249,6 +251,65 @@ TEST_F(SssRenderTool, BadOptionsAreRejectedBeforeAnyOutput) {
     EXPECT_NE(r.output.find("sss-render: error:"), std::string::npos) << r.output;
   }
   expectOnlyInputs(2);
+}
+
+// Issue 13: the scratch directory's files and their bytes, before and after a refused run.
+std::vector<std::pair<std::string, std::string>> contents(const test::ScratchDir& dir) {
+  std::vector<std::pair<std::string, std::string>> files;
+  for (const std::string& name : dir.fileNames()) {
+    if (fs::is_directory(dir.path(name))) {
+      files.emplace_back(name, "<directory>");
+      continue;
+    }
+    std::ifstream in(dir.path(name), std::ios::binary);
+    files.emplace_back(name, std::string(std::istreambuf_iterator<char>(in), {}));
+  }
+  return files;
+}
+
+TEST_F(SssRenderTool, HostileInputsAreRefusedAndLeaveTheFilesAsTheyWere) {
+  writeBakedPly(path("sphere.ply"), bakedSphere());
+  BakedMesh far = bakedSphere();
+  far.mesh.positions[7].x = 1e38f;  // before: an empty picture, exit 0
+  writeBakedPly(path("huge.ply"), far);
+  writeUniformEnvironment("env.exr", glm::vec3(0.5f));
+  fs::create_directory(path("folder.ply"));  // before: "error: std::bad_alloc"
+  std::ofstream(path("tall.hdr"), std::ios::binary)
+      << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 99999999999 +X 64\n";
+  const std::string env = " -e " + path("env.exr"), out = " -o " + path("out.png");
+  struct Case {
+    std::string args, message;
+    int exitCode;
+  };
+  for (const Case& c : std::vector<Case>{
+           {path("huge.ply") + env + out, path("huge.ply") + ": vertex 7 (1e+38, ", 1},
+           {path("folder.ply") + env + out, path("folder.ply") + ": is a directory, not a file", 1},
+           {path("sphere.ply") + " -e " + path("tall.hdr") + out,
+            path("tall.hdr") + ": header declares 64x2147483647 pixels", 1},
+           // Before: -o naming the environment overwrote it.
+           {path("sphere.ply") + env + " -o " + path("env.exr"),
+            "-o " + path("env.exr") + " is the same file as the environment (" + path("env.exr") +
+                "): refusing to overwrite an input",
+            2},
+           {path("sphere.ply") + env + out + " --json " + path("sphere.ply"),
+            "--json " + path("sphere.ply") + " is the same file as the mesh", 2},
+           {path("sphere.ply") + env + out + " --albedo 2,0.5,0.5 --mode brdf",
+            "--albedo: albedo 2,0.5,0.5 must lie in [0, 1]", 2},
+           {path("sphere.ply") + env + out + " --fov nan",
+            "--fov: must be a finite number in [1, 170], got 'nan'", 2},
+           {path("sphere.ply") + env + out + " --exposure inf",
+            "--exposure: must be a finite number, got 'inf'", 2},
+           {path("sphere.ply") + env + out + " --env-size 9000",
+            "--env-size: a cubemap face size must be 1 to 8192 texels, got 9000", 2},
+           {path("sphere.ply") + env + out + " --eta 0.5", "--eta: eta 0.5 is outside [1, 3]",
+            2}}) {
+    const auto before = contents(scratch_);
+    const ToolRun r = run(c.args + " -q");
+    EXPECT_EQ(r.exitCode, c.exitCode) << c.args << "\n" << r.output;
+    EXPECT_EQ(r.output.rfind("sss-render: error: " + c.message, 0), 0u) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    EXPECT_EQ(contents(scratch_), before) << c.args;
+  }
 }
 
 TEST_F(SssRenderTool, FramesAreTimedAndReported) {

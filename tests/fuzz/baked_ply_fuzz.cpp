@@ -1,0 +1,5 @@
+// libFuzzer target: readBakedPly: the sss header comments, the per-vertex E and B channels, the
+// mesh.
+#include "fuzz_main.h"
+
+SSS_FUZZ_TARGET("baked_ply")

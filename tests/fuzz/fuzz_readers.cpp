@@ -1,0 +1,69 @@
+#include "fuzz_readers.h"
+
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include "core/error.h"
+#include "envmap/environment.h"
+#include "envmap/image.h"  // NonFiniteTexelsError
+#include "mesh/baked_ply.h"
+#include "mesh/load_mesh.h"
+
+namespace sss::fuzz {
+namespace {
+
+// OpenImageIO picks its reader from the extension (and tries the others when that one refuses),
+// so the environment target names each input after its magic: the seeds are EXR, HDR and PFM.
+std::string imageExtension(std::string_view bytes) {
+  if (bytes.starts_with("#?")) return "hdr";
+  if (bytes.starts_with("PF") || bytes.starts_with("Pf")) return "pfm";
+  return "exr";
+}
+
+// The loader as sss-irrmap and sss-bake call it, into a small cubemap (faceSize 0 would follow the
+// image's width: a valid 2:1 image at the pixel limit would make every input slow without reaching
+// other code); NaN/Inf texels are refused, then read again with sanitize as --sanitize does.
+void readEnvironment(const std::string& path) {
+  EnvironmentOptions options;
+  options.faceSize = 8;
+  options.threads = 1;
+  try {
+    loadEnvironment(path, options);
+  } catch (const NonFiniteTexelsError&) {
+    options.read.sanitize = true;
+    loadEnvironment(path, options);
+  }
+}
+
+}  // namespace
+
+const std::vector<std::string>& targetNames() {
+  static const std::vector<std::string> names = {"ply", "obj",         "off",
+                                                 "stl", "environment", "baked_ply"};
+  return names;
+}
+
+void readInput(std::string_view target, std::string_view bytes, const std::string& dir) {
+  const std::string ext = target == "environment" ? imageExtension(bytes)
+                          : target == "baked_ply" ? "ply"
+                                                  : std::string(target);
+  const std::string path = (std::filesystem::path(dir) / ("input." + ext)).string();
+  {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    if (!out) throw std::runtime_error("cannot write " + path);
+  }
+  if (target == "environment") {
+    readEnvironment(path);
+  } else if (target == "baked_ply") {
+    readBakedPly(path);
+  } else if (target == "ply" || target == "obj" || target == "off" || target == "stl") {
+    MeshReport report;
+    loadMesh(path, &report);
+  } else {
+    throw std::logic_error("unknown fuzz target '" + std::string(target) + "'");
+  }
+}
+
+}  // namespace sss::fuzz

@@ -151,13 +151,11 @@ OffCounts checkOffHeader(const std::string& path, const std::string& data) {
   counts.binary = data.size() > keyword.size() + 1 &&
                   data.compare(keyword.size() + 1, 6, "BINARY") == 0;
   std::size_t at = std::min(firstEol + 1, data.size());
-  std::vector<std::string> words;  // the counts (text), comments skipped
+  // Comments are words to it too: a '#' there fails its reads, and leaves the face count
+  // unset (found by tests/fuzz).
+  std::vector<std::string> words;  // the counts (text)
   while (!counts.binary && words.size() < 3 && at < data.size()) {
     at = std::min(data.find_first_not_of(" \t\r\n\v\f", at), data.size());
-    if (at < data.size() && data[at] == '#') {
-      at = std::min(data.find('\n', at), data.size());
-      continue;
-    }
     const std::size_t end = std::min(data.find_first_of(" \t\r\n\v\f", at), data.size());
     if (end > at) words.push_back(data.substr(at, end - at));
     at = end;
@@ -179,8 +177,9 @@ OffCounts checkOffHeader(const std::string& path, const std::string& data) {
     return counts;
   }
   if (words.size() < 3) fail(path, "OFF header lacks the vertex and face counts");
-  for (int i = 0; i < 2; ++i) {
-    std::uint64_t& c = i == 0 ? counts.vertices : counts.faces;
+  for (int i = 0; i < 3; ++i) {
+    std::uint64_t edges = 0;
+    std::uint64_t& c = i == 0 ? counts.vertices : i == 1 ? counts.faces : edges;
     const std::string& w = words[i];
     const auto [end, ec] = std::from_chars(w.data(), w.data() + w.size(), c);
     if (ec != std::errc() || end != w.data() + w.size()) fail(path, "bad OFF count '" + w + "'");

@@ -73,6 +73,9 @@ const std::map<std::string, std::string> kFound = {
     {"off/counts_on_the_keyword_line", "OFF header declares 0 vertices and 420 faces"},
     // A file of the keyword alone: the first check of the BINARY tag read past the end.
     {"off/keyword_alone", "OFF header lacks the vertex and face counts"},
+    // A '#' comment before the counts: OpenMesh's reads failed and left its face count unset
+    // (the check skipped the comment and read others); 1 GB of empty faces.
+    {"off/comment_before_the_counts", "bad OFF count '#'"},
     // OpenEXR allocated the 1.7 GB an unknown attribute declared in a 553-byte file.
     {"environment/exr_attribute_larger_than_file",
      "EXR header attribute 'capDate' declares 1768712291 bytes, but the file has 494 left"},

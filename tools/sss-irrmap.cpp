@@ -1,6 +1,7 @@
 // sss-irrmap: an HDR environment (or a procedural sky) -> radiance and diffuse irradiance
 // cubemaps, SH coefficients and a JSON report. See README (sss-irrmap) for the conventions.
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -90,28 +91,40 @@ ImageRgb readInputImage(const Arguments& a) {
   }
 }
 
-// The radiance cubemap from the sky or the input image; the report's input and read timings.
-Cubemap loadRadiance(const Arguments& a, nlohmann::json& report) {
+// The environment: an equirect image kept as it is when no radiance cubemap is asked (the
+// irradiance is summed straight from its rows), else the radiance cubemap.
+struct Environment {
+  std::optional<ImageRgb> equirect;
+  Cubemap radiance;
+};
+
+// The environment from the sky or the input image; the report's input and read timings.
+Environment loadEnvironmentSource(const Arguments& a, nlohmann::json& report) {
   Stopwatch watch;
+  Environment env;
   if (a.sky) {
     const SkyParameters sky = parseSkySpec(a.skySpec);
-    Cubemap radiance = makeSky(sky, a.radianceSize > 0 ? a.radianceSize : 128, a.threads);
+    env.radiance = makeSky(sky, a.radianceSize > 0 ? a.radianceSize : 128, a.threads);
     report["input"] = "sky:" + a.skySpec;
     report["layout"] = "procedural";
     report["timings_ms"]["read"] = 0.0;
     report["timings_ms"]["to_cubemap"] = watch.milliseconds();
-    return radiance;
+    return env;
   }
-  const ImageRgb image = readInputImage(a);
+  ImageRgb image = readInputImage(a);
   report["timings_ms"]["read"] = watch.milliseconds();
   const EnvironmentLayout layout = detectLayout(a.input, image.width, image.height);
-  watch.restart();
-  Cubemap radiance = cubemapFromImage(image, layout, a.radianceSize, a.threads);
-  report["timings_ms"]["to_cubemap"] = watch.milliseconds();
   report["input"] = a.input;
   report["input_size"] = {image.width, image.height};
   report["layout"] = kEnvironmentLayoutNames.name(layout);
-  return radiance;
+  watch.restart();
+  if (layout == EnvironmentLayout::Equirect && a.radiance.empty()) {
+    env.equirect = std::move(image);
+  } else {
+    env.radiance = cubemapFromImage(image, layout, a.radianceSize, a.threads);
+  }
+  report["timings_ms"]["to_cubemap"] = watch.milliseconds();
+  return env;
 }
 
 nlohmann::json shJson(const SphericalHarmonics& sh) {
@@ -154,6 +167,7 @@ void addResultToReport(const Arguments& a, const IrradianceResult& result, nlohm
   report["source_texels"] = result.sourceTexels;
   report["brute_terms"] = result.bruteClusters;
   report["threads"] = a.threads;
+  report["timings_ms"]["grid"] = result.timings.gridMs;
   report["timings_ms"]["reference"] = result.timings.referenceMs;
   report["timings_ms"]["projection"] = result.timings.projectionMs;
   report["timings_ms"]["evaluation"] = result.timings.evaluationMs;
@@ -167,26 +181,32 @@ void addResultToReport(const Arguments& a, const IrradianceResult& result, nlohm
 
 int run(const Arguments& a) {
   const Stopwatch total;
+  const double cpuStart = processCpuMilliseconds();
   checkArguments(a);
   nlohmann::json report;
   report["tool"] = "sss-irrmap";
-  const Cubemap radiance = loadRadiance(a, report);
-  report["radiance_face_size"] = radiance.size();
+  const Environment env = loadEnvironmentSource(a, report);
+  report["radiance_face_size"] = env.radiance.size();
 
   IrradianceResult result;
   if (!a.irradiance.empty() || !a.json.empty()) {
-    result = computeIrradiance(radiance, irradianceOptions(a));
+    result = env.equirect ? computeIrradianceFromEquirect(*env.equirect, irradianceOptions(a))
+                          : computeIrradiance(env.radiance, irradianceOptions(a));
     info(std::string(kIrradianceMethodNames.name(a.method)) + ": " + result.reason, a.quiet);
   }
+  // An equirect's SH for the file from every texel (auto's order-2 trial projects cells).
   SphericalHarmonics radianceSh = result.radianceSh;
-  if (!a.sh.empty() && radianceSh.order() != a.shOrder) {
+  const bool fromCells = env.equirect && a.method != IrradianceMethod::Sh;
+  if (!a.sh.empty() && (fromCells || radianceSh.order() != a.shOrder)) {
     const Stopwatch watch;
-    radianceSh = SphericalHarmonics::project(radiance, a.shOrder, a.threads);
+    radianceSh = env.equirect
+                     ? SphericalHarmonics::projectEquirect(*env.equirect, a.shOrder, a.threads)
+                     : SphericalHarmonics::project(env.radiance, a.shOrder, a.threads);
     result.timings.projectionMs += watch.milliseconds();
   }
 
   const Stopwatch watch;
-  writeCubemapWithPreview(a.radiance, radiance, a.preview);
+  writeCubemapWithPreview(a.radiance, env.radiance, a.preview);
   writeCubemapWithPreview(a.irradiance, result.irradiance, a.preview);
   if (!a.sh.empty()) writeShFile(a, radianceSh);
   const double writeMs = watch.milliseconds();
@@ -195,6 +215,7 @@ int run(const Arguments& a) {
     addResultToReport(a, result, report);
     report["timings_ms"]["write"] = writeMs;
     report["timings_ms"]["total"] = total.milliseconds();
+    report["timings_ms"]["cpu"] = processCpuMilliseconds() - cpuStart;  // all threads
     writeFileAtomically(a.json, report.dump(2) + "\n");
   }
   return 0;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <chrono>
+#include <ctime>
 
 namespace sss {
 
@@ -17,5 +18,11 @@ class Stopwatch {
  private:
   std::chrono::steady_clock::time_point start_;
 };
+
+// CPU time of the whole process so far, all threads together (std::clock): on a shared machine
+// the stable measure beside wall time.
+inline double processCpuMilliseconds() {
+  return 1e3 * static_cast<double>(std::clock()) / CLOCKS_PER_SEC;
+}
 
 }  // namespace sss

@@ -1,5 +1,6 @@
 #include "envmap/cubemap_io.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -27,8 +28,36 @@ std::string cubemapPreviewPath(const std::string& cubemapPath) {
   return std::filesystem::path(cubemapPath).replace_extension(".png").string();
 }
 
+namespace {
+
+// Each face magnified m times by bilinear interpolation inside the face (edges clamped): for a
+// picture only, so one lookup per pixel instead of resampling across the cube's seams.
+Cubemap magnifiedFaces(const Cubemap& cube, int m) {
+  const int n = cube.size(), size = n * m;
+  Cubemap out(size);
+  for (int f = 0; f < 6; ++f) {
+    for (int y = 0; y < size; ++y) {
+      const float fy = std::clamp((y + 0.5f) / m - 0.5f, 0.0f, n - 1.0f);
+      const int y0 = std::min(static_cast<int>(fy), n - 1), y1 = std::min(y0 + 1, n - 1);
+      const float wy = fy - y0;
+      for (int x = 0; x < size; ++x) {
+        const float fx = std::clamp((x + 0.5f) / m - 0.5f, 0.0f, n - 1.0f);
+        const int x0 = std::min(static_cast<int>(fx), n - 1), x1 = std::min(x0 + 1, n - 1);
+        const float wx = fx - x0;
+        out.at(f, x, y) = (1 - wy) * ((1 - wx) * cube.at(f, x0, y0) + wx * cube.at(f, x1, y0)) +
+                          wy * ((1 - wx) * cube.at(f, x0, y1) + wx * cube.at(f, x1, y1));
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
 void writeCubemapPreview(const std::string& path, const Cubemap& cubemap) {
-  ImageRgb cross = cubemapToCross(cubemap.size() < 128 ? cubemap.resized(128) : cubemap);
+  constexpr int kMinPreviewFace = 128;
+  const int m = (kMinPreviewFace + cubemap.size() - 1) / cubemap.size();
+  ImageRgb cross = cubemapToCross(m > 1 ? magnifiedFaces(cubemap, m) : cubemap);
   double logSum = 0.0;
   for (std::size_t i = 0; i < cubemap.texelCount(); ++i) {
     const glm::vec3 c = cubemap.data()[i];
@@ -38,7 +67,7 @@ void writeCubemapPreview(const std::string& path, const Cubemap& cubemap) {
   }
   const float scale = static_cast<float>(0.18 / std::exp(logSum / cubemap.texelCount()));
   for (glm::vec3& p : cross.pixels) p *= scale;
-  writeImage(path, cross);
+  writeImage(path, cross, {}, /*fastPng=*/true);
 }
 
 }  // namespace sss

@@ -82,22 +82,25 @@ ImageRgb readImage(const std::string& path, const ImageReadOptions& options) {
   const int w = spec.width, h = spec.height, nch = std::min(spec.nchannels, 3);
   const bool srgb = spec.format.basetype == OIIO::TypeDesc::UINT8 ||
                     spec.get_string_attribute("oiio:ColorSpace") == "sRGB";
-  std::vector<float> buffer(static_cast<std::size_t>(w) * h * nch);
-  if (!in->read_image(0, 0, 0, nch, OIIO::TypeDesc::FLOAT, buffer.data())) {
-    fail(path, "cannot read pixels (" + in->geterror() + ")");
-  }
-  in->close();
-
   ImageRgb image;
   image.width = w;
   image.height = h;
   image.pixels.resize(static_cast<std::size_t>(w) * h);
+  // RGB straight into the pixels (glm::vec3 is three packed floats); grey through a buffer.
+  static_assert(sizeof(glm::vec3) == 3 * sizeof(float));
+  std::vector<float> grey(nch == 3 ? 0 : static_cast<std::size_t>(w) * h * nch);
+  float* target = nch == 3 ? &image.pixels[0].x : grey.data();
+  if (!in->read_image(0, 0, 0, nch, OIIO::TypeDesc::FLOAT, target)) {
+    fail(path, "cannot read pixels (" + in->geterror() + ")");
+  }
+  in->close();
+
   std::size_t nonFinite = 0, negative = 0;
   int firstX = 0, firstY = 0;
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
-      const float* p = &buffer[(static_cast<std::size_t>(y) * w + x) * nch];
-      glm::vec3 c = nch >= 3 ? glm::vec3(p[0], p[1], p[2]) : glm::vec3(p[0]);
+      glm::vec3& c = image.at(x, y);
+      if (nch < 3) c = glm::vec3(grey[(static_cast<std::size_t>(y) * w + x) * nch]);
       for (int k = 0; k < 3; ++k) {
         if (!std::isfinite(c[k])) {
           if (nonFinite++ == 0) firstX = x, firstY = y;
@@ -109,7 +112,6 @@ ImageRgb readImage(const std::string& path, const ImageReadOptions& options) {
           c[k] = srgbToLinear(c[k]);
         }
       }
-      image.at(x, y) = c;
     }
   }
   if (nonFinite > 0) {
@@ -124,7 +126,8 @@ ImageRgb readImage(const std::string& path, const ImageReadOptions& options) {
   return image;
 }
 
-void writeImage(const std::string& path, const ImageRgb& image, const ImageAttributes& attributes) {
+void writeImage(const std::string& path, const ImageRgb& image, const ImageAttributes& attributes,
+                bool fastPng) {
   if (image.width <= 0 || image.height <= 0) fail(path, "refusing to write an empty image");
   const std::string ext = lowerExtension(path);
   const bool isFloat =
@@ -136,6 +139,10 @@ void writeImage(const std::string& path, const ImageRgb& image, const ImageAttri
                        isFloat ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
   for (const auto& [name, value] : attributes) spec.attribute(name, value);
   if (!isFloat) spec.attribute("oiio:ColorSpace", "sRGB");
+  if (fastPng) {
+    spec.attribute("png:compressionLevel", 1);
+    spec.attribute("png:filter", 8);  // PNG_FILTER_NONE
+  }
   if (!out->open(output.tempPath(), spec)) fail(path, "cannot write (" + out->geterror() + ")");
   bool ok;
   if (isFloat) {
@@ -144,8 +151,7 @@ void writeImage(const std::string& path, const ImageRgb& image, const ImageAttri
     std::vector<std::uint8_t> bytes(image.pixels.size() * 3);
     for (std::size_t i = 0; i < image.pixels.size(); ++i) {
       for (int k = 0; k < 3; ++k) {
-        bytes[3 * i + k] =
-            static_cast<std::uint8_t>(std::lround(255.0f * linearToSrgb(image.pixels[i][k])));
+        bytes[3 * i + k] = linearToSrgbByte(image.pixels[i][k]);
       }
     }
     ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());

@@ -10,6 +10,7 @@
 #include "core/luminance.h"
 #include "core/parallel.h"
 #include "core/progress.h"
+#include "irradiance/radiance_grid.h"
 
 namespace sss {
 namespace {
@@ -138,89 +139,66 @@ Terms texelTerms(const Cubemap& radiance) {
   return t;
 }
 
-// Per-face summed-area tables of the texel vectors V_c = L_c dw w (9 values) and the luminous
-// flux (1 value), for O(1) sums over any rectangle of texels.
-class FaceSums {
- public:
-  static constexpr int kValues = 10;
-  explicit FaceSums(const Cubemap& radiance) : n_(radiance.size()) {
-    const std::vector<float> omega = radiance.faceSolidAngles();
-    const std::size_t stride = static_cast<std::size_t>(n_ + 1) * (n_ + 1) * kValues;
-    table_.assign(6 * stride, 0.0);
-    for (int f = 0; f < 6; ++f) {
-      double* s = &table_[f * stride];
-      for (int y = 0; y < n_; ++y) {
-        for (int x = 0; x < n_; ++x) {
-          const glm::dvec3 w(radiance.direction(f, x, y));
-          const glm::dvec3 l = glm::dvec3(radiance.at(f, x, y)) * double(omega[y * n_ + x]);
-          double v[kValues];
-          for (int c = 0; c < 3; ++c) {
-            for (int k = 0; k < 3; ++k) v[3 * c + k] = l[c] * w[k];
-          }
-          v[9] = luminance(l);
-          for (int k = 0; k < kValues; ++k) {
-            s[at(x + 1, y + 1, k)] =
-                v[k] + s[at(x, y + 1, k)] + s[at(x + 1, y, k)] - s[at(x, y, k)];
-          }
-        }
-      }
-    }
-  }
-  // Sums over texels [x0, x1) x [y0, y1) of face f.
-  void sum(int f, int x0, int y0, int x1, int y1, double* out) const {
-    const double* s = &table_[f * static_cast<std::size_t>(n_ + 1) * (n_ + 1) * kValues];
-    for (int k = 0; k < kValues; ++k) {
-      out[k] = s[at(x1, y1, k)] - s[at(x0, y1, k)] - s[at(x1, y0, k)] + s[at(x0, y0, k)];
-    }
-  }
-
- private:
-  std::size_t at(int x, int y, int k) const {
-    return (static_cast<std::size_t>(y) * (n_ + 1) + x) * kValues + k;
-  }
-  int n_;
-  std::vector<double> table_;
-};
-
 struct Cluster {
   float v[9];
   glm::vec3 d;
 };
 
-// The cut: quadtree nodes of each face, refined while flux x angular radius > threshold.
-std::vector<Cluster> buildCut(const Cubemap& radiance, const FaceSums& sums, double threshold) {
-  const int n = radiance.size();
-  const float inv = 1.0f / n;
+// The cluster of grid cells [x0, x1) x [y0, y1) of a face, from their sums v.
+Cluster makeCluster(const double* v, const glm::vec3& centre) {
+  Cluster c;
+  for (int k = 0; k < 9; ++k) c.v[k] = static_cast<float>(v[k]);
+  // The luminance-weighted sum of the channels' vectors V_c, component by component.
+  const glm::dvec3 lum(luminance(glm::dvec3(v[0], v[3], v[6])),
+                       luminance(glm::dvec3(v[1], v[4], v[7])),
+                       luminance(glm::dvec3(v[2], v[5], v[8])));
+  const double len = glm::length(lum);
+  c.d = len > 0.0 ? glm::vec3(lum / len) : centre;
+  return c;
+}
+
+struct Node {
+  int f, x0, y0, x1, y1;
+};
+
+// Angular radius of a node about its centre: the largest angle to its corners and edge
+// midpoints (on an equirect grid the edges of constant latitude are not great circles).
+double nodeRadius(const RadianceGrid& grid, const Node& node, const glm::vec3& centre) {
+  const float xs[3] = {float(node.x0), 0.5f * (node.x0 + node.x1), float(node.x1)};
+  const float ys[3] = {float(node.y0), 0.5f * (node.y0 + node.y1), float(node.y1)};
+  float minCos = 1.0f;
+  for (float x : xs) {
+    for (float y : ys) minCos = std::min(minCos, glm::dot(centre, grid.direction(node.f, x, y)));
+  }
+  return std::acos(std::clamp(minCos, -1.0f, 1.0f));
+}
+
+// The cut: quadtree nodes of each face (from square roots of rootSize cells), refined while
+// flux x angular radius > threshold.
+std::vector<Cluster> buildCut(const RadianceGrid& grid, double threshold) {
   std::vector<Cluster> cut;
-  struct Node {
-    int f, x0, y0, x1, y1;
-  };
-  for (int f = 0; f < 6; ++f) {
-    std::vector<Node> stack{{f, 0, 0, n, n}};
+  const int root = grid.rootSize();
+  for (int f = 0; f < grid.faces(); ++f) {
+    std::vector<Node> roots;
+    for (int y = 0; y < grid.height(); y += root) {
+      for (int x = 0; x < grid.width(); x += root) {
+        roots.push_back(
+            {f, x, y, std::min(x + root, grid.width()), std::min(y + root, grid.height())});
+      }
+    }
+    std::vector<Node> stack(roots.rbegin(), roots.rend());  // popped in row order
     while (!stack.empty()) {
       const Node node = stack.back();
       stack.pop_back();
-      double v[FaceSums::kValues];
-      sums.sum(node.f, node.x0, node.y0, node.x1, node.y1, v);
+      double v[RadianceGrid::kValues];
+      grid.sum(node.f, node.x0, node.y0, node.x1, node.y1, v);
       bool black = true;
       for (int k = 0; k < 9; ++k) black = black && v[k] == 0.0;
       if (black) continue;  // contributes nothing
       const bool single = node.x1 - node.x0 == 1 && node.y1 - node.y0 == 1;
-      const glm::vec3 centre = glm::normalize(Cubemap::unproject(
-          node.f, 0.5f * (node.x0 + node.x1) * inv, 0.5f * (node.y0 + node.y1) * inv));
-      bool refine = false;
-      if (!single) {
-        float minCos = 1.0f;
-        for (int corner = 0; corner < 4; ++corner) {
-          const int cx = corner & 1 ? node.x1 : node.x0, cy = corner & 2 ? node.y1 : node.y0;
-          minCos = std::min(
-              minCos,
-              glm::dot(centre, glm::normalize(Cubemap::unproject(node.f, cx * inv, cy * inv))));
-        }
-        const double radius = std::acos(std::clamp(minCos, -1.0f, 1.0f));
-        refine = v[9] * radius > threshold;
-      }
-      if (refine) {
+      const glm::vec3 centre =
+          grid.direction(node.f, 0.5f * (node.x0 + node.x1), 0.5f * (node.y0 + node.y1));
+      if (!single && v[9] * nodeRadius(grid, node, centre) > threshold) {
         const int xm = (node.x0 + node.x1 + 1) / 2, ym = (node.y0 + node.y1 + 1) / 2;
         // Children pushed in reverse so that they are emitted in row order.
         const Node kids[4] = {{node.f, node.x0, node.y0, xm, ym},
@@ -232,18 +210,27 @@ std::vector<Cluster> buildCut(const Cubemap& radiance, const FaceSums& sums, dou
         }
         continue;
       }
-      Cluster c;
-      for (int k = 0; k < 9; ++k) c.v[k] = static_cast<float>(v[k]);
-      // The luminance-weighted sum of the channels' vectors V_c, component by component.
-      const glm::dvec3 lum(luminance(glm::dvec3(v[0], v[3], v[6])),
-                           luminance(glm::dvec3(v[1], v[4], v[7])),
-                           luminance(glm::dvec3(v[2], v[5], v[8])));
-      const double len = glm::length(lum);
-      c.d = len > 0.0 ? glm::vec3(lum / len) : centre;
-      cut.push_back(c);
+      cut.push_back(makeCluster(v, centre));
     }
   }
   return cut;
+}
+
+// Every cell of the grid as a cluster: the finest cut.
+std::vector<Cluster> allCells(const RadianceGrid& grid) {
+  std::vector<Cluster> cells;
+  cells.reserve(grid.cellCount());
+  for (int f = 0; f < grid.faces(); ++f) {
+    for (int y = 0; y < grid.height(); ++y) {
+      for (int x = 0; x < grid.width(); ++x) {
+        const float* c = grid.cell(f, x, y);
+        double v[RadianceGrid::kValues];
+        std::copy(c, c + RadianceGrid::kValues, v);
+        cells.push_back(makeCluster(v, grid.direction(f, x + 0.5f, y + 0.5f)));
+      }
+    }
+  }
+  return cells;
 }
 
 Terms clusterTerms(const std::vector<Cluster>& cut) {
@@ -289,47 +276,69 @@ std::vector<glm::vec3> irradianceAtNormals(const Cubemap& radiance,
   return sumAtNormals(texelTerms(radiance), normals, kernel, threads, sumTexels);
 }
 
+std::vector<glm::vec3> irradianceAtNormals(const RadianceGrid& grid,
+                                           const std::vector<glm::vec3>& normals, float eta,
+                                           int threads) {
+  const TransmittedCosineKernel kernel(eta);
+  return sumAtNormals(clusterTerms(allCells(grid)), normals, kernel, threads, sumClusters);
+}
+
 BruteForceIrradiance::BruteForceIrradiance(const Cubemap& radiance,
                                            const BruteForceOptions& options)
     : options_(options), kernel_(options.eta) {
   if (radiance.empty()) throw Error("cannot integrate an empty cubemap");
-  stats_.sourceTexels = radiance.texelCount();
   if (options.tolerance <= 0.0) {
     exact_ = true;
     terms_ = texelTerms(radiance);
-    stats_.clusters = radiance.texelCount();
+    stats_.sourceTexels = stats_.clusters = radiance.texelCount();
     return;
   }
+  std::vector<glm::vec3> ownReference;
+  if (options.probeNormals && !options.probeReference) {
+    ownReference = irradianceAtNormals(radiance, *options.probeNormals, options.eta,
+                                       options.threads);
+    options_.probeReference = &ownReference;
+  }
+  buildToTolerance(RadianceGrid::fromCubemap(radiance));
+}
+
+BruteForceIrradiance::BruteForceIrradiance(const RadianceGrid& grid,
+                                           const BruteForceOptions& options)
+    : options_(options), kernel_(options.eta) {
+  if (options.tolerance <= 0.0) {
+    terms_ = clusterTerms(allCells(grid));
+    stats_.sourceTexels = grid.sourceTexels();
+    stats_.clusters = grid.cellCount();
+    return;
+  }
+  buildToTolerance(grid);
+}
+
+// Start from a threshold that usually meets the tolerance at once (calibrated on the sample
+// environments); tighten it by 4 until the probes agree with the sum over every cell.
+void BruteForceIrradiance::buildToTolerance(const RadianceGrid& grid) {
+  stats_.sourceTexels = grid.sourceTexels();
   std::vector<glm::vec3> ownProbes, ownReference;
-  const std::vector<glm::vec3>* probes = options.probeNormals;
-  const std::vector<glm::vec3>* reference = options.probeReference;
+  const std::vector<glm::vec3>* probes = options_.probeNormals;
+  const std::vector<glm::vec3>* reference = options_.probeReference;
   if (!probes) {
     ownProbes = fibonacciSphere(256);
     probes = &ownProbes;
     reference = nullptr;
   }
   if (!reference) {
-    ownReference = irradianceAtNormals(radiance, *probes, options.eta, options.threads);
+    ownReference = irradianceAtNormals(grid, *probes, options_.eta, options_.threads);
     reference = &ownReference;
   }
-
-  const FaceSums sums(radiance);
-  double flux = 0.0;
-  for (int f = 0; f < 6; ++f) {
-    double total[FaceSums::kValues];
-    sums.sum(f, 0, 0, radiance.size(), radiance.size(), total);
-    flux += total[9];
-  }
-  // Start from a threshold that usually meets the tolerance at once (calibrated on the sample
-  // environments); tighten it by 4 until the probes agree.
-  double threshold = kInitialThreshold * options.tolerance * flux;
+  options_.probeNormals = options_.probeReference = nullptr;  // not kept past construction
+  double threshold = kInitialThreshold * options_.tolerance * grid.totalLuminousFlux();
   for (int round = 0;; ++round) {
-    const std::vector<Cluster> cut = buildCut(radiance, sums, threshold);
+    const std::vector<Cluster> cut = buildCut(grid, threshold);
     terms_ = clusterTerms(cut);
     stats_.clusters = cut.size();
     stats_.refinements = round;
     stats_.estimatedError = relativeRmsError(at(*probes), *reference);
-    if (stats_.estimatedError <= options.tolerance || cut.size() >= radiance.texelCount() ||
+    if (stats_.estimatedError <= options_.tolerance || cut.size() >= grid.cellCount() ||
         round == 12) {
       break;
     }

@@ -17,6 +17,7 @@
 #include <glm/vec3.hpp>
 
 #include "envmap/cubemap.h"
+#include "irradiance/radiance_grid.h"
 #include "irradiance/transmitted_cosine.h"
 
 namespace sss {
@@ -50,11 +51,15 @@ struct SummationTerms {
 class BruteForceIrradiance {
  public:
   BruteForceIrradiance(const Cubemap& radiance, const BruteForceOptions& options);
+  // From cells (radiance_grid.h: cubemap texels or equirect blocks): the reference is the sum
+  // over every cell, and tolerance 0 sums every cell.
+  BruteForceIrradiance(const RadianceGrid& grid, const BruteForceOptions& options);
   std::vector<glm::vec3> at(const std::vector<glm::vec3>& normals) const;  // unit normals
   Cubemap cubemap(int faceSize) const;
   const BruteForceStats& stats() const { return stats_; }
 
  private:
+  void buildToTolerance(const RadianceGrid& grid);
   BruteForceOptions options_;
   TransmittedCosineKernel kernel_;
   bool exact_ = false;
@@ -69,6 +74,12 @@ Cubemap bruteForceIrradiance(const Cubemap& radiance, const BruteForceOptions& o
 // The exact sum over every texel at the given normals (unit length): the reference the error
 // estimates use. Threaded over normals, vectorized over texels.
 std::vector<glm::vec3> irradianceAtNormals(const Cubemap& radiance,
+                                           const std::vector<glm::vec3>& normals, float eta,
+                                           int threads = 0);
+
+// The sum over every cell of a grid, sum_c F_t(n . d_c) max(0, n . V_c) (d_c the cell's
+// luminance-weighted direction): exact for cubemap texels when eta = 1.
+std::vector<glm::vec3> irradianceAtNormals(const RadianceGrid& grid,
                                            const std::vector<glm::vec3>& normals, float eta,
                                            int threads = 0);
 

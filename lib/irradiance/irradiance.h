@@ -9,6 +9,7 @@
 
 #include "core/enum_names.h"
 #include "envmap/cubemap.h"
+#include "envmap/image.h"
 #include "irradiance/spherical_harmonics.h"
 
 namespace sss {
@@ -31,9 +32,14 @@ struct IrradianceOptions {
   int threads = 0;          // <= 0: all cores
   bool quiet = true;        // no progress bar on stderr for long direct sums
   int probes = 256;         // probe normals for the error estimates
+  // computeIrradianceFromEquirect: cells across the width of the image (radiance_grid.h): a
+  // cell is width / equirectCells texels on a side (a power of two dividing both sides, at
+  // least 1), 2.8 degrees for 128.
+  int equirectCells = 128;
 };
 
 struct IrradianceTimings {
+  double gridMs = 0;        // equirect rows -> cells (computeIrradianceFromEquirect)
   double projectionMs = 0;  // radiance -> SH
   double referenceMs = 0;   // exact sums at the probe normals
   double evaluationMs = 0;  // the output cubemap (SH evaluation or brute force)
@@ -54,5 +60,11 @@ struct IrradianceResult {
 };
 
 IrradianceResult computeIrradiance(const Cubemap& radiance, const IrradianceOptions& options);
+
+// The same straight from an equirect image (envmap/equirect.h), without a radiance cubemap: the
+// direct sum clusters blocks of texels (radiance_grid.h), the reference at the probes sums every
+// block, and SH order 2 for auto is projected from the blocks (--method sh: from every texel).
+IrradianceResult computeIrradianceFromEquirect(const ImageRgb& image,
+                                               const IrradianceOptions& options);
 
 }  // namespace sss

@@ -1,6 +1,7 @@
 // Image and cubemap files: round trips and every kind of bad input readImage must refuse.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -89,6 +90,25 @@ TEST_F(ImageIo, PngIsSrgbEncoded) {
   EXPECT_NEAR(back.at(1, 0).z, 0.5f, 0.004f);
   EXPECT_NEAR(linearToSrgb(0.0031308f), 0.04045f, 1e-5f);
   EXPECT_NEAR(linearToSrgb(0.2140f), 0.5f, 1e-3f);
+}
+
+// The byte from the threshold table is lround(255 linearToSrgb(v)) exactly: at a dense sweep of
+// [0, 1.1], on a log sweep of small values, and at NaN and negative values.
+TEST(Srgb, ByteTableMatchesTheTransferFunction) {
+  auto direct = [](float v) {
+    return static_cast<std::uint8_t>(std::lround(255.0f * linearToSrgb(v)));
+  };
+  for (int i = 0; i <= 1'100'000; ++i) {
+    const float v = i * 1e-6f;
+    ASSERT_EQ(linearToSrgbByte(v), direct(v)) << v;
+  }
+  for (int i = 0; i <= 100'000; ++i) {
+    const float v = std::pow(10.0f, -7.0f + 7.0f * i / 100'000);
+    ASSERT_EQ(linearToSrgbByte(v), direct(v)) << v;
+  }
+  EXPECT_EQ(linearToSrgbByte(NAN), 0);
+  EXPECT_EQ(linearToSrgbByte(-1.0f), 0);
+  EXPECT_EQ(linearToSrgbByte(INFINITY), 255);
 }
 
 TEST_F(ImageIo, CubemapStackRoundTrip) {

@@ -5,6 +5,7 @@
 #include <glm/geometric.hpp>
 
 #include "core/error.h"
+#include "core/luminance.h"
 #include "core/random.h"
 #include "irradiance/brute_force.h"
 #include "irradiance/irradiance.h"
@@ -184,6 +185,75 @@ TEST(Irradiance, FaceSizeFollowsTheTolerance) {
   EXPECT_LE(loose.estimatedError, 0.05);
   EXPECT_LE(tight.estimatedError, 2e-4);
   EXPECT_THROW(kIrradianceMethodNames.parse("fast"), Error);
+}
+
+}  // namespace
+}  // namespace sss
+
+namespace sss {
+namespace {
+
+ImageRgb equirectImage(int width, glm::vec3 fill) {
+  ImageRgb image;
+  image.width = width;
+  image.height = width / 2;
+  image.pixels.assign(static_cast<std::size_t>(image.width) * image.height, fill);
+  return image;
+}
+
+// Each texel enters with its exact first moment (integral of w dw): over the whole sphere they
+// cancel, and where the horizon runs along texel edges (the axes) the sum is exactly pi L.
+TEST(EquirectIrradiance, TexelMomentsAreExact) {
+  const ImageRgb image = equirectImage(128, glm::vec3(1.0f, 2.0f, 0.5f));
+  for (int block : {1, 4}) {
+    const RadianceGrid grid = RadianceGrid::fromEquirect(image, block);
+    double total[RadianceGrid::kValues];
+    grid.sum(0, 0, 0, grid.width(), grid.height(), total);
+    for (int k = 0; k < 9; ++k) EXPECT_NEAR(total[k], 0.0, 1e-5) << k;
+    EXPECT_NEAR(grid.totalLuminousFlux(), 4 * M_PI * luminance(glm::dvec3(1.0, 2.0, 0.5)), 1e-5);
+    const std::vector<glm::vec3> axes = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                         {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
+    for (const glm::vec3& e : irradianceAtNormals(grid, axes, 1.0f)) {
+      EXPECT_NEAR(e.y / (2.0 * M_PI), 1.0, 1e-6) << "block " << block;
+    }
+  }
+  EXPECT_EQ(RadianceGrid::equirectBlockSize(image, 8), 8);
+  EXPECT_EQ(RadianceGrid::equirectBlockSize(equirectImage(120, glm::vec3(1.0f)), 8), 4);
+  EXPECT_THROW(RadianceGrid::fromEquirect(image, 3), Error);
+}
+
+// A dim sky and a sun of 3 x 3 texels 20000 times brighter (the --sky case): the error auto
+// reports against its cells holds against the exact sum over every texel, and the output is the
+// same for any thread count.
+TEST(EquirectIrradiance, SmallSunReportedErrorHoldsAndThreadsAgree) {
+  ImageRgb image = equirectImage(512, glm::vec3(0.0f));
+  for (int y = 0; y < 128; ++y) {
+    for (int x = 0; x < 512; ++x) image.at(x, y) = glm::vec3(0.1f, 0.15f, 0.3f);
+  }
+  for (int y = 60; y < 63; ++y) {
+    for (int x = 300; x < 303; ++x) image.at(x, y) = glm::vec3(2000.0f, 1800.0f, 1500.0f);
+  }
+  IrradianceOptions o;
+  o.faceSize = 32;
+  o.threads = 1;
+  const IrradianceResult one = computeIrradianceFromEquirect(image, o);
+  o.threads = 2;
+  const IrradianceResult two = computeIrradianceFromEquirect(image, o);
+  for (std::size_t i = 0; i < one.irradiance.texelCount(); ++i) {
+    ASSERT_EQ(one.irradiance.data()[i], two.irradiance.data()[i]) << i;
+  }
+  EXPECT_LE(one.estimatedError, o.tolerance);
+  const std::vector<glm::vec3> normals = fibonacciSphere(300);
+  const std::vector<glm::vec3> exact =
+      irradianceAtNormals(RadianceGrid::fromEquirect(image, 1), normals, 1.0f);
+  std::vector<glm::vec3> looked(normals.size());
+  for (std::size_t i = 0; i < normals.size(); ++i) looked[i] = one.irradiance.sample(normals[i]);
+  const double actual = relativeRmsError(looked, exact);
+  EXPECT_LE(actual, o.tolerance);
+  EXPECT_LE(actual, 1.5 * one.estimatedError) << "reported " << one.estimatedError;
+  for (std::size_t i = 0; i < one.irradiance.texelCount(); ++i) {
+    EXPECT_GE(glm::min(one.irradiance.data()[i].x, one.irradiance.data()[i].z), 0.0f);
+  }
 }
 
 }  // namespace

@@ -37,7 +37,9 @@ PreparedMesh prepareMesh(const MeshPreparation& in) {
   if (declared.known) checkBakeMemory(in.path, declared.vertices, declared.faces);
   out.mesh = loadMesh(in.path, &report.load);
   if (!declared.known) checkBakeMemory(in.path, out.mesh.vertexCount(), out.mesh.triangleCount());
-  for (const std::string& w : report.load.warnings) warn(in.path + ": " + w);
+  if (!in.quiet) {
+    for (const std::string& w : report.load.warnings) warn(in.path + ": " + w);
+  }
 
   const double longest = boundsOf(out.mesh.positions).longestSide();
   report.mmPerUnit = in.mmPerUnit;

@@ -3,8 +3,8 @@
 // (8-bit sRGB) or EXR (linear float). See lib/render/renderer.h and shaders/surface.frag.
 // Several meshes with -o DIR/ render in one process: one GL context, the environment loaded once.
 #include <array>
-#include <map>
 #include <cstdio>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -252,9 +252,6 @@ void writeReport(const Arguments& a, const LoadedMesh& mesh, const Environment& 
                            {"fresnel", kFresnelModelNames.name(a.fresnel)},
                            {"exit_model", kExitModelNames.name(a.request.exitModel)},
                            {"environment", a.environment},
-                           {"environment_convention",
-                            kEquirectConventionNames.name(a.orientation.convention)},
-                           {"environment_rotate_deg", a.orientation.rotateDeg},
                            {"environment_face_size", env.radiance.size()},
                            {"gl", glJson(context)},
                            {"times_ms",
@@ -264,6 +261,8 @@ void writeReport(const Arguments& a, const LoadedMesh& mesh, const Environment& 
                              {"gl_setup", ms.setup},
                              {"first_frame_and_readback", ms.render},
                              {"total", total.milliseconds()}}}};
+  report["environment_convention"] = kEquirectConventionNames.name(a.orientation.convention);
+  report["environment_rotate_deg"] = a.orientation.rotateDeg;
   if (!env.irradianceReason.empty()) report["irradiance"] = env.irradianceReason;
   if (a.frames > 0) report["frames"] = framesJson(timings, a.warmup);
   writeFileAtomically(a.jsonPath, report.dump(2) + "\n");

@@ -11,7 +11,6 @@ namespace sss {
 
 namespace {
 
-
 LightingInput lightingInput(const BakeSettings& s, const PreparedMesh& mesh,
                             const Cubemap& radiance, const EnergyStage& energy,
                             const ErrorBudget& budget) {

@@ -181,8 +181,8 @@ int chooseVisibilitySamples(const VisibilityNoiseModel& model, double budget, in
 
 int maxAutoSamples(std::size_t vertices) {
   const double perVertex = kAutoRayBudget / static_cast<double>(std::max<std::size_t>(vertices, 1));
-  const int steps = static_cast<int>(std::min<double>(perVertex, kMaxAutoSamplesCoarse)) /
-                    kAutoSampleStep;
+  const int steps =
+      static_cast<int>(std::min<double>(perVertex, kMaxAutoSamplesCoarse)) / kAutoSampleStep;
   return std::max(kMaxAutoSamples, steps * kAutoSampleStep);
 }
 

@@ -66,8 +66,8 @@ std::vector<BatchItem> planBatch(const std::vector<std::string>& inputs,
   for (const std::string& input : inputs) {
     BatchItem item{input, {}};
     for (const BatchOutput& output : outputs) {
-      item.outputs.push_back(output.dir.empty() ? std::string()
-                                                : batchOutputPath(output.dir, input, output.suffix));
+      item.outputs.push_back(
+          output.dir.empty() ? std::string() : batchOutputPath(output.dir, input, output.suffix));
     }
     items.push_back(std::move(item));
     allInputs.push_back({"an input", input});

@@ -119,8 +119,8 @@ EnvironmentLayout detectLayout(const std::string& path, int width, int height) {
                  ": expected 2:1 equirect, 4:3 or 3:4 cross, or an N x 6N cubemap stack");
 }
 
-Cubemap cubemapFromImage(const ImageRgb& image, EnvironmentLayout layout, int faceSize,
-                         int threads, const EnvironmentOrientation& orientation) {
+Cubemap cubemapFromImage(const ImageRgb& image, EnvironmentLayout layout, int faceSize, int threads,
+                         const EnvironmentOrientation& orientation) {
   if (layout == EnvironmentLayout::Equirect) {
     return cubemapFromEquirect(image, faceSize, threads, orientation);
   }

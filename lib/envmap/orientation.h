@@ -4,7 +4,7 @@
 // An equirect convention is the world direction each pixel shows. Ours (equirect.h): the image
 // centre looks towards -Z, u = 0.75 towards +X. The others, in our Y-up frame, differ from ours by
 // a turn about +Y (the top row is straight up and none is mirrored seen from inside):
-//   blender   Cycles' equirectangular_to_direction (intern/cycles/kernel/geom/... ,
+//   blender   Cycles' equirectangular_to_direction (intern/cycles/kernel/camera/projection.h,
 //             range (-2 pi, pi, -pi, pi)): u = 0.5 - atan2(y, x) / 2 pi in Blender's Z-up frame,
 //             centre towards +X, u = 0.75 towards -Y; through glTF's axes (Blender -Y = our +Z)
 //             the centre looks towards +X and u = 0.75 towards +Z.
@@ -45,7 +45,7 @@ double conventionTurnDeg(EquirectConvention convention);
 
 struct EnvironmentOrientation {
   EquirectConvention convention = EquirectConvention::Sss;  // equirect sources only
-  double rotateDeg = 0.0;                                    // about +Y, counter-clockwise
+  double rotateDeg = 0.0;                                   // about +Y, counter-clockwise
 };
 
 // R_y(deg): the right-handed rotation about +Y (+X towards -Z for 90 degrees).

@@ -58,9 +58,10 @@ class SssBakeBatch : public ::testing::Test {
  protected:
   std::string path(const std::string& name) const { return scratch_.path(name); }
   test::ToolRun bake(const std::string& args) const {
-    return test::runTool("sss-bake", args + " -e " + path("env.exr") +
-                                         " -m marble --mm-per-unit 10 --visibility none -q",
-                         Capture::StdoutAndStderr);
+    return test::runTool(
+        "sss-bake",
+        args + " -e " + path("env.exr") + " -m marble --mm-per-unit 10 --visibility none -q",
+        Capture::StdoutAndStderr);
   }
   void SetUp() override {
     writeDirectionalEnvironment(path("env.exr"));
@@ -72,8 +73,8 @@ class SssBakeBatch : public ::testing::Test {
 
 TEST_F(SssBakeBatch, BadMeshIsNamedAndTheOthersAreBaked) {
   test::writeText(path("b.ply"), "ply\nthis is not a mesh\n");
-  const test::ToolRun r = bake(path("a.ply") + " " + path("b.ply") + " " + path("c.ply") +
-                               " -o " + path("out/") + " --json " + path("out/"));
+  const test::ToolRun r = bake(path("a.ply") + " " + path("b.ply") + " " + path("c.ply") + " -o " +
+                               path("out/") + " --json " + path("out/"));
   EXPECT_EQ(r.exitCode, 1) << r.output;
   // One error line naming the bad file; nothing about the good ones.
   EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
@@ -113,10 +114,10 @@ double largestRelativeDifference(const BakedMesh& a, const BakedMesh& b) {
   double worst = 0.0;
   for (std::size_t i = 0; i < a.exitance.size(); ++i) {
     for (int k = 0; k < 3; ++k) {
-      worst = std::max<double>(worst, std::abs(a.exitance[i][k] - b.exitance[i][k]) /
-                                  std::max(1e-6f, a.exitance[i][k]));
+      worst = std::max<double>(
+          worst, std::abs(a.exitance[i][k] - b.exitance[i][k]) / std::max(1e-6f, a.exitance[i][k]));
       worst = std::max<double>(worst, std::abs(a.irradiance[i][k] - b.irradiance[i][k]) /
-                                  std::max(1e-6f, a.irradiance[i][k]));
+                                          std::max(1e-6f, a.irradiance[i][k]));
     }
   }
   return worst;
@@ -146,10 +147,11 @@ TEST_F(SssBakeBatch, SkySunTurnsWithTheEnvironment) {
   // --sky azimuth=20 turned by 90 (counter-clockwise) is --sky azimuth=-70.
   const auto skyBake = [&](const std::string& sky, const std::string& extra,
                            const std::string& out) {
-    return test::runTool("sss-bake", path("a.ply") + " --sky=elevation=30,azimuth=" + sky +
-                                         " -m marble --mm-per-unit 10 --visibility none "
-                                         "--method exact --energy halfspace -q -o " +
-                                         path(out) + extra,
+    return test::runTool("sss-bake",
+                         path("a.ply") + " --sky=elevation=30,azimuth=" + sky +
+                             " -m marble --mm-per-unit 10 --visibility none "
+                             "--method exact --energy halfspace -q -o " +
+                             path(out) + extra,
                          Capture::StdoutAndStderr);
   };
   ASSERT_EQ(skyBake("20", " --env-rotate 90", "turned.ply").exitCode, 0);

@@ -27,7 +27,7 @@ namespace {
 using test::expectNear;
 constexpr float kPi = static_cast<float>(M_PI);
 
-// Blender/Cycles (intern/cycles/kernel/geom: equirectangular_to_direction with range
+// Blender/Cycles (intern/cycles/kernel/camera/projection.h: equirectangular_to_direction, range
 // (-2 pi, pi, -pi, pi), spherical_to_direction), Z-up, image v = 0 at the bottom; then Blender's
 // axes to glTF's Y-up ones as Blender's glTF exporter maps them: (x, y, z) -> (x, z, -y).
 glm::vec3 blenderShows(float u, float vTop) {
@@ -146,8 +146,8 @@ TEST(EnvRotate, SpotTurnsWithTheEnvironmentInEveryConvention) {
 TEST(EnvRotate, IdentityLeavesTheCubemapBitExact) {
   const ImageRgb image = spotImage(256, 100, 40);
   const Cubemap plain = cubemapFromImage(image, EnvironmentLayout::Equirect, 32);
-  const Cubemap full = cubemapFromImage(image, EnvironmentLayout::Equirect, 32, 0,
-                                        {EquirectConvention::Sss, 360.0});
+  const Cubemap full =
+      cubemapFromImage(image, EnvironmentLayout::Equirect, 32, 0, {EquirectConvention::Sss, 360.0});
   ASSERT_EQ(plain.texelCount(), full.texelCount());
   EXPECT_EQ(std::memcmp(plain.data(), full.data(), plain.texelCount() * sizeof(glm::vec3)), 0);
 }
@@ -164,13 +164,14 @@ TEST(EnvRotate, CrossSourceTurnsLikeTheEquirect) {
   equirect.height = 256;
   for (int y = 0; y < 256; ++y) {
     for (int x = 0; x < 512; ++x) {
-      equirect.pixels.push_back(directionColour(equirectDirection((x + 0.5f) / 512, (y + 0.5f) / 256)));
+      equirect.pixels.push_back(
+          directionColour(equirectDirection((x + 0.5f) / 512, (y + 0.5f) / 256)));
     }
   }
   const Cubemap cube = cubemapFromImage(equirect, EnvironmentLayout::Equirect, 32);
   const EnvironmentOrientation turn{EquirectConvention::Sss, 60.0};
-  const Cubemap fromCross = cubemapFromImage(cubemapToCross(cube), EnvironmentLayout::Cross, 0, 0,
-                                             turn);
+  const Cubemap fromCross =
+      cubemapFromImage(cubemapToCross(cube), EnvironmentLayout::Cross, 0, 0, turn);
   float worst = 0.0f;
   for (int f = 0; f < 6; ++f) {
     for (int y = 0; y < 32; y += 3) {

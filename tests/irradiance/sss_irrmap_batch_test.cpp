@@ -36,9 +36,9 @@ TEST_F(SssIrrmapBatch, BadFileIsNamedAndTheOthersAreConverted) {
   writeConstant("one.exr", 1.0f);
   writeConstant("two.hdr", 2.0f);
   test::writeText(path("bad.exr"), "not an image");
-  const test::ToolRun r = irrmap(path("one.exr") + " " + path("bad.exr") + " " + path("two.hdr") +
-                                 " -o " + path("out/") + " --radiance " + path("out/") +
-                                 " --json " + path("out/"));
+  const test::ToolRun r =
+      irrmap(path("one.exr") + " " + path("bad.exr") + " " + path("two.hdr") + " -o " +
+             path("out/") + " --radiance " + path("out/") + " --json " + path("out/"));
   EXPECT_EQ(r.exitCode, 1) << r.output;
   EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
   EXPECT_EQ(r.output.rfind("sss-irrmap: error: " + path("bad.exr") + ": ", 0), 0u) << r.output;
@@ -53,8 +53,7 @@ TEST_F(SssIrrmapBatch, BadFileIsNamedAndTheOthersAreConverted) {
 TEST_F(SssIrrmapBatch, SeveralInputsNeedFolders) {
   writeConstant("one.exr", 1.0f);
   writeConstant("two.exr", 2.0f);
-  const test::ToolRun r =
-      irrmap(path("one.exr") + " " + path("two.exr") + " -o " + path("e.exr"));
+  const test::ToolRun r = irrmap(path("one.exr") + " " + path("two.exr") + " -o " + path("e.exr"));
   EXPECT_EQ(r.exitCode, 2) << r.output;
   EXPECT_NE(r.output.find("every output names a folder"), std::string::npos) << r.output;
   EXPECT_EQ(scratch_.fileCount(), 2u);

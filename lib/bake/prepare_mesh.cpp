@@ -48,7 +48,7 @@ PreparedMesh prepareMesh(const MeshPreparation& in) {
     report.mmPerUnit = in.sizeMm / longest;
   }
   report.longestSideMm = longest * report.mmPerUnit;
-  if (report.longestSideMm < 0.01 || report.longestSideMm > 1e6) {
+  if (!in.quiet && (report.longestSideMm < 0.01 || report.longestSideMm > 1e6)) {
     warn(in.path + ": the mesh is " + format("%g", report.longestSideMm) +
          " mm long: check its units");
   }

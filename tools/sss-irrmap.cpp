@@ -1,13 +1,16 @@
 // sss-irrmap: an HDR environment (or a procedural sky) -> radiance and diffuse irradiance
 // cubemaps, SH coefficients and a JSON report. See README (sss-irrmap) for the conventions.
+// Several inputs (or output folders DIR/) run as a batch in one process (core/batch.h).
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "core/atomic_output.h"
+#include "core/batch.h"
 #include "core/cli.h"
 #include "core/error.h"
 #include "core/file_extension.h"
@@ -16,6 +19,7 @@
 #include "core/tool.h"
 #include "envmap/cubemap_io.h"
 #include "envmap/environment.h"
+#include "envmap/orientation_options.h"
 #include "irradiance/irradiance.h"
 #include "material/material.h"
 
@@ -25,7 +29,9 @@ using namespace sss;
 namespace fs = std::filesystem;
 
 struct Arguments {
+  std::vector<std::string> inputs;  // one, or several for a batch
   std::string input, skySpec, radiance, irradiance, sh, json;
+  EnvironmentOrientation orientation;
   bool sky = false, sanitize = false, quiet = false, preview = true;
   IrradianceMethod method = IrradianceMethod::Auto;
   ShWindow window = ShWindow::None;
@@ -85,7 +91,7 @@ IrradianceOptions irradianceOptions(const Arguments& a) {
 // The input image; a non-finite texel names the flag that accepts it.
 ImageRgb readInputImage(const Arguments& a) {
   try {
-    return readImage(a.input, {a.sanitize});
+    return readImage(a.input, {a.sanitize, a.quiet});
   } catch (const NonFiniteTexelsError& e) {
     throw Error(std::string(e.what()) + " (use --sanitize to replace them by 0)");
   }
@@ -103,10 +109,11 @@ Environment loadEnvironmentSource(const Arguments& a, nlohmann::json& report) {
   Stopwatch watch;
   Environment env;
   if (a.sky) {
-    const SkyParameters sky = parseSkySpec(a.skySpec);
+    const SkyParameters sky = rotatedSky(parseSkySpec(a.skySpec), a.orientation);
     env.radiance = makeSky(sky, a.radianceSize > 0 ? a.radianceSize : 128, a.threads);
     report["input"] = "sky:" + a.skySpec;
     report["layout"] = "procedural";
+    report["rotate_deg"] = a.orientation.rotateDeg;
     report["timings_ms"]["read"] = 0.0;
     report["timings_ms"]["to_cubemap"] = watch.milliseconds();
     return env;
@@ -117,11 +124,16 @@ Environment loadEnvironmentSource(const Arguments& a, nlohmann::json& report) {
   report["input"] = a.input;
   report["input_size"] = {image.width, image.height};
   report["layout"] = kEnvironmentLayoutNames.name(layout);
+  report["convention"] = kEquirectConventionNames.name(a.orientation.convention);
+  report["rotate_deg"] = a.orientation.rotateDeg;
   watch.restart();
-  if (layout == EnvironmentLayout::Equirect && a.radiance.empty()) {
+  // The rows are summed in the image's own frame: a turned environment goes through the cubemap,
+  // where the turn is applied to every lookup direction.
+  if (layout == EnvironmentLayout::Equirect && a.radiance.empty() &&
+      isIdentity(a.orientation, true)) {
     env.equirect = std::move(image);
   } else {
-    env.radiance = cubemapFromImage(image, layout, a.radianceSize, a.threads);
+    env.radiance = cubemapFromImage(image, layout, a.radianceSize, a.threads, a.orientation);
   }
   report["timings_ms"]["to_cubemap"] = watch.milliseconds();
   return env;
@@ -153,7 +165,7 @@ void writeCubemapWithPreview(const std::string& path, const Cubemap& cube, bool 
   if (preview) writeCubemapPreview(cubemapPreviewPath(path), cube);
 }
 
-// The report's method, error, sizes, stage times and outputs (after loadRadiance's part).
+// The report's method, error, sizes, stage times and outputs (after loadEnvironmentSource's part).
 void addResultToReport(const Arguments& a, const IrradianceResult& result, nlohmann::json& report) {
   report["method"] = kIrradianceMethodNames.name(result.method);
   report["method_asked"] = kIrradianceMethodNames.name(a.method);
@@ -221,11 +233,46 @@ int run(const Arguments& a) {
   return 0;
 }
 
+// The outputs of a batch, each a folder: DIR/<stem>_radiance.exr, _irradiance.exr, _sh.json,
+// .json.
+std::vector<BatchOutput> batchOutputs(const Arguments& a) {
+  return {{"--radiance", a.radiance, "_radiance.exr"},
+          {"-o", a.irradiance, "_irradiance.exr"},
+          {"--sh", a.sh, "_sh.json"},
+          {"--json", a.json, ".json"}};
+}
+
+Arguments itemArguments(const Arguments& a, const BatchItem& item) {
+  Arguments one = a;
+  one.input = item.input;
+  one.radiance = item.outputs[0];
+  one.irradiance = item.outputs[1];
+  one.sh = item.outputs[2];
+  one.json = item.outputs[3];
+  return one;
+}
+
+// Several inputs (or folder outputs): each input's outputs in the folders given; a bad input is
+// reported and the others still run.
+int irrmapBatch(const Arguments& a) {
+  if (a.sky) throw UsageError("--sky makes one environment: give output files, not folders");
+  for (const BatchOutput& output : batchOutputs(a)) {
+    if (!output.dir.empty() && !namesFolder(output.dir)) {
+      throw UsageError(output.option + " " + output.dir +
+                       ": with several inputs, every output names a folder (DIR/)");
+    }
+  }
+  const std::vector<BatchItem> items = planBatch(a.inputs, batchOutputs(a), {});
+  checkArguments(itemArguments(a, items.front()));  // usage errors before any work
+  return runBatch(
+      items, [&](const BatchItem& item) { run(itemArguments(a, item)); }, a.quiet);
+}
+
 void addOptions(CLI::App& app, Arguments& a) {
   CLI::Option* input = app.add_option(
-      "INPUT", a.input,
+      "INPUT", a.inputs,
       "Environment image (.hdr .exr .pfm .tif): equirect 2:1 (centre looks to -Z), cross 4:3 / "
-      "3:4, or an N x 6N cubemap stack");
+      "3:4, or an N x 6N cubemap stack; several with output folders DIR/ (one process)");
   app.add_option("--sky", a.skySpec,
                  "Procedural sun and sky instead of INPUT; optional spec "
                  "elevation=DEG,azimuth=DEG (0: -Z, 90: +X),turbidity=2..10,sun=SCALE,"
@@ -233,8 +280,10 @@ void addOptions(CLI::App& app, Arguments& a) {
       ->expected(0, 1)
       ->check(cli::parsedBy(parseSkySpec))
       ->excludes(input);
-  app.add_option("--radiance", a.radiance, "Write the radiance cubemap (.exr)");
-  app.add_option("-o,--irradiance", a.irradiance, "Write the diffuse irradiance cubemap (.exr)");
+  app.add_option("--radiance", a.radiance,
+                 "Write the radiance cubemap (.exr; a folder DIR/ for several inputs)");
+  app.add_option("-o,--irradiance", a.irradiance,
+                 "Write the diffuse irradiance cubemap (.exr; a folder DIR/ for several inputs)");
   app.add_option("--eta", a.eta,
                  "Relative index: irradiance transmitted through a smooth dielectric "
                  "(exact Fresnel); 1 = plain irradiance")
@@ -262,8 +311,16 @@ void addOptions(CLI::App& app, Arguments& a) {
   app.add_flag(
       "--no-preview", [&a](std::int64_t) { a.preview = false; },
       "No PNG preview (FILE.png beside each cubemap FILE.exr)");
+  cli::addOrientationOptions(app, a.orientation);
   cli::addThreadsOption(app, a.threads);
   cli::addQuietFlag(app, a.quiet);
+}
+
+bool isBatchRun(const Arguments& a) {
+  for (const std::string& output : {a.radiance, a.irradiance, a.sh, a.json}) {
+    if (isBatch(a.inputs, output)) return true;
+  }
+  return false;
 }
 
 }  // namespace
@@ -276,6 +333,8 @@ int main(int argc, char** argv) {
   addOptions(app, a);
   return runTool("sss-irrmap", app, argc, argv, [&] {
     a.sky = app.count("--sky") > 0;
+    if (!a.sky && isBatchRun(a)) return irrmapBatch(a);
+    if (!a.inputs.empty()) a.input = a.inputs.front();
     return run(a);
   });
 }

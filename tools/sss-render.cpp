@@ -1,16 +1,20 @@
 // sss-render: a baked mesh (sss-bake's PLY) in an environment, drawn with OpenGL 4.5 on a
 // headless EGL context (the GPU where there is one, Mesa llvmpipe otherwise) into a PNG
 // (8-bit sRGB) or EXR (linear float). See lib/render/renderer.h and shaders/surface.frag.
+// Several meshes with -o DIR/ render in one process: one GL context, the environment loaded once.
 #include <array>
 #include <cstdio>
+#include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
 #include "core/atomic_output.h"
+#include "core/batch.h"
 #include "core/cli.h"
 #include "core/error.h"
 #include "core/format.h"
@@ -18,6 +22,7 @@
 #include "core/timer.h"
 #include "core/tool.h"
 #include "envmap/environment.h"
+#include "envmap/orientation_options.h"
 #include "irradiance/irradiance.h"
 #include "material/material.h"
 #include "mesh/baked_ply.h"
@@ -32,7 +37,9 @@ namespace {
 using namespace sss;
 
 struct Arguments {
+  std::vector<std::string> inputs;  // one, or several for a batch
   std::string input, environment, output, shaderDir, jsonPath;
+  EnvironmentOrientation orientation;
   ShadingRequest request;
   FresnelModel fresnel = FresnelModel::Exact;
   Tonemap tonemap = Tonemap::Aces;
@@ -88,7 +95,9 @@ struct LoadedMesh {
 LoadedMesh loadMesh(const Arguments& a) {
   LoadedMesh m;
   m.contents = readBakedPly(a.input);
-  for (const std::string& w : m.contents.report.warnings) warn(a.input + ": " + w);
+  if (!a.quiet) {
+    for (const std::string& w : m.contents.report.warnings) warn(a.input + ": " + w);
+  }
   const std::string missing = missingBakedValues(m.contents, a.request.mode);
   if (!missing.empty()) {
     fail(a.input, "missing " + missing +
@@ -126,22 +135,47 @@ struct Environment {
   std::string irradianceReason;
 };
 
-Environment loadLighting(const Arguments& a, float eta) {
-  Environment env;
-  EnvironmentOptions options;
-  options.faceSize = a.envSize;
-  env.radiance = loadEnvironment(a.environment, options);
-  if (a.request.mode == ShadingMode::Brdf) {
-    IrradianceOptions irradiance;
-    irradiance.eta = eta;
-    irradiance.threads = a.threads;
-    IrradianceResult result = computeIrradiance(env.radiance, irradiance);
-    env.irradiance = std::move(result.irradiance);
-    env.irradianceReason = result.reason;
-    info("irradiance: " + result.reason, a.quiet);
+// The environment, loaded at its first use and kept for the next meshes of a batch; the brdf
+// mode's irradiance is computed once per eta.
+class EnvironmentCache {
+ public:
+  explicit EnvironmentCache(const Arguments& a) : a_(a) {}
+
+  const Cubemap& radiance() {
+    if (radiance_.empty()) {
+      EnvironmentOptions options;
+      options.faceSize = a_.envSize;
+      options.orientation = a_.orientation;
+      options.threads = a_.threads;
+      options.read.quiet = a_.quiet;
+      radiance_ = loadEnvironment(a_.environment, options);
+    }
+    return radiance_;
   }
-  return env;
-}
+
+  const Environment& lighting(float eta) {
+    auto found = byEta_.find(a_.request.mode == ShadingMode::Brdf ? eta : 0.0f);
+    if (found != byEta_.end()) return found->second;
+    Environment env;
+    env.radiance = radiance();
+    if (a_.request.mode == ShadingMode::Brdf) {
+      IrradianceOptions irradiance;
+      irradiance.eta = eta;
+      irradiance.threads = a_.threads;
+      IrradianceResult result = computeIrradiance(env.radiance, irradiance);
+      env.irradiance = std::move(result.irradiance);
+      env.irradianceReason = result.reason;
+      info("irradiance: " + result.reason, a_.quiet);
+    }
+    return byEta_.emplace(a_.request.mode == ShadingMode::Brdf ? eta : 0.0f, std::move(env))
+        .first->second;
+  }
+
+ private:
+  const Arguments& a_;
+  Cubemap radiance_;
+  std::map<float, Environment> byEta_;
+};
 
 // --eye places the camera (looking at --target, else the bounding sphere's centre); otherwise
 // the orbit of --azimuth, --elevation and --distance frames the mesh.
@@ -227,6 +261,8 @@ void writeReport(const Arguments& a, const LoadedMesh& mesh, const Environment& 
                              {"gl_setup", ms.setup},
                              {"first_frame_and_readback", ms.render},
                              {"total", total.milliseconds()}}}};
+  report["environment_convention"] = kEquirectConventionNames.name(a.orientation.convention);
+  report["environment_rotate_deg"] = a.orientation.rotateDeg;
   if (!env.irradianceReason.empty()) report["irradiance"] = env.irradianceReason;
   if (a.frames > 0) report["frames"] = framesJson(timings, a.warmup);
   writeFileAtomically(a.jsonPath, report.dump(2) + "\n");
@@ -239,9 +275,9 @@ void describeContext(const GlContext& context) {
   info("GL_VERSION: " + context.glVersion(), false);
 }
 
-int run(const Arguments& a) {
-  checkOutputsAreNotInputs({{"-o", a.output}, {"--json", a.jsonPath}},
-                           {{"the mesh", a.input}, {"the environment", a.environment}});
+// One mesh (a.input) into a.output (and a.jsonPath) with the shared context and environment.
+int renderOne(const Arguments& a, const GlContext& context, EnvironmentCache& environments,
+              double contextMs) {
   const Stopwatch total;
   FrameOptions frame;
   frame.width = a.size[0];
@@ -249,19 +285,14 @@ int run(const Arguments& a) {
   frame.samples = a.samples;
   frame.linear = isLinearImagePath(a.output);
   StageTimes ms;
+  ms.context = contextMs;
 
-  // The GL context first: without one nothing else is worth doing.
   Stopwatch stage;
-  const GlContext context;
-  if (a.verbose) describeContext(context);
-  ms.context = stage.milliseconds();
-
-  stage.restart();
   const LoadedMesh mesh = loadMesh(a);
   ms.load = stage.milliseconds();
 
   stage.restart();
-  const Environment env = loadLighting(a, mesh.shading.eta);
+  const Environment& env = environments.lighting(mesh.shading.eta);
   ms.environment = stage.milliseconds();
 
   stage.restart();
@@ -293,20 +324,71 @@ int run(const Arguments& a) {
   return 0;
 }
 
+int run(const Arguments& a) {
+  checkOutputsAreNotInputs({{"-o", a.output}, {"--json", a.jsonPath}},
+                           {{"the mesh", a.input}, {"the environment", a.environment}});
+  // The GL context first: without one nothing else is worth doing.
+  Stopwatch stage;
+  const GlContext context;
+  if (a.verbose) describeContext(context);
+  const double contextMs = stage.milliseconds();
+  EnvironmentCache environments(a);
+  return renderOne(a, context, environments, contextMs);
+}
+
+// The image of each input in a batch folder: DIR/<stem> + this.
+constexpr const char* kBatchImageSuffix = ".png";
+
+// Several meshes (or -o DIR/): one GL context and environment, DIR/<stem>.png per mesh (and its
+// report in the --json folder); a bad mesh is reported and the others still render.
+int renderBatch(const Arguments& a) {
+  if (!namesFolder(a.output)) {
+    throw UsageError("-o " + a.output + ": with several meshes, -o names a folder (DIR/)");
+  }
+  if (!a.jsonPath.empty() && !namesFolder(a.jsonPath)) {
+    throw UsageError("--json " + a.jsonPath +
+                     ": with several meshes, --json names a folder (DIR/)");
+  }
+  const std::vector<BatchItem> items =
+      planBatch(a.inputs, {{"-o", a.output, kBatchImageSuffix}, {"--json", a.jsonPath, ".json"}},
+                {{"the environment", a.environment}});
+  Stopwatch stage;
+  const GlContext context;
+  if (a.verbose) describeContext(context);
+  const double contextMs = stage.milliseconds();
+  EnvironmentCache environments(a);
+  environments.radiance();  // a bad environment fails the whole batch, once
+  return runBatch(
+      items,
+      [&](const BatchItem& item) {
+        Arguments one = a;
+        one.input = item.input;
+        one.output = item.outputs[0];
+        one.jsonPath = item.outputs[1];
+        renderOne(one, context, environments, contextMs);
+      },
+      a.quiet);
+}
+
 void addInputOptions(CLI::App& app, Arguments& a) {
-  app.add_option("mesh", a.input, "Baked mesh (sss-bake's PLY; any mesh for --mode brdf)")
+  app.add_option("mesh", a.inputs,
+                 "Baked mesh (sss-bake's PLY; any mesh for --mode brdf); several with -o DIR/")
       ->required();
   app.add_option("-e,--env", a.environment,
                  "Environment: equirect, cross or cubemap image (sss-irrmap --radiance), "
                  "or sky[:spec]")
       ->required();
-  app.add_option("-o,--output", a.output, ".png (8-bit sRGB) or .exr (linear float)")
+  app.add_option("-o,--output", a.output,
+                 ".png (8-bit sRGB) or .exr (linear float), or a folder DIR/ (DIR/<stem>.png)")
       ->required()
-      ->check(cli::parsedBy(checkRenderedImagePath));
+      ->check(cli::parsedBy([](const std::string& path) {
+        if (!namesFolder(path)) checkRenderedImagePath(path);
+      }));
   app.add_option("--env-size", a.envSize, "Radiance cubemap face size (0: from the source)")
       ->check(cli::checkedBy<int>([](int size) {
         if (size != 0) checkFaceSize(size);
       }));
+  cli::addOrientationOptions(app, a.orientation);
   app.add_option("--shader-dir", a.shaderDir, "Read shaders from this folder (development)");
   app.add_option("--json", a.jsonPath, "Report: GL renderer, sizes, timings");
 }
@@ -381,6 +463,8 @@ int main(int argc, char** argv) {
   addFrameOptions(app, a);
   return runTool("sss-render", app, argc, argv, [&] {
     if (a.verbose) a.quiet = false;
+    if (isBatch(a.inputs, a.output)) return renderBatch(a);
+    a.input = a.inputs.front();
     return run(a);
   });
 }

@@ -1,6 +1,7 @@
 #include "bake/bake.h"
 
 #include <optional>
+#include <utility>
 
 #include "bake/error_budget.h"
 #include "core/timer.h"
@@ -9,17 +10,6 @@
 namespace sss {
 
 namespace {
-
-Cubemap loadRadiance(const BakeSettings& s, EnvironmentStageReport& report) {
-  const Stopwatch clock;
-  EnvironmentOptions options;
-  options.faceSize = s.environmentFaceSize;
-  Cubemap radiance = loadEnvironment(s.environment, options);
-  report.source = s.environment;
-  report.faceSize = radiance.size();
-  report.seconds = clock.seconds();
-  return radiance;
-}
 
 LightingInput lightingInput(const BakeSettings& s, const PreparedMesh& mesh,
                             const Cubemap& radiance, const EnergyStage& energy,
@@ -86,20 +76,17 @@ BakedMesh assembleBakedMesh(TriangleMesh mesh, VertexLighting& lighting, VertexE
   return baked;
 }
 
-}  // namespace
-
-BakeOutput bake(const BakeSettings& s) {
-  const Stopwatch clock;
-  validateBakeSettings(s);
+// Stages 2-5 on a prepared mesh and a loaded environment.
+BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvironment& env,
+                        const Stopwatch& clock) {
   const ErrorBudget budget(s.tolerance);
   BakeOutput out;
   BakeReport& report = out.report;
   report.material = s.material;
   report.threads = s.threads;
-
-  PreparedMesh mesh = prepareMesh({s.meshPath, s.mmPerUnit, s.sizeMm, s.quiet});
   report.mesh = mesh.report;
-  const Cubemap radiance = loadRadiance(s, report.environment);
+  report.environment = env.report;
+  const Cubemap& radiance = env.radiance;
   EnergyStage energy =
       planEnergy({mesh.meshMm, mesh.areasMm2, s.material, s.energy, s.profile, budget.walkBudget(),
                   s.method != BakeMethod::PathTrace, s.seed, s.threads, s.quiet});
@@ -120,6 +107,40 @@ BakeOutput bake(const BakeSettings& s) {
   out.baked = assembleBakedMesh(std::move(mesh.mesh), lighting, exitance, s, report);
   report.totalSeconds = clock.seconds();
   return out;
+}
+
+}  // namespace
+
+BakeEnvironment loadBakeEnvironment(const BakeSettings& s) {
+  const Stopwatch clock;
+  EnvironmentOptions options;
+  options.faceSize = s.environmentFaceSize;
+  options.orientation = s.orientation;
+  options.threads = s.threads;
+  options.read.quiet = s.quiet;
+  BakeEnvironment env;
+  env.radiance = loadEnvironment(s.environment, options);
+  env.report.source = s.environment;
+  env.report.faceSize = env.radiance.size();
+  env.report.convention = kEquirectConventionNames.name(s.orientation.convention);
+  env.report.rotateDeg = s.orientation.rotateDeg;
+  env.report.seconds = clock.seconds();
+  return env;
+}
+
+BakeOutput bake(const BakeSettings& s) {
+  const Stopwatch clock;
+  validateBakeSettings(s);
+  PreparedMesh mesh = prepareMesh({s.meshPath, s.mmPerUnit, s.sizeMm, s.quiet});
+  const BakeEnvironment env = loadBakeEnvironment(s);
+  return bakePrepared(s, std::move(mesh), env, clock);
+}
+
+BakeOutput bake(const BakeSettings& s, const BakeEnvironment& env) {
+  const Stopwatch clock;
+  validateBakeSettings(s);
+  PreparedMesh mesh = prepareMesh({s.meshPath, s.mmPerUnit, s.sizeMm, s.quiet});
+  return bakePrepared(s, std::move(mesh), env, clock);
 }
 
 }  // namespace sss

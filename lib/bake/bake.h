@@ -15,6 +15,7 @@
 
 #include "bake/bake_report.h"
 #include "bake/bake_settings.h"
+#include "envmap/cubemap.h"
 #include "mesh/baked_ply.h"
 
 namespace sss {
@@ -27,5 +28,15 @@ struct BakeOutput {
 // Runs every stage. Warnings (mesh cleanup, long walks) go to stderr through warn(); errors throw
 // sss::Error naming the file and the problem. Writes nothing.
 BakeOutput bake(const BakeSettings& settings);
+
+// The environment as the bake uses it (settings.environment, orientation, face size), loaded
+// once for a batch of meshes (core/batch.h).
+struct BakeEnvironment {
+  Cubemap radiance;
+  EnvironmentStageReport report;
+};
+BakeEnvironment loadBakeEnvironment(const BakeSettings& settings);
+// The same bake on an environment loaded before: settings.environment is not read again.
+BakeOutput bake(const BakeSettings& settings, const BakeEnvironment& environment);
 
 }  // namespace sss

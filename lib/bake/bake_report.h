@@ -13,8 +13,10 @@
 namespace sss {
 
 struct EnvironmentStageReport {
-  std::string source;  // the file, or "sky[:spec]"
-  int faceSize = 0;    // of the radiance cubemap
+  std::string source;              // the file, or "sky[:spec]"
+  int faceSize = 0;                // of the radiance cubemap
+  std::string convention = "sss";  // --env-convention (equirect sources)
+  double rotateDeg = 0.0;          // --env-rotate
   double seconds = 0.0;
 };
 

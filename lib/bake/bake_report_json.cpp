@@ -147,7 +147,10 @@ Json toJson(const BakeReport& r) {
   Json j;
   j["mesh"] = toJson(r.mesh);
   j["units"] = {{"mm_per_unit", r.mesh.mmPerUnit}, {"longest_side_mm", r.mesh.longestSideMm}};
-  j["environment"] = {{"source", r.environment.source}, {"face_size", r.environment.faceSize}};
+  j["environment"] = {{"source", r.environment.source},
+                      {"face_size", r.environment.faceSize},
+                      {"convention", r.environment.convention},
+                      {"rotate_deg", r.environment.rotateDeg}};
   j["material"] = materialJson(r.material);
   if (!r.transport.pathTrace) {
     j["profile"] = profileJson(r.energy);

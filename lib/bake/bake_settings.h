@@ -8,6 +8,7 @@
 
 #include "bake/finite_object_energy.h"
 #include "core/enum_names.h"
+#include "envmap/orientation.h"
 #include "material/material.h"
 
 namespace sss {
@@ -45,6 +46,7 @@ inline constexpr EnumNames<ProfileChoice, 4> kProfileChoiceNames{
 struct BakeSettings {
   std::string meshPath;
   std::string environment;  // an environment file, or "sky" / "sky:<spec>" (loadEnvironment)
+  EnvironmentOrientation orientation;  // --env-convention, --env-rotate (envmap/orientation.h)
   Material material;
   double mmPerUnit = 0.0;  // millimetres per mesh unit (> 0), unless sizeMm > 0
   double sizeMm = 0.0;     // > 0: scale so that the longest bounding-box side is this long

@@ -30,13 +30,14 @@ std::vector<glm::vec3> lightFromCubemap(const LightingInput& in, LightingReport&
 // Why the rays per vertex are what they are; warns when auto hit the cap.
 std::string samplesReason(const LightingInput& in, double error, double share) {
   if (in.samples != 0) return "forced by the requested sample count";
+  const int cap = maxAutoSamples(in.meshMm.vertexCount());
   if (error <= in.visibilityBudget) {
     return "fewest rays (a multiple of " + std::to_string(kAutoSampleStep) + ", " +
-           std::to_string(kMinAutoSamples) + ".." + std::to_string(kMaxAutoSamples) +
+           std::to_string(kMinAutoSamples) + ".." + std::to_string(cap) +
            ") whose predicted noise in B " + percent(error) + " meets its budget (" +
            percent(share) + " of the tolerance); the diffusion sum gets the rest in quadrature";
   }
-  const std::string reason = "capped at " + std::to_string(kMaxAutoSamples) +
+  const std::string reason = "capped at " + std::to_string(cap) +
                              " rays: the predicted noise in B " + percent(error) +
                              " exceeds its budget (" + percent(share) + " of the tolerance)";
   warn("visibility: " + reason);
@@ -56,7 +57,8 @@ std::vector<glm::vec3> lightWithRays(const LightingInput& in, LightingReport& re
     const Stopwatch clock;
     rays.noiseModel = visibilityNoiseModel(pilot, in.meshMm.positions, in.areasMm2, in.profile);
     rays.noiseModelSeconds = clock.seconds();
-    return in.samples == 0 ? chooseVisibilitySamples(rays.noiseModel, in.visibilityBudget)
+    return in.samples == 0 ? chooseVisibilitySamples(rays.noiseModel, in.visibilityBudget,
+                                                     maxAutoSamples(in.meshMm.vertexCount()))
                            : in.samples;
   };
   std::vector<glm::vec3> e = transmittedIrradianceWithVisibility(

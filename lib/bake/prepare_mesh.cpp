@@ -37,7 +37,9 @@ PreparedMesh prepareMesh(const MeshPreparation& in) {
   if (declared.known) checkBakeMemory(in.path, declared.vertices, declared.faces);
   out.mesh = loadMesh(in.path, &report.load);
   if (!declared.known) checkBakeMemory(in.path, out.mesh.vertexCount(), out.mesh.triangleCount());
-  for (const std::string& w : report.load.warnings) warn(in.path + ": " + w);
+  if (!in.quiet) {
+    for (const std::string& w : report.load.warnings) warn(in.path + ": " + w);
+  }
 
   const double longest = boundsOf(out.mesh.positions).longestSide();
   report.mmPerUnit = in.mmPerUnit;
@@ -46,7 +48,7 @@ PreparedMesh prepareMesh(const MeshPreparation& in) {
     report.mmPerUnit = in.sizeMm / longest;
   }
   report.longestSideMm = longest * report.mmPerUnit;
-  if (report.longestSideMm < 0.01 || report.longestSideMm > 1e6) {
+  if (!in.quiet && (report.longestSideMm < 0.01 || report.longestSideMm > 1e6)) {
     warn(in.path + ": the mesh is " + format("%g", report.longestSideMm) +
          " mm long: check its units");
   }

@@ -15,7 +15,7 @@ struct MeshPreparation {
   std::string path;
   double mmPerUnit = 0.0;  // used when sizeMm is 0
   double sizeMm = 0.0;     // > 0: the longest bounding-box side becomes this long
-  bool quiet = false;
+  bool quiet = false;      // no progress, and no warnings about the mesh (cleanup, size)
 };
 
 struct MeshStageReport {
@@ -35,9 +35,9 @@ struct PreparedMesh {
   MeshStageReport report;
 };
 
-// Warns (warn()) about the mesh's cleanup and about an implausible size. Throws Error naming the
-// file, also when the bake would not fit in memory (checkBakeMemory: before loading when the
-// header gives the counts).
+// Warns (warn(), unless quiet) about the mesh's cleanup and an implausible size. Throws Error
+// naming the file, also when the bake would not fit in memory (checkBakeMemory: before loading
+// when the header gives the counts).
 PreparedMesh prepareMesh(const MeshPreparation& in);
 
 // sss-bake's peak memory for a mesh of `vertices` and `triangles` (vertices 0: unknown), an upper

@@ -168,15 +168,22 @@ double VisibilityNoiseModel::irradianceErrorAt(const VisibilityPilot& pilot, int
   return eSquare > 0.0 ? std::sqrt(eVariance / eSquare) : 0.0;
 }
 
-int chooseVisibilitySamples(const VisibilityNoiseModel& model, double budget) {
+int chooseVisibilitySamples(const VisibilityNoiseModel& model, double budget, int maxSamples) {
   if (!(model.variance > 0.0)) return kMinAutoSamples;
-  if (!(budget > 0.0)) return kMaxAutoSamples;
+  if (!(budget > 0.0)) return maxSamples;
   // errorAt(n) = budget solved for n, then rounded up to whole strata of 16.
   const double exact =
       model.fineRays * std::pow(model.variance / (budget * budget), 1.0 / model.rate);
-  if (!(exact < kMaxAutoSamples)) return kMaxAutoSamples;
+  if (!(exact < maxSamples)) return maxSamples;
   const int rounded = static_cast<int>(std::ceil(exact / kAutoSampleStep)) * kAutoSampleStep;
-  return std::clamp(rounded, kMinAutoSamples, kMaxAutoSamples);
+  return std::clamp(rounded, kMinAutoSamples, maxSamples);
+}
+
+int maxAutoSamples(std::size_t vertices) {
+  const double perVertex = kAutoRayBudget / static_cast<double>(std::max<std::size_t>(vertices, 1));
+  const int steps =
+      static_cast<int>(std::min<double>(perVertex, kMaxAutoSamplesCoarse)) / kAutoSampleStep;
+  return std::max(kMaxAutoSamples, steps * kAutoSampleStep);
 }
 
 }  // namespace sss

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 #include <span>
 
 #include <glm/vec3.hpp>
@@ -41,9 +42,18 @@ VisibilityNoiseModel visibilityNoiseModel(const VisibilityPilot& pilot,
                                           std::span<const float> areasMm2,
                                           const DiffusionProfile& profile);
 
-// Rays per vertex: the smallest multiple of kAutoSampleStep in [kMinAutoSamples,
-// kMaxAutoSamples] whose predicted error meets `budget` (the largest if none does).
+// Rays per vertex: the smallest multiple of kAutoSampleStep in [kMinAutoSamples, maxSamples]
+// whose predicted error meets `budget` (maxSamples if none does).
 inline constexpr int kMinAutoSamples = 16, kMaxAutoSamples = 1024, kAutoSampleStep = 16;
-int chooseVisibilitySamples(const VisibilityNoiseModel& model, double budget);
+int chooseVisibilitySamples(const VisibilityNoiseModel& model, double budget,
+                            int maxSamples = kMaxAutoSamples);
+
+// The cap of auto rays follows the mesh: a coarse mesh averages few vertices under the kernel,
+// so its B keeps more of E's noise and needs more rays per vertex, which it can afford. The cap
+// spends at most kAutoRayBudget rays on the whole mesh (1024 rays on 16,384 vertices), never
+// fewer than kMaxAutoSamples per vertex, nor more than kMaxAutoSamplesCoarse.
+inline constexpr double kAutoRayBudget = 16384.0 * 1024.0;
+inline constexpr int kMaxAutoSamplesCoarse = 16384;
+int maxAutoSamples(std::size_t vertices);
 
 }  // namespace sss

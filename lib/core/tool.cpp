@@ -89,6 +89,10 @@ int runTool(const char* toolName, const std::function<int()>& body) {
   }
 }
 
+void printError(const std::string& message) {
+  std::fprintf(stderr, "%s: error: %s\n", gToolName, escapeControl(message).c_str());
+}
+
 void warn(const std::string& message) {
   std::fprintf(stderr, "%s: warning: %s\n", gToolName, message.c_str());
 }

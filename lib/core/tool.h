@@ -52,6 +52,9 @@ int runTool(const char* toolName, CLI::App& app, int argc, char** argv,
 // concern): exceptions become "<tool>: error: ..." and exit 1, UsageError exit 2.
 int runTool(const char* toolName, const std::function<int()>& body);
 
+// "<tool>: error: <message>" on stderr, for an error the tool goes on after (one input of a
+// batch, core/batch.h); control characters escaped.
+void printError(const std::string& message);
 // "<tool>: warning: <message>" on stderr.
 void warn(const std::string& message);
 // "<tool>: <message>" on stderr, unless quiet.

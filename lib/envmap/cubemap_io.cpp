@@ -21,7 +21,11 @@ Cubemap readCubemap(const std::string& path, const ImageReadOptions& options) {
 
 void writeCubemap(const std::string& path, const Cubemap& cubemap) {
   if (cubemap.empty()) fail(path, "refusing to write an empty cubemap");
-  writeImage(path, cubemapToStack(cubemap), {{kCubemapLayoutAttribute, kCubemapLayoutTag}});
+  // OpenImageIO's EXR writer turns textureformat "CubeFace Environment" into OpenEXR's standard
+  // envmap attribute (ENVMAP_CUBE): OpenEXR's cube layout stacks the faces vertically in our order.
+  writeImage(
+      path, cubemapToStack(cubemap),
+      {{kCubemapLayoutAttribute, kCubemapLayoutTag}, {"textureformat", "CubeFace Environment"}});
 }
 
 std::string cubemapPreviewPath(const std::string& cubemapPath) {

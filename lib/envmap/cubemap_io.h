@@ -1,7 +1,8 @@
 // Reading and writing cubemaps in the project's file layout: one float RGB EXR of N x 6N pixels,
 // the six faces stacked vertically (+X, -X, +Y, -Y, +Z, -Z), each in OpenGL orientation, row 0 at
 // the top. The header carries the attribute "sss:layout" = kCubemapLayoutTag so that tools can
-// tell our stack from an arbitrary 1:6 image (readCubemap accepts both; the tag is informative).
+// tell our stack from an arbitrary 1:6 image (readCubemap accepts both; the tag is informative),
+// and OpenEXR's standard "envmap" attribute = ENVMAP_CUBE (1), which other EXR tools read.
 #pragma once
 
 #include <string>

@@ -28,7 +28,10 @@ glm::vec3 sampleEquirect(const ImageRgb& image, float u, float v) {
          wy * ((1 - wx) * image.at(xa, y1) + wx * image.at(xb, y1));
 }
 
-Cubemap cubemapFromEquirect(const ImageRgb& image, int faceSize, int threads) {
+Cubemap cubemapFromEquirect(const ImageRgb& image, int faceSize, int threads,
+                            const EnvironmentOrientation& orientation) {
+  const bool turned = !isIdentity(orientation, /*equirect=*/true);
+  const glm::mat3 sourceFromWorldDir = sourceFromWorld(orientation, /*equirect=*/true);
   if (faceSize <= 0) faceSize = std::max(1, image.width / 4);
   Cubemap cube(faceSize);
   // Supersample so that the lookups are denser than the source texels (cube texel at a face
@@ -42,7 +45,7 @@ Cubemap cubemapFromEquirect(const ImageRgb& image, int faceSize, int threads) {
           for (int x = 0; x < faceSize; ++x) {
             cube.at(f, x, y) =
                 Cubemap::averageOverTexel<glm::vec3>(f, x, y, faceSize, k, [&](glm::vec3 d) {
-                  const glm::vec2 uv = equirectCoord(d);
+                  const glm::vec2 uv = equirectCoord(turned ? sourceFromWorldDir * d : d);
                   return sampleEquirect(image, uv.x, uv.y);
                 });
           }
@@ -51,25 +54,25 @@ Cubemap cubemapFromEquirect(const ImageRgb& image, int faceSize, int threads) {
   return cube;
 }
 
-}  // namespace
-
-EnvironmentLayout detectLayout(const std::string& path, int width, int height) {
-  if (width <= 0 || height <= 0) {
-    fail(path,
-         "image has zero size (" + std::to_string(width) + "x" + std::to_string(height) + ")");
-  }
-  if (width == 2 * height) return EnvironmentLayout::Equirect;
-  if ((3 * width == 4 * height && width % 4 == 0) || (4 * width == 3 * height && width % 3 == 0)) {
-    return EnvironmentLayout::Cross;
-  }
-  if (height == 6 * width) return EnvironmentLayout::CubemapStack;
-  fail(path, "unsupported shape " + std::to_string(width) + "x" + std::to_string(height) +
-                 ": expected 2:1 equirect, 4:3 or 3:4 cross, or an N x 6N cubemap stack");
+// A cube turned about +Y: each texel the mean of 2 x 2 bilinear lookups along the turned
+// directions (a cube source has no exact analytic lookup to turn).
+Cubemap turnedCubemap(const Cubemap& source, const glm::mat3& sourceFromWorldDir, int threads) {
+  const int n = source.size();
+  Cubemap cube(n);
+  parallelFor(6 * static_cast<std::size_t>(n), threads, 4, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t row = begin; row < end; ++row) {
+      const int f = static_cast<int>(row / n), y = static_cast<int>(row % n);
+      for (int x = 0; x < n; ++x) {
+        cube.at(f, x, y) = Cubemap::averageOverTexel<glm::vec3>(
+            f, x, y, n, 2, [&](glm::vec3 d) { return source.sample(sourceFromWorldDir * d); });
+      }
+    }
+  });
+  return cube;
 }
 
-Cubemap cubemapFromImage(const ImageRgb& image, EnvironmentLayout layout, int faceSize,
-                         int threads) {
-  if (layout == EnvironmentLayout::Equirect) return cubemapFromEquirect(image, faceSize, threads);
+// Our stack, or a cross unfolded (see cubemapToCross), at the source resolution.
+Cubemap cubeOrCrossToCubemap(const ImageRgb& image, EnvironmentLayout layout) {
   Cubemap cube;
   if (layout == EnvironmentLayout::CubemapStack) {
     const int n = image.width;
@@ -96,6 +99,34 @@ Cubemap cubemapFromImage(const ImageRgb& image, EnvironmentLayout layout, int fa
         }
       }
     }
+  }
+  return cube;
+}
+
+}  // namespace
+
+EnvironmentLayout detectLayout(const std::string& path, int width, int height) {
+  if (width <= 0 || height <= 0) {
+    fail(path,
+         "image has zero size (" + std::to_string(width) + "x" + std::to_string(height) + ")");
+  }
+  if (width == 2 * height) return EnvironmentLayout::Equirect;
+  if ((3 * width == 4 * height && width % 4 == 0) || (4 * width == 3 * height && width % 3 == 0)) {
+    return EnvironmentLayout::Cross;
+  }
+  if (height == 6 * width) return EnvironmentLayout::CubemapStack;
+  fail(path, "unsupported shape " + std::to_string(width) + "x" + std::to_string(height) +
+                 ": expected 2:1 equirect, 4:3 or 3:4 cross, or an N x 6N cubemap stack");
+}
+
+Cubemap cubemapFromImage(const ImageRgb& image, EnvironmentLayout layout, int faceSize, int threads,
+                         const EnvironmentOrientation& orientation) {
+  if (layout == EnvironmentLayout::Equirect) {
+    return cubemapFromEquirect(image, faceSize, threads, orientation);
+  }
+  Cubemap cube = cubeOrCrossToCubemap(image, layout);
+  if (!isIdentity(orientation, /*equirect=*/false)) {
+    cube = turnedCubemap(cube, sourceFromWorld(orientation, /*equirect=*/false), threads);
   }
   return faceSize > 0 && faceSize != cube.size() ? cube.resized(faceSize) : cube;
 }
@@ -139,10 +170,12 @@ Cubemap loadEnvironment(const std::string& source, const EnvironmentOptions& opt
     } catch (const Error& e) {
       fail(source, e.what());
     }
-    return makeSky(sky, options.faceSize > 0 ? options.faceSize : 128, options.threads);
+    return makeSky(rotatedSky(sky, options.orientation),
+                   options.faceSize > 0 ? options.faceSize : 128, options.threads);
   }
   const ImageRgb image = readImage(source, options.read);
-  return cubemapFromImage(image, detectLayout(source, image.width, image.height), options.faceSize);
+  return cubemapFromImage(image, detectLayout(source, image.width, image.height), options.faceSize,
+                          options.threads, options.orientation);
 }
 
 }  // namespace sss

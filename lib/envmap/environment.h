@@ -8,6 +8,7 @@
 #include "core/enum_names.h"
 #include "envmap/cubemap.h"
 #include "envmap/image.h"
+#include "envmap/orientation.h"
 
 namespace sss {
 
@@ -25,9 +26,11 @@ EnvironmentLayout detectLayout(const std::string& path, int width, int height);
 // Resampling an image into a cubemap of `faceSize` (0: keep about the source's resolution: W / 4
 // for an equirect). Equirect sources are area-averaged by supersampling (k x k bilinear lookups
 // per texel, denser than the source texels), which keeps the flux (tests/envmap check it).
-// threads <= 0: all cores (the result does not depend on it).
+// threads <= 0: all cores (the result does not depend on it). `orientation` turns the environment
+// (envmap/orientation.h): an equirect is looked up along the turned direction (exact), a cube or
+// cross source is resampled bilinearly; the identity changes nothing.
 Cubemap cubemapFromImage(const ImageRgb& image, EnvironmentLayout layout, int faceSize,
-                         int threads = 0);
+                         int threads = 0, const EnvironmentOrientation& orientation = {});
 
 // The unfolded horizontal cross (4:3): middle row -X, +Z, +X, -Z as GL faces are laid out; +Y
 // above and -Y below the +Z face. Used for previews and read back by cubemapFromImage.
@@ -47,6 +50,9 @@ struct SkyParameters {
 // sun, radius, ground); throws Error naming the key and its range.
 SkyParameters parseSkySpec(const std::string& spec);
 Cubemap makeSky(const SkyParameters& sky, int faceSize, int threads = 0);
+// The sky turned by --env-rotate: the sun turns with it (the Preetham sky depends only on the
+// angles to the sun and the zenith, so this turns the whole sky exactly). No convention applies.
+SkyParameters rotatedSky(SkyParameters sky, const EnvironmentOrientation& orientation);
 
 // The largest cubemap face a tool may ask for (--size, --radiance-size, --env-size): twice the
 // face of a 16K equirect (16384 / 4), the largest common HDRI; a float RGB cubemap of 8192^2
@@ -58,6 +64,7 @@ struct EnvironmentOptions {
   ImageReadOptions read;
   int faceSize = 0;  // 0: chosen from the source resolution
   int threads = 0;   // <= 0: all cores
+  EnvironmentOrientation orientation{};  // --env-convention, --env-rotate
 };
 // Reads an environment file (equirect, cross or our stack) into a radiance cubemap; the special
 // name "sky" or "sky:<spec>" gives makeSky instead. Throws Error naming the file (or the sky

@@ -118,9 +118,9 @@ ImageRgb readImage(const std::string& path, const ImageReadOptions& options) {
     const std::string what = std::to_string(nonFinite) + " NaN/Inf texel values, first at (" +
                              std::to_string(firstX) + ", " + std::to_string(firstY) + ")";
     if (!options.sanitize) throw NonFiniteTexelsError(path + ": " + what);
-    warn(path + ": " + what + " replaced by 0");
+    if (!options.quiet) warn(path + ": " + what + " replaced by 0");
   }
-  if (negative > 0) {
+  if (negative > 0 && !options.quiet) {
     warn(path + ": " + std::to_string(negative) + " negative texel values clamped to 0");
   }
   return image;

@@ -31,6 +31,7 @@ class NonFiniteTexelsError : public Error {
 // What readImage does with non-finite and negative texels.
 struct ImageReadOptions {
   bool sanitize = false;  // replace NaN/Inf by 0 (with a warning) instead of failing
+  bool quiet = false;     // --quiet: no warnings about what was replaced or clamped
 };
 
 // What a header may declare, checked before any pixel is allocated: at most kMaxImagePixels,

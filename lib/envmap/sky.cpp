@@ -241,4 +241,9 @@ Cubemap makeSky(const SkyParameters& params, int faceSize, int threads) {
   return cube;
 }
 
+SkyParameters rotatedSky(SkyParameters sky, const EnvironmentOrientation& orientation) {
+  sky.sunDirection = rotationAboutY(orientation.rotateDeg) * sky.sunDirection;
+  return sky;
+}
+
 }  // namespace sss

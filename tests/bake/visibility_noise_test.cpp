@@ -110,6 +110,15 @@ TEST(VisibilityNoiseModel, TighterBudgetPicksMoreRays) {
   EXPECT_EQ(chooseVisibilitySamples(model, model.errorAt(256) * 1.001), 256);
   EXPECT_EQ(chooseVisibilitySamples(model, 1.0), kMinAutoSamples);
   EXPECT_EQ(chooseVisibilitySamples(model, 0.0), kMaxAutoSamples);
+  // A larger cap (a coarse mesh) is used only when the budget needs it.
+  EXPECT_EQ(chooseVisibilitySamples(model, model.errorAt(48) * 1.001, 4096), 48);
+  EXPECT_EQ(chooseVisibilitySamples(model, model.errorAt(2000) * 1.001, 4096), 2000);
+  EXPECT_EQ(chooseVisibilitySamples(model, 0.0, 4096), 4096);
+  // The cap follows the mesh: the same total rays, at least 1024 and at most 16384 per vertex.
+  EXPECT_EQ(maxAutoSamples(16384), kMaxAutoSamples);
+  EXPECT_EQ(maxAutoSamples(100000), kMaxAutoSamples);
+  EXPECT_EQ(maxAutoSamples(1839), 9120);  // the sample bunny: 16,777,216 / 1839 = 9123.1
+  EXPECT_EQ(maxAutoSamples(100), kMaxAutoSamplesCoarse);
   // More rays, less predicted noise; the pilot's model is the same for any thread count.
   EXPECT_LT(model.errorAt(256), model.errorAt(32));
 }

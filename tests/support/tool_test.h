@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -47,6 +48,7 @@ class ScratchDir {
     return names;
   }
   std::size_t fileCount() const { return fileNames().size(); }
+  void makeDir(const std::string& name) const { std::filesystem::create_directories(dir_ / name); }
 
  private:
   std::filesystem::path dir_;
@@ -78,6 +80,21 @@ inline ToolRun runTool(const std::string& tool, const std::string& args, Capture
   const int status = ::pclose(pipe);
   result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return result;
+}
+
+// Names of everything in `dir`, sorted (none when it does not exist): a batch's outputs, and no
+// temporary file among them.
+inline std::vector<std::string> fileNamesIn(const std::string& dir) {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(dir, ec))
+    names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+inline void writeText(const std::string& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
 }
 
 }  // namespace sss::test

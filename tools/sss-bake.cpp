@@ -18,7 +18,7 @@
 #include "core/tool.h"
 #include "envmap/environment.h"
 #include "material/material.h"
-#include "mesh/baked_ply.h"
+#include "mesh/baked_mesh.h"
 #include "mesh/units.h"
 
 namespace {
@@ -148,8 +148,8 @@ void addBakeOptions(CLI::App& app, sss::BakeSettings& s) {
   cli::addQuietFlag(app, s.quiet);
 }
 
-// Writes the PLY and, beside it, the report: the report's temporary file is created first, so
-// both appear or neither does.
+// Writes the baked mesh and, beside it, the report: the report's temporary file is created
+// first, so both appear or neither does. A GLB embeds the report (without the write time).
 void writeOutputs(const std::string& output, const std::string& jsonPath,
                   const sss::BakeOutput& result, const sss::Stopwatch& toolClock) {
   std::unique_ptr<sss::AtomicOutput> jsonOutput;
@@ -160,10 +160,10 @@ void writeOutputs(const std::string& output, const std::string& jsonPath,
     if (!jsonFile) sss::fail(jsonPath, "cannot create the JSON report");
   }
   const sss::Stopwatch writeClock;
-  sss::writeBakedPly(output, result.baked);
-  if (!jsonOutput) return;
   sss::Json report = sss::toJson(result.report);
   report["output"] = output;
+  sss::writeBakedMesh(output, result.baked, report.dump());
+  if (!jsonOutput) return;
   report["stages"]["write_s"] = writeClock.seconds();
   report["stages"]["tool_total_s"] = toolClock.seconds();
   jsonFile << report.dump(2) << "\n";
@@ -190,11 +190,18 @@ int main(int argc, char** argv) {
                         ->expected(0, 1)
                         ->default_str("");
   environment->require_option(1);
-  app.add_option("-o,--output", output, "Output baked PLY")->required();
+  app.add_option("-o,--output", output, "Output baked mesh: .ply or .glb (glTF 2.0 binary)")
+      ->required()
+      ->check(sss::cli::checkedBy<std::string>(sss::checkBakedMeshPath));
   addMaterialOptions(app, material);
   addUnitOptions(app, s);
   addBakeOptions(app, s);
   app.add_option("--json", jsonPath, "Write a JSON report");
+  app.footer(
+      "Examples:\n"
+      "  sss-bake bunny.ply -e forest.exr -m marble --size-mm 150 -o bunny_baked.ply\n"
+      "  sss-bake dragon.obj --sky=elevation=30 -m skin1 --unit m -o dragon.glb --json dragon.json\n"
+      "  sss-bake part.stl -e studio.exr --sigma-a 0.01 --sigma-s 1.5 --mm-per-unit 1 -o part.ply");
 
   return sss::runTool("sss-bake", app, argc, argv, [&]() -> int {
     sss::checkOutputsAreNotInputs({{"-o", output}, {"--json", jsonPath}},

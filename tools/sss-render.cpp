@@ -20,7 +20,7 @@
 #include "envmap/environment.h"
 #include "irradiance/irradiance.h"
 #include "material/material.h"
-#include "mesh/baked_ply.h"
+#include "mesh/baked_mesh.h"
 #include "render/baked_shading.h"
 #include "render/camera.h"
 #include "render/gl_context.h"
@@ -87,7 +87,7 @@ struct LoadedMesh {
 // taken for what the file does not record.
 LoadedMesh loadMesh(const Arguments& a) {
   LoadedMesh m;
-  m.contents = readBakedPly(a.input);
+  m.contents = readBakedMesh(a.input);
   for (const std::string& w : m.contents.report.warnings) warn(a.input + ": " + w);
   const std::string missing = missingBakedValues(m.contents, a.request.mode);
   if (!missing.empty()) {
@@ -294,7 +294,7 @@ int run(const Arguments& a) {
 }
 
 void addInputOptions(CLI::App& app, Arguments& a) {
-  app.add_option("mesh", a.input, "Baked mesh (sss-bake's PLY; any mesh for --mode brdf)")
+  app.add_option("mesh", a.input, "Baked mesh (sss-bake's PLY or GLB; any mesh for --mode brdf)")
       ->required();
   app.add_option("-e,--env", a.environment,
                  "Environment: equirect, cross or cubemap image (sss-irrmap --radiance), "
@@ -379,6 +379,11 @@ int main(int argc, char** argv) {
   addShadingOptions(app, a);
   addCameraOptions(app, a);
   addFrameOptions(app, a);
+  app.footer(
+      "Examples:\n"
+      "  sss-render bunny_baked.ply -e forest.exr -o bunny.png --azimuth 30\n"
+      "  sss-render dragon.glb -e forest_radiance.exr -o dragon.exr --size 512x512\n"
+      "  sss-render bunny_baked.ply -e forest.exr -o bunny_brdf.png --mode brdf");
   return runTool("sss-render", app, argc, argv, [&] {
     if (a.verbose) a.quiet = false;
     return run(a);

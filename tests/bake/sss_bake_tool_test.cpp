@@ -387,6 +387,12 @@ TEST_F(BakeTool, EveryToolHasVersionAndHelpEndsWithExamples) {
     }
     EXPECT_GE(count, 2);
     EXPECT_LE(count, 3);
+#ifdef SSS_MAN_DIR
+    const std::string page = readFile(SSS_MAN_DIR "/" + tool + ".1");
+    EXPECT_NE(page.find("\"sss-tools " SSS_VERSION "\""), std::string::npos) << page;
+    EXPECT_NE(page.find("Exit status"), std::string::npos);
+    EXPECT_NE(page.find(".SH EXAMPLES"), std::string::npos);
+#endif
   }
 }
 

@@ -200,7 +200,7 @@ int main(int argc, char** argv) {
   app.footer(
       "Examples:\n"
       "  sss-bake bunny.ply -e forest.exr -m marble --size-mm 150 -o bunny_baked.ply\n"
-      "  sss-bake dragon.obj --sky=elevation=30 -m skin1 --unit m -o dragon.glb --json dragon.json\n"
+      "  sss-bake dragon.obj --sky=elevation=30 -m skin1 --unit m -o dragon.glb --json d.json\n"
       "  sss-bake part.stl -e studio.exr --sigma-a 0.01 --sigma-s 1.5 --mm-per-unit 1 -o part.ply");
 
   return sss::runTool("sss-bake", app, argc, argv, [&]() -> int {

@@ -26,7 +26,7 @@ static_assert(std::endian::native == std::endian::little,
 using Json = nlohmann::ordered_json;
 
 constexpr int kFormatVersion = 1;
-constexpr std::uint32_t kGlbMagic = 0x46546C67;  // "glTF"
+constexpr std::uint32_t kGlbMagic = 0x46546C67;   // "glTF"
 constexpr std::uint32_t kChunkJson = 0x4E4F534A;  // "JSON"
 constexpr std::uint32_t kChunkBin = 0x004E4942;   // "BIN\0"
 constexpr int kFloat = 5126, kUnsignedInt = 5125, kUnsignedShort = 5123, kUnsignedByte = 5121;
@@ -158,37 +158,36 @@ Json gltfDocument(const BakedMesh& baked, BinaryBuilder& bin, const DisplayColor
   if (!baked.exitance.empty()) attributes["_EXITANCE"] = bin.addVec3(baked.exitance, false);
   const int indices = bin.addIndices(baked.mesh.triangles);
   const std::string name = baked.materialName.empty() ? "baked" : baked.materialName;
-  return {
-      {"asset",
-       {{"version", "2.0"},
-        {"generator", "sss-tools"},
-        {"extras", {{"sss", sssExtras(baked, colors.description, reportJson)}}}}},
-      {"extensionsUsed", {"KHR_materials_unlit"}},
-      {"scene", 0},
-      {"scenes", {{{"nodes", {0}}}}},
-      {"nodes", {{{"mesh", 0}, {"name", name}}}},
-      {"meshes",
-       {{{"name", name},
-         {"primitives",
-          {{{"attributes", attributes},
-            {"indices", indices},
-            {"material", 0},
-            {"mode", kTriangles}}}}}}},
-      {"materials",
-       {{{"name", name + " (baked radiance, vertex colour)"},
-         {"pbrMetallicRoughness",
-          {{"baseColorFactor", {1.0, 1.0, 1.0, 1.0}}, {"metallicFactor", 0.0},
-           {"roughnessFactor", 1.0}}},
-         {"extensions", {{"KHR_materials_unlit", Json::object()}}}}}},
-      {"buffers", {{{"byteLength", bin.bin.size()}}}},
-      {"bufferViews", bin.bufferViews},
-      {"accessors", bin.accessors}};
+  return {{"asset",
+           {{"version", "2.0"},
+            {"generator", "sss-tools"},
+            {"extras", {{"sss", sssExtras(baked, colors.description, reportJson)}}}}},
+          {"extensionsUsed", {"KHR_materials_unlit"}},
+          {"scene", 0},
+          {"scenes", {{{"nodes", {0}}}}},
+          {"nodes", {{{"mesh", 0}, {"name", name}}}},
+          {"meshes",
+           {{{"name", name},
+             {"primitives",
+              {{{"attributes", attributes},
+                {"indices", indices},
+                {"material", 0},
+                {"mode", kTriangles}}}}}}},
+          {"materials",
+           {{{"name", name + " (baked radiance, vertex colour)"},
+             {"pbrMetallicRoughness",
+              {{"baseColorFactor", {1.0, 1.0, 1.0, 1.0}},
+               {"metallicFactor", 0.0},
+               {"roughnessFactor", 1.0}}},
+             {"extensions", {{"KHR_materials_unlit", Json::object()}}}}}},
+          {"buffers", {{{"byteLength", bin.bin.size()}}}},
+          {"bufferViews", bin.bufferViews},
+          {"accessors", bin.accessors}};
 }
 
 }  // namespace
 
-void writeBakedGlb(const std::string& path, const BakedMesh& baked,
-                   const std::string& reportJson) {
+void writeBakedGlb(const std::string& path, const BakedMesh& baked, const std::string& reportJson) {
   checkBakedMesh(path, baked);
   DisplayColors colors;
   if (!baked.exitance.empty()) colors = displayColors(path, baked);
@@ -308,7 +307,7 @@ AccessorSpan accessorSpan(const std::string& path, const Json& document, const s
   if (accessor.value("type", "") != type) fail(path, where + " is not " + type);
   AccessorSpan span;
   span.componentType = index(path, accessor, "componentType");
-  const std::uint64_t componentSize = span.componentType == kFloat         ? 4
+  const std::uint64_t componentSize = span.componentType == kFloat           ? 4
                                       : span.componentType == kUnsignedInt   ? 4
                                       : span.componentType == kUnsignedShort ? 2
                                       : span.componentType == kUnsignedByte  ? 1
@@ -419,13 +418,12 @@ BakedPlyContents readBakedGlb(const std::string& path) {
     raw.positions = readVec3(path, document, bin, index(path, attributes, "POSITION"), "POSITION");
     raw.normals = readVec3(path, document, bin, index(path, attributes, "NORMAL"), "NORMAL");
     if (attributes.contains("_IRRADIANCE")) {
-      irradiance = readVec3(path, document, bin, index(path, attributes, "_IRRADIANCE"),
-                            "_IRRADIANCE");
+      irradiance =
+          readVec3(path, document, bin, index(path, attributes, "_IRRADIANCE"), "_IRRADIANCE");
       contents.hasIrradiance = true;
     }
     if (attributes.contains("_EXITANCE")) {
-      exitance =
-          readVec3(path, document, bin, index(path, attributes, "_EXITANCE"), "_EXITANCE");
+      exitance = readVec3(path, document, bin, index(path, attributes, "_EXITANCE"), "_EXITANCE");
       contents.hasExitance = true;
     }
     raw.faceCorners = readIndices(path, document, bin, index(path, primitive, "indices"));
@@ -446,16 +444,8 @@ BakedPlyContents readBakedGlb(const std::string& path) {
   raw.faceSizes.assign(raw.faceCorners.size() / 3, 3);
   contents.hasUnits = true;  // glTF positions are metres
   baked.mmPerUnit = 1000.0;
-  std::vector<unsigned> origin;
   contents.report.format = "glb";
-  baked.mesh = cleanMesh(path, std::move(raw), &contents.report, &origin);
-  for (unsigned o : origin) {
-    if (contents.hasIrradiance) baked.irradiance.push_back(irradiance[o]);
-    if (contents.hasExitance) baked.exitance.push_back(exitance[o]);
-  }
-  checkVertexValues(path, baked.irradiance, origin.size(), "_IRRADIANCE");
-  checkVertexValues(path, baked.exitance, origin.size(), "_EXITANCE");
-  if (baked.meshChecked) contents.report.warnings.clear();  // sss-bake showed them
+  cleanBakedMesh(path, std::move(raw), irradiance, exitance, contents);
   return contents;
 }
 

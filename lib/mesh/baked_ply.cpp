@@ -10,8 +10,8 @@
 
 #include "core/atomic_output.h"
 #include "core/error.h"
-#include "core/srgb.h"
 #include "core/file_extension.h"
+#include "core/srgb.h"
 #include "mesh/ply_format.h"
 
 namespace sss {
@@ -68,8 +68,8 @@ double previewScaleFor(const BakedMesh& baked) {
   return peak[k] > 0.0f ? 1.0 / peak[k] : 1.0;
 }
 
-void checkVertexValues(const std::string& path, const std::vector<glm::vec3>& values,
-                       std::size_t n, const char* what) {
+void checkVertexValues(const std::string& path, const std::vector<glm::vec3>& values, std::size_t n,
+                       const char* what) {
   if (!values.empty() && values.size() != n) {
     fail(path, std::string(what) + " has " + std::to_string(values.size()) + " values for " +
                    std::to_string(n) + " vertices");
@@ -187,9 +187,8 @@ Keys sssKeys(const std::vector<std::string>& comments, std::vector<std::string>&
     const std::size_t eq = c.find('=');
     if (c.rfind("sss ", 0) == 0 && eq != std::string::npos && c.find(' ', 4) == std::string::npos) {
       const std::string key = c.substr(4, eq - 4);
-      static const char* const known[] = {"format",      "material",      "sigma_a",
-                                          "sigma_s_prime", "eta",    "mm_per_unit",
-                                          "preview_scale", "checked"};
+      static const char* const known[] = {"format", "material",    "sigma_a",       "sigma_s_prime",
+                                          "eta",    "mm_per_unit", "preview_scale", "checked"};
       if (std::find(std::begin(known), std::end(known), key) != std::end(known)) {
         keys[key] = c.substr(eq + 1);
         continue;
@@ -279,16 +278,22 @@ BakedPlyContents readBakedPly(const std::string& path) {
       readChannels(path, ply, "irradiance", result.hasIrradiance);
   const std::vector<glm::vec3> exitance = readChannels(path, ply, "exitance", result.hasExitance);
 
+  cleanBakedMesh(path, ply::takeMesh(ply, result.report), irradiance, exitance, result);
+  return result;
+}
+
+void cleanBakedMesh(const std::string& path, RawMesh raw, const std::vector<glm::vec3>& irradiance,
+                    const std::vector<glm::vec3>& exitance, BakedPlyContents& contents) {
+  BakedMesh& baked = contents.baked;
   std::vector<unsigned> origin;
-  baked.mesh = cleanMesh(path, ply::takeMesh(ply, result.report), &result.report, &origin);
+  baked.mesh = cleanMesh(path, std::move(raw), &contents.report, &origin);
   for (unsigned o : origin) {
-    if (result.hasIrradiance) baked.irradiance.push_back(irradiance[o]);
-    if (result.hasExitance) baked.exitance.push_back(exitance[o]);
+    if (contents.hasIrradiance) baked.irradiance.push_back(irradiance[o]);
+    if (contents.hasExitance) baked.exitance.push_back(exitance[o]);
   }
   checkVertexValues(path, baked.irradiance, origin.size(), "irradiance");
   checkVertexValues(path, baked.exitance, origin.size(), "exitance");
-  if (baked.meshChecked) result.report.warnings.clear();  // sss-bake showed them
-  return result;
+  if (baked.meshChecked) contents.report.warnings.clear();  // sss-bake showed them
 }
 
 }  // namespace sss

@@ -68,8 +68,8 @@ double previewScaleFor(const BakedMesh& baked);
 
 // Throws Error naming `path` when `values` is neither empty nor one per vertex (n), or holds a
 // non-finite value.
-void checkVertexValues(const std::string& path, const std::vector<glm::vec3>& values,
-                       std::size_t n, const char* what);
+void checkVertexValues(const std::string& path, const std::vector<glm::vec3>& values, std::size_t n,
+                       const char* what);
 
 // Writes `baked` (exitance and irradiance must have one value per vertex, or be empty: zeros
 // are not invented, the properties are left out) through AtomicOutput. Throws Error.
@@ -90,5 +90,11 @@ struct BakedPlyContents {
 // The mesh goes through the same validation and cleanup as loadMesh (per-vertex values follow
 // their vertices); a file that sss-bake wrote comes back unchanged.
 BakedPlyContents readBakedPly(const std::string& path);
+
+// The end of every baked-mesh reader: `raw` through cleanMesh into contents.baked.mesh, the
+// per-vertex values (those the has* flags say are present) following their vertices, and no
+// cleanup warnings when contents.baked.meshChecked (sss-bake showed them).
+void cleanBakedMesh(const std::string& path, RawMesh raw, const std::vector<glm::vec3>& irradiance,
+                    const std::vector<glm::vec3>& exitance, BakedPlyContents& contents);
 
 }  // namespace sss

@@ -40,7 +40,7 @@ void readEnvironment(const std::string& path) {
 }  // namespace
 
 const std::vector<std::string>& targetNames() {
-  static const std::vector<std::string> names = {"ply", "obj",         "off",      "stl",
+  static const std::vector<std::string> names = {"ply",         "obj",       "off",      "stl",
                                                  "environment", "baked_ply", "baked_glb"};
   return names;
 }

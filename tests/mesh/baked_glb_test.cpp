@@ -21,6 +21,7 @@
 namespace sss {
 namespace {
 
+using test::bitEqual;
 using test::expectError;
 using test::GlbFile;
 using test::readFile;
@@ -43,11 +44,6 @@ BakedMesh sampleBake(double mmPerUnit) {
   b.extraComments = {"bake method=gauss profile=dipole", "made by a test"};
   b.meshChecked = true;
   return b;
-}
-
-template <class T>
-bool bitEqual(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
 }
 
 TEST(MeshBakedGlb, RoundTripIsBitExactAndBothValidatorsReadIt) {
@@ -96,8 +92,9 @@ TEST(MeshBakedGlb, PositionsAreMetresAndTheSourceUnitIsRecorded) {
     }
   }
   // The bounds glTF requires on POSITION are those of the stored values.
-  const auto& accessor = glb.json["accessors"][glb.json["meshes"][0]["primitives"][0]
-                                                      ["attributes"]["POSITION"].get<int>()];
+  const auto& accessor =
+      glb.json["accessors"]
+              [glb.json["meshes"][0]["primitives"][0]["attributes"]["POSITION"].get<int>()];
   float lo = stored[0].x;
   for (const glm::vec3& p : stored) lo = std::min(lo, p.x);
   EXPECT_EQ(accessor["min"][0].get<float>(), lo);
@@ -156,8 +153,8 @@ TEST(MeshBakedGlb, ValuesAboveOneAreClampedWithAWarningNamingHowMany) {
   ::testing::internal::CaptureStderr();
   writeBakedGlb(path, b);
   const std::string warnings = ::testing::internal::GetCapturedStderr();
-  EXPECT_NE(warnings.find("warning: " + path + ": COLOR_0 clamped to 1 at " +
-                          std::to_string(over) + " of " + std::to_string(b.exitance.size())),
+  EXPECT_NE(warnings.find("warning: " + path + ": COLOR_0 clamped to 1 at " + std::to_string(over) +
+                          " of " + std::to_string(b.exitance.size())),
             std::string::npos)
       << warnings;
   const GlbFile glb(path);
@@ -278,58 +275,66 @@ TEST(MeshBakedGlb, HostileFilesAreRefusedWithOneErrorNamingTheFile) {
       {"truncated", good.substr(0, good.size() - 4), "truncated"},
       {"longer", glbBytes(triangleJson(), triangleBin(), good.size() + 4), "declares"},
       {"json_length", good.substr(0, 12) + u32(maxU32 - 3) + good.substr(16), "JSON chunk of"},
-      {"bin_length", good.substr(0, good.size() - 92) + u32(maxU32 - 3) + good.substr(good.size() - 88),
+      {"bin_length",
+       good.substr(0, good.size() - 92) + u32(maxU32 - 3) + good.substr(good.size() - 88),
        "BIN chunk of"},
       {"not_json", glbBytes("{not json", triangleBin()), "glTF JSON"},
       {"no_bin", glbBytes(triangleJson(), "").substr(0, 20 + triangleJson().size() / 4 * 4 + 4),
        "declares"},
-      {"count", glbBytes(triangleJson(R"("count": 3, "type": "VEC3"},
-                  {"bufferView": 1)", R"("count": 4294967296, "type": "VEC3"},
+      {"count",
+       glbBytes(triangleJson(R"("count": 3, "type": "VEC3"},
+                  {"bufferView": 1)",
+                             R"("count": 4294967296, "type": "VEC3"},
                   {"bufferView": 1)"),
-                         triangleBin()),
+                triangleBin()),
        "POSITION accessor (4294967296 elements) overruns"},
-      {"offset", glbBytes(triangleJson(R"("byteOffset": 36, "byteLength": 36)",
-                                       R"("byteOffset": 18446744073709551615, "byteLength": 36)"),
-                          triangleBin()),
+      {"offset",
+       glbBytes(triangleJson(R"("byteOffset": 36, "byteLength": 36)",
+                             R"("byteOffset": 18446744073709551615, "byteLength": 36)"),
+                triangleBin()),
        "NORMAL accessor"},
-      {"view_length", glbBytes(triangleJson(R"("byteLength": 12})", R"("byteLength": 4000})"),
-                               triangleBin()),
+      {"view_length",
+       glbBytes(triangleJson(R"("byteLength": 12})", R"("byteLength": 4000})"), triangleBin()),
        "indices accessor"},
-      {"stride", glbBytes(triangleJson(R"("byteOffset": 0, "byteLength": 36})",
-                                       R"("byteOffset": 0, "byteLength": 36, "byteStride": 4})"),
-                          triangleBin()),
+      {"stride",
+       glbBytes(triangleJson(R"("byteOffset": 0, "byteLength": 36})",
+                             R"("byteOffset": 0, "byteLength": 36, "byteStride": 4})"),
+                triangleBin()),
        "byteStride"},
-      {"view_index", glbBytes(triangleJson(R"("bufferView": 2,)", R"("bufferView": 7,)"),
-                              triangleBin()),
+      {"view_index",
+       glbBytes(triangleJson(R"("bufferView": 2,)", R"("bufferView": 7,)"), triangleBin()),
        "bufferViews[7] does not exist"},
       {"accessor_index", glbBytes(triangleJson(R"("NORMAL": 1)", R"("NORMAL": 99)"), triangleBin()),
        "accessors[99] does not exist"},
       {"negative", glbBytes(triangleJson(R"("NORMAL": 1)", R"("NORMAL": -1)"), triangleBin()),
        "\"NORMAL\" is not an index"},
-      {"external_buffer", glbBytes(triangleJson(R"("buffer": 0, "byteOffset": 36)",
-                                                R"("buffer": 1, "byteOffset": 36)"),
-                                   triangleBin()),
+      {"external_buffer",
+       glbBytes(
+           triangleJson(R"("buffer": 0, "byteOffset": 36)", R"("buffer": 1, "byteOffset": 36)"),
+           triangleBin()),
        "not in the GLB's buffer"},
-      {"sparse", glbBytes(triangleJson(R"("count": 3, "type": "SCALAR")",
-                                       R"("count": 3, "type": "SCALAR", "sparse": {})"),
-                          triangleBin()),
+      {"sparse",
+       glbBytes(triangleJson(R"("count": 3, "type": "SCALAR")",
+                             R"("count": 3, "type": "SCALAR", "sparse": {})"),
+                triangleBin()),
        "sparse"},
-      {"float_indices", glbBytes(triangleJson(R"("componentType": 5125)",
-                                              R"("componentType": 5126)"),
-                                 triangleBin()),
+      {"float_indices",
+       glbBytes(triangleJson(R"("componentType": 5125)", R"("componentType": 5126)"),
+                triangleBin()),
        "indices are float"},
-      {"points", glbBytes(triangleJson(R"("indices": 2)", R"("indices": 2, "mode": 0)"),
-                          triangleBin()),
+      {"points",
+       glbBytes(triangleJson(R"("indices": 2)", R"("indices": 2, "mode": 0)"), triangleBin()),
        "not triangles"},
-      {"two_meshes", glbBytes(triangleJson(R"("meshes": [{)", R"("meshes": [{}, {)"),
-                              triangleBin()),
+      {"two_meshes",
+       glbBytes(triangleJson(R"("meshes": [{)", R"("meshes": [{}, {)"), triangleBin()),
        "not one mesh with one primitive"},
       {"index_range", glbBytes(triangleJson(), triangleBin().substr(0, 80) + u32(3)),
        "refers to vertex 3"},
       {"nan", glbBytes(triangleJson(), triangleBin(std::nanf(""))), "finite"},
-      {"bad_extras", glbBytes(triangleJson(R"({"version": "2.0"})",
-                                           R"({"version": "2.0", "extras": {"sss": {"material": 1}}})"),
-                              triangleBin()),
+      {"bad_extras",
+       glbBytes(triangleJson(R"({"version": "2.0"})",
+                             R"({"version": "2.0", "extras": {"sss": {"material": 1}}})"),
+                triangleBin()),
        "glTF JSON"},
   };
   for (const auto& c : cases) {

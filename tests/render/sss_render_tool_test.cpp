@@ -189,7 +189,8 @@ TEST_F(SssRenderTool, TopologyWarningsOfACheckedBakeAreNotRepeated) {
   baked.mesh.normals.push_back(baked.mesh.normals[t.x]);
   baked.exitance.push_back(glm::vec3(0.5f));
   baked.irradiance.push_back(glm::vec3(1.0f));
-  baked.mesh.triangles.push_back({t.x, t.y, static_cast<unsigned>(baked.mesh.positions.size() - 1)});
+  baked.mesh.triangles.push_back(
+      {t.x, t.y, static_cast<unsigned>(baked.mesh.positions.size() - 1)});
   for (const char* name : {"fin.ply", "fin.glb"}) {
     for (const bool checked : {false, true}) {
       SCOPED_TRACE(std::string(name) + (checked ? " checked" : " unchecked"));

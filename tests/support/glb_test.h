@@ -57,20 +57,13 @@ struct GlbFile {
 
 // Runs a shell command, capturing stdout and stderr.
 inline ToolRun runCommand(const std::string& command) {
-  ToolRun result;
-  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
-  if (!pipe) return result;
-  char buffer[4096];
-  for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;)
-    result.output.append(buffer, n);
-  const int status = ::pclose(pipe);
-  result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
+  return runShell(command + " 2>&1");
 }
 
 // The Khronos validator on `path`: zero errors and zero warnings expected.
 inline void expectValidGltf(const std::string& path) {
-  const ToolRun r = runCommand("node " SSS_SOURCE_DIR "/tests/mesh/validate_gltf.js '" + path + "'");
+  const ToolRun r =
+      runCommand("node " SSS_SOURCE_DIR "/tests/mesh/validate_gltf.js '" + path + "'");
   EXPECT_EQ(r.exitCode, 0) << r.output;
   EXPECT_NE(r.output.find(": 0 errors, 0 warnings"), std::string::npos) << r.output;
 }

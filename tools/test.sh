@@ -1,19 +1,18 @@
 #!/usr/bin/env bash
 # Command 2: fetch the sample data (cached), then run the test suites that SSS_TEST_SUITES names
-# (default: release; each build is only redone when needed):
+# (default: all three; each build is only redone when needed):
 #   release   build Release into build/ (SSS_BUILD_DIR overrides) and run every test through ctest
-#   sanitize  the same suite under ASan + UBSan in <build>-sanitize/ (tests/sanitizers/run.sh)
-#   fuzz      every reader's fuzz target for SSS_FUZZ_SECONDS (default 30) in <build>-fuzz/
-#             (tests/fuzz/run.sh; clang)
+#   sanitize  the same suite under ASan + UBSan in the checked build <build>-checked/ (clang;
+#             tests/sanitizers/run.sh)
+#   fuzz      every reader's fuzz target for SSS_FUZZ_SECONDS (default 30) each, in the same checked
+#             build (tests/fuzz/run.sh)
 # Exits non-zero when a step or a test fails, or when there is no test at all.
-#   SSS_TEST_SUITES="release sanitize fuzz" bash tools/test.sh   # all three
-# CI runs the default: the sanitizer suite is not yet green on llvmpipe (Mesa's driver leaks under
-# LeakSanitizer, tests/sanitizers/run.sh), and the three together take over 20 minutes on 2 cores.
+#   SSS_TEST_SUITES=release bash tools/test.sh   # the Release suite only
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 build=${SSS_BUILD_DIR:-build}
 jobs=$(nproc)
-suites=${SSS_TEST_SUITES:-release}
+suites=${SSS_TEST_SUITES:-release sanitize fuzz}
 
 for suite in $suites; do
   case $suite in
@@ -35,8 +34,8 @@ for suite in $suites; do
       cmake --build "$build" -j "$jobs"
       ctest --test-dir "$build" --output-on-failure --no-tests=error -j "$jobs"
       ;;
-    sanitize) bash tests/sanitizers/run.sh "$build-sanitize" ;;
-    fuzz) bash tests/fuzz/run.sh "${SSS_FUZZ_SECONDS:-30}" "$build-fuzz" ;;
+    sanitize) bash tests/sanitizers/run.sh "$build-checked" ;;
+    fuzz) bash tests/fuzz/run.sh "${SSS_FUZZ_SECONDS:-30}" "$build-checked" ;;
   esac
   echo "test: suite $suite passed in $((SECONDS - start)) s"
 done

@@ -22,10 +22,12 @@ constexpr std::size_t kLanes = 8;
 constexpr std::size_t kChunk = 2048;  // terms per cache block (each array 8 KiB)
 constexpr std::size_t kNormalGrain = 32;
 
-inline v8 load(const float* p) {
+// Vectors cross these helpers by reference: a vector passed by value to or from a function
+// compiled without AVX changes the ABI (clang refuses it in the avx2 clones).
+inline const v8u& load(const float* p) {
   return *reinterpret_cast<const v8u*>(p);
 }
-inline float horizontalSum(v8 v) {
+inline float horizontalSum(const v8& v) {
   return ((v[0] + v[4]) + (v[1] + v[5])) + ((v[2] + v[6]) + (v[3] + v[7]));
 }
 
@@ -39,10 +41,8 @@ void resizeTerms(Terms& t, std::size_t n, int arrays) {
 // Initial cut threshold, relative to tolerance x total luminous flux.
 constexpr double kInitialThreshold = 0.05;
 
-inline v8 fresnelFactor(const TransmittedCosineKernel& kernel, v8 mu) {
-  v8 t;
+inline void fresnelFactor(const TransmittedCosineKernel& kernel, const v8& mu, v8& t) {
   for (std::size_t k = 0; k < kLanes; ++k) t[k] = kernel.transmittance(mu[k]);
-  return t;
 }
 
 // sum_j k(n . w_j) (L dw)_j over terms [begin, end) for one normal.
@@ -54,7 +54,11 @@ __attribute__((target_clones("avx2", "default"))) glm::vec3 sumTexels(
   for (std::size_t j = begin; j < end; j += kLanes) {
     v8 mu = n.x * load(&t.a[0][j]) + n.y * load(&t.a[1][j]) + n.z * load(&t.a[2][j]);
     mu = mu > zero ? mu : zero;
-    if (fresnel) mu *= fresnelFactor(*fresnel, mu);
+    if (fresnel) {
+      v8 transmitted;
+      fresnelFactor(*fresnel, mu, transmitted);
+      mu *= transmitted;
+    }
     sr += mu * load(&t.a[3][j]);
     sg += mu * load(&t.a[4][j]);
     sb += mu * load(&t.a[5][j]);
@@ -72,7 +76,7 @@ __attribute__((target_clones("avx2", "default"))) glm::vec3 sumClusters(
     v8 f = {1, 1, 1, 1, 1, 1, 1, 1};
     if (fresnel) {
       v8 mu = n.x * load(&t.a[9][j]) + n.y * load(&t.a[10][j]) + n.z * load(&t.a[11][j]);
-      f = fresnelFactor(*fresnel, mu > zero ? mu : zero);
+      fresnelFactor(*fresnel, mu > zero ? mu : zero, f);
     }
     for (int c = 0; c < 3; ++c) {
       const v8 e = n.x * load(&t.a[3 * c][j]) + n.y * load(&t.a[3 * c + 1][j]) +

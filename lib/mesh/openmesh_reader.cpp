@@ -141,15 +141,19 @@ OffCounts checkOffHeader(const std::string& path, const std::string& data) {
   // BINARY for a binary file, and not the rest of that line; then the counts as the next three
   // words wherever the lines break, and the records right after them (found by tests/fuzz: to it
   // "OFF 6\n0 0 4" declares no vertices and no faces).
+  // Its prefix letters come in that order, each optional, and what follows OFF on the line is
+  // not part of the keyword (found by tests/fuzz: "COFFNOFF" is COFF to it, without normals).
   const std::size_t firstEol = std::min(data.find('\n'), data.size());
-  const std::string keyword = data.substr(0, std::min(data.find_first_of(" \t\r\n"), firstEol));
-  if (keyword.size() < 3 || keyword.substr(keyword.size() - 3) != "OFF") {
+  std::size_t p = data.compare(0, 2, "ST") == 0 ? 2 : 0;
+  for (const char letter : {'C', 'N', '4', 'n'}) {
+    if (p < data.size() && data[p] == letter) ++p;
+  }
+  if (p + 3 > firstEol || data.compare(p, 3, "OFF") != 0) {
     fail(path, "not an OFF file (no OFF keyword)");
   }
   OffCounts counts;
-  counts.keyword = keyword;
-  counts.binary = data.size() > keyword.size() + 1 &&
-                  data.compare(keyword.size() + 1, 6, "BINARY") == 0;
+  counts.keyword = data.substr(0, p + 3);
+  counts.binary = data.size() > p + 4 && data.compare(p + 4, 6, "BINARY") == 0;
   std::size_t at = std::min(firstEol + 1, data.size());
   // Comments are words to it too: a '#' there fails its reads, and leaves the face count
   // unset (found by tests/fuzz).

@@ -76,6 +76,9 @@ const std::map<std::string, std::string> kFound = {
     // A '#' comment before the counts: OpenMesh's reads failed and left its face count unset
     // (the check skipped the comment and read others); 1 GB of empty faces.
     {"off/comment_before_the_counts", "bad OFF count '#'"},
+    // "COFFNOFF" is COFF to OpenMesh (the check took it for NOFF): records of the wrong size,
+    // then a face of 4294967295 corners.
+    {"off/keyword_followed_by_letters", "OFF face 0 declares -1 corners"},
     // OpenEXR allocated the 1.7 GB an unknown attribute declared in a 553-byte file.
     {"environment/exr_attribute_larger_than_file",
      "EXR header attribute 'capDate' declares 1768712291 bytes, but the file has 494 left"},

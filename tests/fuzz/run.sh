@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# Fuzzes every reader: builds the libFuzzer targets of tests/fuzz with clang (SSS_FUZZ=ON: ASan +
-# UBSan, the libraries instrumented for coverage) into BUILD_DIR (default build-fuzz/) and runs
-# each target for SECONDS_EACH seconds (default 60), as many at once as there are cores, starting
-# from its committed seed corpus (tests/fuzz/corpus/<target>/) and what earlier runs in BUILD_DIR
+# Fuzzes every reader: builds the libFuzzer targets of tests/fuzz in the checked build of
+# tests/sanitizers/build.sh (clang, ASan + UBSan, coverage; the sanitizer suite shares it) in
+# BUILD_DIR (default build-checked/) and runs each target for SECONDS_EACH seconds (default 60), as
+# many at once as there are cores, starting from its committed seed corpus (tests/fuzz/corpus/<target>/) and what earlier runs in BUILD_DIR
 # found (BUILD_DIR/fuzz/corpus/<target>/). Fails when any target crashes, leaks, exceeds the
 # memory limits (a reader must refuse a huge declared size before allocating it) or spends more
 # than the timeout on one input; the reproducer is saved under BUILD_DIR/fuzz/artifacts/<target>/
@@ -12,20 +12,12 @@
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 seconds=${1:-60}
-build=$(realpath -m "${2:-$root/build-fuzz}")
+build=$(realpath -m "${2:-$root/build-checked}")
 read -r -a targets <<<"${SSS_FUZZ_TARGETS:-ply obj off stl environment baked_ply baked_glb}"
 jobs=$(nproc)
 cd "$root"
 
-command -v clang++ >/dev/null || {
-  echo "fuzz: error: clang++ not found (apt-get install clang libclang-rt-14-dev)" >&2
-  exit 1
-}
-# -O1 with assertions (glm checks its indices): the usual libFuzzer build.
-cmake -S . -B "$build" -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
-  -DCMAKE_BUILD_TYPE=Debug -DCMAKE_C_FLAGS=-O1 -DCMAKE_CXX_FLAGS=-O1 -DSSS_FUZZ=ON \
-  -DSSS_BUILD_TESTS=ON -DSSS_BUILD_BENCHMARKS=OFF
-cmake --build "$build" -j "$jobs" --target $(printf '%s_fuzz ' "${targets[@]}")
+bash tests/sanitizers/build.sh "$build" $(printf '%s_fuzz ' "${targets[@]}")
 
 source tests/sanitizers/env.sh
 # Over-allocation is a finding (the readers' size checks come first), not a std::bad_alloc.

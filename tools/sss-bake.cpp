@@ -22,7 +22,7 @@
 #include "envmap/environment.h"
 #include "envmap/orientation_options.h"
 #include "material/material.h"
-#include "mesh/baked_ply.h"
+#include "mesh/baked_mesh.h"
 #include "mesh/units.h"
 
 namespace {
@@ -153,8 +153,8 @@ void addBakeOptions(CLI::App& app, sss::BakeSettings& s) {
   cli::addQuietFlag(app, s.quiet);
 }
 
-// Writes the PLY and, beside it, the report: the report's temporary file is created first, so
-// both appear or neither does.
+// Writes the baked mesh and, beside it, the report: the report's temporary file is created
+// first, so both appear or neither does. A GLB embeds the report (without the write time).
 void writeOutputs(const std::string& output, const std::string& jsonPath,
                   const sss::BakeOutput& result, const sss::Stopwatch& toolClock) {
   std::unique_ptr<sss::AtomicOutput> jsonOutput;
@@ -165,10 +165,10 @@ void writeOutputs(const std::string& output, const std::string& jsonPath,
     if (!jsonFile) sss::fail(jsonPath, "cannot create the JSON report");
   }
   const sss::Stopwatch writeClock;
-  sss::writeBakedPly(output, result.baked);
-  if (!jsonOutput) return;
   sss::Json report = sss::toJson(result.report);
   report["output"] = output;
+  sss::writeBakedMesh(output, result.baked, report.dump());
+  if (!jsonOutput) return;
   report["stages"]["write_s"] = writeClock.seconds();
   report["stages"]["tool_total_s"] = toolClock.seconds();
   jsonFile << report.dump(2) << "\n";
@@ -234,12 +234,21 @@ int main(int argc, char** argv) {
                         ->default_str("");
   environment->require_option(1);
   app.add_option("-o,--output", output,
-                 "Output baked PLY, or a folder DIR/ (several meshes: DIR/<stem>.ply)")
-      ->required();
+                 "Output baked mesh: .ply or .glb (glTF 2.0 binary), or a folder DIR/ (several "
+                 "meshes: DIR/<stem>.ply)")
+      ->required()
+      ->check(sss::cli::checkedBy<std::string>([](const std::string& path) {
+        if (!sss::namesFolder(path)) sss::checkBakedMeshPath(path);
+      }));
   addMaterialOptions(app, material);
   addUnitOptions(app, s);
   addBakeOptions(app, s);
   app.add_option("--json", jsonPath, "Write a JSON report (a folder DIR/ with several meshes)");
+  app.footer(
+      "Examples:\n"
+      "  sss-bake bunny.ply -e forest.exr -m marble --size-mm 150 -o bunny_baked.ply\n"
+      "  sss-bake dragon.obj --sky=elevation=30 -m skin1 --unit m -o dragon.glb --json d.json\n"
+      "  sss-bake a.ply b.obj -e studio.exr -m skin1 --unit mm -o baked/  # one process");
 
   return sss::runTool("sss-bake", app, argc, argv, [&]() -> int {
     if (sss::isBatch(meshes, output)) {

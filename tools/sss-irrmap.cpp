@@ -331,6 +331,11 @@ int main(int argc, char** argv) {
       "-Z stacked, OpenGL orientation, Y up)"};
   Arguments a;
   addOptions(app, a);
+  app.footer(
+      "Examples:\n"
+      "  sss-irrmap forest.exr --radiance forest_radiance.exr -o forest_irradiance.exr --eta 1.3\n"
+      "  sss-irrmap --sky=elevation=30,azimuth=90 -o sky_irradiance.exr --sh sky_sh.json\n"
+      "  sss-irrmap studio.hdr -o studio_irradiance.exr --method brute --tolerance 0.002");
   return runTool("sss-irrmap", app, argc, argv, [&] {
     a.sky = app.count("--sky") > 0;
     if (!a.sky && isBatchRun(a)) return irrmapBatch(a);

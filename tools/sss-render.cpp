@@ -25,7 +25,7 @@
 #include "envmap/orientation_options.h"
 #include "irradiance/irradiance.h"
 #include "material/material.h"
-#include "mesh/baked_ply.h"
+#include "mesh/baked_mesh.h"
 #include "render/baked_shading.h"
 #include "render/camera.h"
 #include "render/gl_context.h"
@@ -94,7 +94,7 @@ struct LoadedMesh {
 // taken for what the file does not record.
 LoadedMesh loadMesh(const Arguments& a) {
   LoadedMesh m;
-  m.contents = readBakedPly(a.input);
+  m.contents = readBakedMesh(a.input);
   if (!a.quiet) {
     for (const std::string& w : m.contents.report.warnings) warn(a.input + ": " + w);
   }
@@ -372,7 +372,8 @@ int renderBatch(const Arguments& a) {
 
 void addInputOptions(CLI::App& app, Arguments& a) {
   app.add_option("mesh", a.inputs,
-                 "Baked mesh (sss-bake's PLY; any mesh for --mode brdf); several with -o DIR/")
+                 "Baked mesh (sss-bake's PLY or GLB; any mesh for --mode brdf); several with -o "
+                 "DIR/")
       ->required();
   app.add_option("-e,--env", a.environment,
                  "Environment: equirect, cross or cubemap image (sss-irrmap --radiance), "
@@ -461,6 +462,11 @@ int main(int argc, char** argv) {
   addShadingOptions(app, a);
   addCameraOptions(app, a);
   addFrameOptions(app, a);
+  app.footer(
+      "Examples:\n"
+      "  sss-render bunny_baked.ply -e forest.exr -o bunny.png --azimuth 30\n"
+      "  sss-render dragon.glb -e forest_radiance.exr -o dragon.exr --size 512x512\n"
+      "  sss-render bunny_baked.ply -e forest.exr -o bunny_brdf.png --mode brdf");
   return runTool("sss-render", app, argc, argv, [&] {
     if (a.verbose) a.quiet = false;
     if (isBatch(a.inputs, a.output)) return renderBatch(a);

@@ -65,6 +65,7 @@ BakedMesh assembleBakedMesh(TriangleMesh mesh, VertexLighting& lighting, VertexE
   baked.sigmaSPrime = s.material.sigmaSPrime;
   baked.eta = s.material.eta;
   baked.mmPerUnit = r.mesh.mmPerUnit;
+  baked.meshChecked = true;  // prepareMesh warned about its topology
   const bool rays = s.visibility == VisibilityMode::Rays;
   baked.extraComments.push_back(
       "bake method=" + r.transport.methodName() +

@@ -56,15 +56,32 @@ int printError(const char* message, int status) {
   return status;
 }
 
+// The end of every tool's --help: the exit statuses, then the tool's own footer (its typical
+// command lines, "Examples:"), as help2man turns "Title:" paragraphs into man page sections.
+void addVersionAndFooter(const char* toolName, CLI::App& app) {
+  app.set_version_flag("--version", std::string(toolName) + " (sss-tools) " + SSS_VERSION,
+                       "Print the version and exit");
+  std::string footer =
+      "Exit status:\n"
+      "  0        success, --help, --version\n"
+      "  1        bad input or a failed operation (a missing, corrupt or invalid file, an\n"
+      "           unwritable output, no OpenGL)\n"
+      "  2        usage: the command line is wrong whatever the files hold\n"
+      "  130 143 129  interrupted by SIGINT, SIGTERM, SIGHUP (unfinished outputs removed)";
+  if (!app.get_footer().empty()) footer += "\n\n" + app.get_footer();
+  app.footer(footer);
+}
+
 }  // namespace
 
 int runTool(const char* toolName, CLI::App& app, int argc, char** argv,
             const std::function<int()>& body) {
   gToolName = toolName;
+  addVersionAndFooter(toolName, app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {
-    return app.exit(e);  // --help: the help on stdout, status 0
+    return app.exit(e);  // --help, --version: on stdout, status 0
   } catch (const CLI::ParseError& e) {
     return printError(e.what(), kExitUsage);
   } catch (const std::exception& e) {

@@ -8,7 +8,7 @@
 //   }
 //
 // Exit statuses (the same for every tool):
-//   0  success, and --help (help on stdout)
+//   0  success, and --help or --version (on stdout)
 //   1  bad input or a failed operation: sss::Error or any other exception from the tool's body
 //      (an unreadable or invalid file, a missing output folder, no OpenGL, ...)
 //   2  usage: the command line is wrong whatever the files hold. CLI11's parse errors (an unknown
@@ -46,6 +46,8 @@ class UsageError : public Error {
 
 // Parses the command line with `app`, then runs `body` (its return value is the exit status);
 // errors become one line on stderr and the statuses above. Names the tool for warn() and info().
+// Adds --version ("<tool> (sss-tools) <CMake project version>") and ends --help with the exit
+// statuses, then the app's own footer (set it to the tool's typical command lines, "Examples:").
 int runTool(const char* toolName, CLI::App& app, int argc, char** argv,
             const std::function<int()>& body);
 // The same for a tool that parses inside `body` itself (CLI11's own errors are then the body's

@@ -10,8 +10,8 @@
 
 #include "core/atomic_output.h"
 #include "core/error.h"
-#include "core/srgb.h"
 #include "core/file_extension.h"
+#include "core/srgb.h"
 #include "mesh/ply_format.h"
 
 namespace sss {
@@ -53,7 +53,12 @@ unsigned char srgb8(float linear) {
   return static_cast<unsigned char>(std::lround(linearToSrgb(linear) * 255.0f));
 }
 
-double autoPreviewScale(const std::vector<glm::vec3>& exitance) {
+}  // namespace
+
+double previewScaleFor(const BakedMesh& baked) {
+  const std::vector<glm::vec3>& exitance = baked.exitance;
+  if (exitance.empty()) return 0.0;
+  if (baked.previewScale > 0.0) return baked.previewScale;
   std::vector<float> peak(exitance.size());
   for (std::size_t i = 0; i < exitance.size(); ++i) {
     peak[i] = std::max({exitance[i].x, exitance[i].y, exitance[i].z});
@@ -63,8 +68,8 @@ double autoPreviewScale(const std::vector<glm::vec3>& exitance) {
   return peak[k] > 0.0f ? 1.0 / peak[k] : 1.0;
 }
 
-void checkValues(const std::string& path, const std::vector<glm::vec3>& values, std::size_t n,
-                 const char* what) {
+void checkVertexValues(const std::string& path, const std::vector<glm::vec3>& values, std::size_t n,
+                       const char* what) {
   if (!values.empty() && values.size() != n) {
     fail(path, std::string(what) + " has " + std::to_string(values.size()) + " values for " +
                    std::to_string(n) + " vertices");
@@ -77,6 +82,21 @@ void checkValues(const std::string& path, const std::vector<glm::vec3>& values, 
   }
 }
 
+void checkBakedMesh(const std::string& path, const BakedMesh& baked) {
+  const TriangleMesh& mesh = baked.mesh;
+  const std::size_t nv = mesh.positions.size();
+  if (mesh.normals.size() != nv) fail(path, "mesh normals missing");
+  if (mesh.triangles.empty()) fail(path, "mesh has no triangles");
+  for (const glm::uvec3& t : mesh.triangles) {
+    if (t.x >= nv || t.y >= nv || t.z >= nv) fail(path, "triangle index out of range");
+  }
+  checkVertexValues(path, mesh.positions, nv, "position");
+  checkVertexValues(path, baked.irradiance, nv, "irradiance");
+  checkVertexValues(path, baked.exitance, nv, "exitance");
+}
+
+namespace {
+
 template <class T>
 void put(std::string& out, T value) {
   char bytes[sizeof(T)];
@@ -87,16 +107,9 @@ void put(std::string& out, T value) {
 }  // namespace
 
 void writeBakedPly(const std::string& path, const BakedMesh& baked) {
+  checkBakedMesh(path, baked);
   const TriangleMesh& mesh = baked.mesh;
   const std::size_t nv = mesh.positions.size();
-  if (mesh.normals.size() != nv) fail(path, "mesh normals missing");
-  if (mesh.triangles.empty()) fail(path, "mesh has no triangles");
-  for (const glm::uvec3& t : mesh.triangles) {
-    if (t.x >= nv || t.y >= nv || t.z >= nv) fail(path, "triangle index out of range");
-  }
-  checkValues(path, mesh.positions, nv, "position");
-  checkValues(path, baked.irradiance, nv, "irradiance");
-  checkValues(path, baked.exitance, nv, "exitance");
   if (baked.materialName.find_first_of(" \t\r\n=") != std::string::npos) {
     fail(path, "material name '" + baked.materialName + "' contains a space or '='");
   }
@@ -104,9 +117,7 @@ void writeBakedPly(const std::string& path, const BakedMesh& baked) {
     if (c.find_first_of("\r\n") != std::string::npos) fail(path, "comment spans several lines");
   }
   const bool hasE = !baked.irradiance.empty(), hasB = !baked.exitance.empty();
-  const double scale = !hasB                      ? 0.0
-                       : baked.previewScale > 0.0 ? baked.previewScale
-                                                  : autoPreviewScale(baked.exitance);
+  const double scale = previewScaleFor(baked);
 
   std::string out;
   out += "ply\nformat binary_little_endian 1.0\n";
@@ -119,6 +130,7 @@ void writeBakedPly(const std::string& path, const BakedMesh& baked) {
   }
   out += "comment sss mm_per_unit=" + number(baked.mmPerUnit) + "\n";
   if (hasB) out += "comment sss preview_scale=" + number(scale) + "\n";
+  if (baked.meshChecked) out += "comment sss checked=1\n";
   for (const std::string& c : baked.extraComments) out += "comment " + c + "\n";
   out += "element vertex " + std::to_string(nv) + "\n";
   for (const char* p : {"x", "y", "z", "nx", "ny", "nz"})
@@ -175,8 +187,8 @@ Keys sssKeys(const std::vector<std::string>& comments, std::vector<std::string>&
     const std::size_t eq = c.find('=');
     if (c.rfind("sss ", 0) == 0 && eq != std::string::npos && c.find(' ', 4) == std::string::npos) {
       const std::string key = c.substr(4, eq - 4);
-      static const char* const known[] = {"format", "material",    "sigma_a",      "sigma_s_prime",
-                                          "eta",    "mm_per_unit", "preview_scale"};
+      static const char* const known[] = {"format", "material",    "sigma_a",       "sigma_s_prime",
+                                          "eta",    "mm_per_unit", "preview_scale", "checked"};
       if (std::find(std::begin(known), std::end(known), key) != std::end(known)) {
         keys[key] = c.substr(eq + 1);
         continue;
@@ -222,6 +234,10 @@ void readKeys(const std::string& path, Keys& keys, BakedPlyContents& result) {
   if (keys.count("preview_scale") && !parseNumber(keys["preview_scale"], baked.previewScale)) {
     bad("preview_scale");
   }
+  if (keys.count("checked")) {
+    if (keys["checked"] != "1") bad("checked");
+    baked.meshChecked = true;
+  }
 }
 
 // Per-vertex values base_r/g/b: all three channels (present = true) or none (empty).
@@ -262,15 +278,22 @@ BakedPlyContents readBakedPly(const std::string& path) {
       readChannels(path, ply, "irradiance", result.hasIrradiance);
   const std::vector<glm::vec3> exitance = readChannels(path, ply, "exitance", result.hasExitance);
 
-  std::vector<unsigned> origin;
-  baked.mesh = cleanMesh(path, ply::takeMesh(ply, result.report), &result.report, &origin);
-  for (unsigned o : origin) {
-    if (result.hasIrradiance) baked.irradiance.push_back(irradiance[o]);
-    if (result.hasExitance) baked.exitance.push_back(exitance[o]);
-  }
-  checkValues(path, baked.irradiance, origin.size(), "irradiance");
-  checkValues(path, baked.exitance, origin.size(), "exitance");
+  cleanBakedMesh(path, ply::takeMesh(ply, result.report), irradiance, exitance, result);
   return result;
+}
+
+void cleanBakedMesh(const std::string& path, RawMesh raw, const std::vector<glm::vec3>& irradiance,
+                    const std::vector<glm::vec3>& exitance, BakedPlyContents& contents) {
+  BakedMesh& baked = contents.baked;
+  std::vector<unsigned> origin;
+  baked.mesh = cleanMesh(path, std::move(raw), &contents.report, &origin);
+  for (unsigned o : origin) {
+    if (contents.hasIrradiance) baked.irradiance.push_back(irradiance[o]);
+    if (contents.hasExitance) baked.exitance.push_back(exitance[o]);
+  }
+  checkVertexValues(path, baked.irradiance, origin.size(), "irradiance");
+  checkVertexValues(path, baked.exitance, origin.size(), "exitance");
+  if (baked.meshChecked) contents.report.warnings.clear();  // sss-bake showed them
 }
 
 }  // namespace sss

@@ -12,6 +12,8 @@
 //   comment sss eta=1.3
 //   comment sss mm_per_unit=1000
 //   comment sss preview_scale=0.8                (preview sRGB = encode(scale * exitance))
+//   comment sss checked=1                        (the mesh passed sss-bake's cleanup: readers
+//                                                 do not repeat its warnings)
 //   comment <each extraComments line>
 //   (numbers: the shortest decimal that reads back to the same double; the material lines only
 //   when materialName is set, preview_scale only with exitance)
@@ -51,7 +53,23 @@ struct BakedMesh {
   // 99th percentile of max(exitance) maps to 1; the scale used is stored in the header.
   double previewScale = 0.0;
   std::vector<std::string> extraComments;  // written as "comment <line>"; single lines
+  // The mesh went through loadMesh's validation and cleanup, whose warnings were shown then
+  // (sss-bake): recorded in the file, so that reading it back does not repeat them.
+  bool meshChecked = false;
 };
+
+// What every baked-mesh writer checks first (one value per vertex or none, finite values, indices
+// in range, at least one triangle, normals present). Throws Error naming `path`.
+void checkBakedMesh(const std::string& path, const BakedMesh& baked);
+
+// The preview exposure: baked.previewScale when > 0, else the scale that maps the 99th
+// percentile of max(r, g, b) of the exitance to 1 (1 when that is 0). 0 without exitance.
+double previewScaleFor(const BakedMesh& baked);
+
+// Throws Error naming `path` when `values` is neither empty nor one per vertex (n), or holds a
+// non-finite value.
+void checkVertexValues(const std::string& path, const std::vector<glm::vec3>& values, std::size_t n,
+                       const char* what);
 
 // Writes `baked` (exitance and irradiance must have one value per vertex, or be empty: zeros
 // are not invented, the properties are left out) through AtomicOutput. Throws Error.
@@ -64,7 +82,7 @@ struct BakedPlyContents {
   bool hasExitance = false;    // exitance_r/g/b present
   bool hasMaterial = false;    // "sss material/sigma_a/sigma_s_prime/eta" comments present
   bool hasUnits = false;       // "sss mm_per_unit" comment present
-  MeshReport report;           // cleanup of the mesh part
+  MeshReport report;           // cleanup of the mesh part; no warnings when baked.meshChecked
 };
 
 // Reads a baked PLY back bit-exactly. Any other mesh file (plain PLY, OBJ, ...) loads too, with
@@ -72,5 +90,11 @@ struct BakedPlyContents {
 // The mesh goes through the same validation and cleanup as loadMesh (per-vertex values follow
 // their vertices); a file that sss-bake wrote comes back unchanged.
 BakedPlyContents readBakedPly(const std::string& path);
+
+// The end of every baked-mesh reader: `raw` through cleanMesh into contents.baked.mesh, the
+// per-vertex values (those the has* flags say are present) following their vertices, and no
+// cleanup warnings when contents.baked.meshChecked (sss-bake showed them).
+void cleanBakedMesh(const std::string& path, RawMesh raw, const std::vector<glm::vec3>& irradiance,
+                    const std::vector<glm::vec3>& exitance, BakedPlyContents& contents);
 
 }  // namespace sss

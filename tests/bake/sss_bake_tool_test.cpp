@@ -17,9 +17,11 @@
 #include <nlohmann/json.hpp>
 
 #include "envmap/cubemap_io.h"
+#include "mesh/baked_mesh.h"
 #include "mesh/baked_ply.h"
 #include "mesh/primitives.h"
 #include "optics/fresnel.h"
+#include "support/glb_test.h"
 
 namespace fs = std::filesystem;
 
@@ -330,6 +332,78 @@ TEST_F(BakeTool, EnergyModelFollowsTheObjectSize) {
   EXPECT_EQ(largeReport["profile"]["name"], "burley");
   EXPECT_NEAR(meanRatio(large, 0), largeReport["energy"]["halfspace_albedo"][0].get<double>(),
               0.02);
+}
+
+// -o picks the format by extension: the GLB holds the bake the PLY holds (same seed: the same
+// floats), validates with zero errors and warnings, assimp reads it, and it embeds the report.
+TEST_F(BakeTool, WritesGlbChosenByTheOutputExtension) {
+  const std::string common = path("sphere.ply") + " -e " + path("white.exr") +
+                             " --samples 16 -q -m marble --mm-per-unit 1 -o ";
+  RunResult r = run(common + path("out.glb") + " --json " + path("r.json"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  r = run(common + path("out.ply"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  test::expectValidGltf(path("out.glb"));
+  test::expectAssimpReads(path("out.glb"), sphere_.vertexCount(), sphere_.triangleCount());
+  const BakedPlyContents glb = readBakedMesh(path("out.glb"));
+  const BakedPlyContents ply = readBakedMesh(path("out.ply"));
+  ASSERT_TRUE(glb.hasExitance && glb.hasIrradiance && glb.hasMaterial);
+  EXPECT_EQ(glb.baked.exitance, ply.baked.exitance);
+  EXPECT_EQ(glb.baked.irradiance, ply.baked.irradiance);
+  EXPECT_EQ(glb.baked.extraComments, ply.baked.extraComments);
+  EXPECT_TRUE(glb.baked.meshChecked && ply.baked.meshChecked);
+  EXPECT_NE(readFile(dir_ / "out.ply").find("comment sss checked=1\n"), std::string::npos);
+  // Positions in metres: 1 mm per unit.
+  EXPECT_FLOAT_EQ(glb.baked.mesh.positions[5].y, ply.baked.mesh.positions[5].y / 1000.0f);
+  const test::GlbFile file(path("out.glb"));
+  const auto report = nlohmann::json::parse(readFile(dir_ / "r.json"));
+  EXPECT_EQ(file.sssExtras()["report"]["material"], report["material"]);
+  EXPECT_EQ(file.sssExtras()["report"]["exitance"], report["exitance"]);
+  EXPECT_EQ(file.sssExtras()["mm_per_unit"], 1.0);
+}
+
+TEST_F(BakeTool, AnOutputExtensionNoWriterKnowsIsAUsageError) {
+  for (const char* name : {"out.txt", "out.obj", "out"}) {
+    SCOPED_TRACE(name);
+    const RunResult r = run(path("sphere.ply") + " -e " + path("white.exr") +
+                            " -m marble --mm-per-unit 1 -o " + path(name));
+    expectUsageError(r, "the output's extension must be .ply or .glb");
+    EXPECT_FALSE(fs::exists(dir_ / name));
+  }
+}
+
+// Every tool: --version prints the CMake project version; --help ends with the exit statuses
+// and two or three typical command lines of that tool.
+TEST_F(BakeTool, EveryToolHasVersionAndHelpEndsWithExamples) {
+  for (const std::string tool : {"sss-irrmap", "sss-bake", "sss-render"}) {
+    SCOPED_TRACE(tool);
+    const std::string binary = SSS_BINARY_DIR "/tools/" + tool;
+    test::ToolRun r = test::runCommand(binary + " --version");
+    EXPECT_EQ(r.exitCode, 0);
+    EXPECT_EQ(r.output, tool + " (sss-tools) " SSS_VERSION "\n");
+    r = test::runCommand(binary + " --help");
+    EXPECT_EQ(r.exitCode, 0);
+    const std::size_t exits = r.output.find("\nExit status:\n  0 ");
+    const std::size_t examples = r.output.find("\nExamples:\n");
+    ASSERT_NE(exits, std::string::npos) << r.output;
+    ASSERT_NE(examples, std::string::npos) << r.output;
+    EXPECT_LT(exits, examples);
+    std::istringstream lines(r.output.substr(examples + 11));
+    int count = 0;
+    for (std::string line; std::getline(lines, line);) {
+      if (line.empty()) continue;
+      EXPECT_EQ(line.rfind("  " + tool + " ", 0), 0u) << line;
+      ++count;
+    }
+    EXPECT_GE(count, 2);
+    EXPECT_LE(count, 3);
+#ifdef SSS_MAN_DIR
+    const std::string page = readFile(SSS_MAN_DIR "/" + tool + ".1");
+    EXPECT_NE(page.find("\"sss-tools " SSS_VERSION "\""), std::string::npos) << page;
+    EXPECT_NE(page.find("Exit status"), std::string::npos);
+    EXPECT_NE(page.find(".SH EXAMPLES"), std::string::npos);
+#endif
+  }
 }
 
 TEST_F(BakeTool, ListsMaterials) {

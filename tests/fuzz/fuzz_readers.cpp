@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "envmap/environment.h"
 #include "envmap/image.h"  // NonFiniteTexelsError
+#include "mesh/baked_glb.h"
 #include "mesh/baked_ply.h"
 #include "mesh/load_mesh.h"
 
@@ -39,14 +40,15 @@ void readEnvironment(const std::string& path) {
 }  // namespace
 
 const std::vector<std::string>& targetNames() {
-  static const std::vector<std::string> names = {"ply", "obj",         "off",
-                                                 "stl", "environment", "baked_ply"};
+  static const std::vector<std::string> names = {"ply",         "obj",       "off",      "stl",
+                                                 "environment", "baked_ply", "baked_glb"};
   return names;
 }
 
 void readInput(std::string_view target, std::string_view bytes, const std::string& dir) {
   const std::string ext = target == "environment" ? imageExtension(bytes)
                           : target == "baked_ply" ? "ply"
+                          : target == "baked_glb" ? "glb"
                                                   : std::string(target);
   const std::string path = (std::filesystem::path(dir) / ("input." + ext)).string();
   {
@@ -58,6 +60,8 @@ void readInput(std::string_view target, std::string_view bytes, const std::strin
     readEnvironment(path);
   } else if (target == "baked_ply") {
     readBakedPly(path);
+  } else if (target == "baked_glb") {
+    readBakedGlb(path);
   } else if (target == "ply" || target == "obj" || target == "off" || target == "stl") {
     MeshReport report;
     loadMesh(path, &report);

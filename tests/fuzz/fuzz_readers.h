@@ -11,7 +11,7 @@
 
 namespace sss::fuzz {
 
-// The targets: "ply", "obj", "off", "stl", "environment", "baked_ply".
+// The targets: "ply", "obj", "off", "stl", "environment", "baked_ply", "baked_glb".
 const std::vector<std::string>& targetNames();
 
 // Writes `bytes` to `dir`/input.<ext> and reads it as the target's tools do. Bad input must end

@@ -19,6 +19,7 @@
 namespace sss {
 namespace {
 
+using test::bitEqual;
 using test::expectError;
 using test::readFile;
 using test::ScratchDir;
@@ -39,11 +40,6 @@ BakedMesh sampleBake(int subdivisions = 2) {
   b.mmPerUnit = 0.1 + 0.2;  // not exactly representable in short decimal
   b.extraComments = {"sss method=gauss tolerance=0.01", "made by a test"};
   return b;
-}
-
-template <class T>
-bool bitEqual(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
 }
 
 TEST(MeshBakedPly, RoundTripIsBitExact) {

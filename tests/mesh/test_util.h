@@ -3,7 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <fstream>
+#include <vector>
 #include <string>
 
 #include "core/error.h"
@@ -11,6 +13,12 @@
 #include "support/tool_test.h"
 
 namespace sss::test {
+
+// The same bytes (floats compared bit for bit, NaN and -0 included).
+template <class T>
+bool bitEqual(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+}
 
 inline void writeFile(const std::string& path, const std::string& bytes) {
   std::ofstream out(path, std::ios::binary);

@@ -14,9 +14,12 @@
 
 #include "envmap/image.h"
 #include "material/dipole_profile.h"
+#include "mesh/baked_glb.h"
+#include "mesh/baked_mesh.h"
 #include "mesh/baked_ply.h"
 #include "mesh/primitives.h"
 #include "optics/fresnel.h"
+#include "support/glb_test.h"
 #include "support/tool_test.h"
 
 namespace fs = std::filesystem;
@@ -145,6 +148,61 @@ TEST_F(SssRenderTool, BrdfAndSssAgreeOnAFlatUniformRegionAndDifferInAShadow) {
   }
   EXPECT_GT(lit, 1000);
   EXPECT_GT(shadowed, 1000);
+}
+
+// The GLB's COLOR_0 divided by its exposure is the radiance sss-render draws along the normal: a
+// plane facing the camera in a black environment (no reflection) shows only the exit term. The
+// GLB and the PLY of the same bake render alike.
+TEST_F(SssRenderTool, GlbColorIsTheRenderedRadianceAlongTheNormal) {
+  writeUniformEnvironment("black.exr", glm::vec3(0.0f));
+  BakedMesh baked = marbleBake(makeGridPlane(8, 2.0f), glm::vec3(0.8f, 0.5f, 0.3f));
+  baked.mmPerUnit = 1000.0;  // metres: the GLB and the PLY hold the same positions
+  writeBakedGlb(path("plane.glb"), baked);
+  writeBakedPly(path("plane.ply"), baked);
+  const std::string common = " -e " + path("black.exr") +
+                             " --eye 0,0,3 --target 0,0,0 --fov 30 --size 32x32 --samples 1"
+                             " --tonemap none --background 0,0,0 --quiet -o ";
+  ToolRun r = run(path("plane.glb") + common + path("glb.exr"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  r = run(path("plane.ply") + common + path("ply.exr"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const test::GlbFile glb(path("plane.glb"));
+  const double exposure = glb.sssExtras()["color"]["exposure"].get<double>();
+  const glm::vec3 color = glb.vec3("COLOR_0")[0];
+  const ImageRgb fromGlb = readImage(path("glb.exr")), fromPly = readImage(path("ply.exr"));
+  for (int c = 0; c < 3; ++c) {
+    const double radiance = color[c] / exposure;
+    EXPECT_GT(radiance, 0.05);
+    // Per-vertex Fresnel at the plane's corners (25 degrees off the normal) moves it by 2e-4.
+    EXPECT_NEAR(fromGlb.at(16, 16)[c], radiance, 1e-3 * radiance) << c;
+    EXPECT_NEAR(fromGlb.at(16, 16)[c], fromPly.at(16, 16)[c], 1e-5) << c;
+  }
+}
+
+// A mesh that sss-bake checked (and warned about) says so in the file: sss-render does not repeat
+// its topology warnings, and still warns about the same mesh from elsewhere.
+TEST_F(SssRenderTool, TopologyWarningsOfACheckedBakeAreNotRepeated) {
+  writeUniformEnvironment("env.exr", glm::vec3(0.5f));
+  BakedMesh baked = marbleBake(makeIcosphere(1, 1.0f), glm::vec3(0.5f));
+  const glm::uvec3 t = baked.mesh.triangles[0];
+  baked.mesh.positions.push_back(baked.mesh.positions[t.x] * 1.5f);  // a fin: non-manifold edge
+  baked.mesh.normals.push_back(baked.mesh.normals[t.x]);
+  baked.exitance.push_back(glm::vec3(0.5f));
+  baked.irradiance.push_back(glm::vec3(1.0f));
+  baked.mesh.triangles.push_back(
+      {t.x, t.y, static_cast<unsigned>(baked.mesh.positions.size() - 1)});
+  for (const char* name : {"fin.ply", "fin.glb"}) {
+    for (const bool checked : {false, true}) {
+      SCOPED_TRACE(std::string(name) + (checked ? " checked" : " unchecked"));
+      baked.meshChecked = checked;
+      writeBakedMesh(path(name), baked);
+      const ToolRun r = run(path(name) + " -e " + path("env.exr") + " -o " + path("out.png") +
+                            " --size 16x16 --samples 1");
+      ASSERT_EQ(r.exitCode, 0) << r.output;
+      EXPECT_EQ(r.output.find("non-manifold") == std::string::npos, checked) << r.output;
+      EXPECT_EQ(r.output.find("warning") == std::string::npos, checked) << r.output;
+    }
+  }
 }
 
 // An open mesh is drawn from both sides unless culling is asked for: seen from behind, the

@@ -64,13 +64,8 @@ enum class Capture {
   StdoutAndStderr,  // both, interleaved
 };
 
-// Runs SSS_BINARY_DIR/tools/<tool> with `args` (shell words); `environment` (VAR=value ...) is
-// set for the tool only.
-inline ToolRun runTool(const std::string& tool, const std::string& args, Capture capture,
-                       const std::string& environment = "") {
-  const std::string redirect = capture == Capture::Stderr ? " 3>&2 2>&1 1>&3 3>&-" : " 2>&1";
-  const std::string command =
-      environment + " " + std::string(SSS_BINARY_DIR) + "/tools/" + tool + " " + args + redirect;
+// Runs a shell command line as is; its stdout is captured.
+inline ToolRun runShell(const std::string& command) {
   ToolRun result;
   FILE* pipe = ::popen(command.c_str(), "r");
   if (!pipe) return result;
@@ -95,6 +90,15 @@ inline std::vector<std::string> fileNamesIn(const std::string& dir) {
 
 inline void writeText(const std::string& path, const std::string& text) {
   std::ofstream(path, std::ios::binary) << text;
+}
+
+// Runs SSS_BINARY_DIR/tools/<tool> with `args` (shell words); `environment` (VAR=value ...) is
+// set for the tool only.
+inline ToolRun runTool(const std::string& tool, const std::string& args, Capture capture,
+                       const std::string& environment = "") {
+  const std::string redirect = capture == Capture::Stderr ? " 3>&2 2>&1 1>&3 3>&-" : " 2>&1";
+  return runShell(environment + " " + std::string(SSS_BINARY_DIR) + "/tools/" + tool + " " + args +
+                  redirect);
 }
 
 }  // namespace sss::test

@@ -1,0 +1,452 @@
+#include "mesh/baked_glb.h"
+
+#include <algorithm>
+#include <bit>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <optional>
+
+#include <glm/common.hpp>
+#include <nlohmann/json.hpp>
+
+#include "core/atomic_output.h"
+#include "core/error.h"
+#include "core/tool.h"
+#include "optics/fresnel.h"
+
+namespace sss {
+namespace {
+
+static_assert(std::endian::native == std::endian::little,
+              "the GLB writer and reader copy little-endian bytes");
+
+using Json = nlohmann::ordered_json;
+
+constexpr int kFormatVersion = 1;
+constexpr std::uint32_t kGlbMagic = 0x46546C67;   // "glTF"
+constexpr std::uint32_t kChunkJson = 0x4E4F534A;  // "JSON"
+constexpr std::uint32_t kChunkBin = 0x004E4942;   // "BIN\0"
+constexpr int kFloat = 5126, kUnsignedInt = 5125, kUnsignedShort = 5123, kUnsignedByte = 5121;
+constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963, kTriangles = 4;
+
+std::uint32_t getU32(const char* p) {
+  std::uint32_t v;
+  std::memcpy(&v, p, 4);
+  return v;
+}
+
+void putU32(std::string& out, std::uint32_t v) {
+  char bytes[4];
+  std::memcpy(bytes, &v, 4);
+  out.append(bytes, 4);
+}
+
+// ---------------------------------------------------------------- writing
+
+// The BIN chunk and the bufferViews and accessors that describe it.
+struct BinaryBuilder {
+  std::string bin;
+  Json bufferViews = Json::array();
+  Json accessors = Json::array();
+
+  int addView(const void* data, std::size_t bytes, int target) {
+    const std::size_t offset = bin.size();
+    bin.append(static_cast<const char*>(data), bytes);
+    bin.resize((bin.size() + 3) / 4 * 4, '\0');
+    bufferViews.push_back(
+        {{"buffer", 0}, {"byteOffset", offset}, {"byteLength", bytes}, {"target", target}});
+    return static_cast<int>(bufferViews.size()) - 1;
+  }
+
+  // A float VEC3 attribute; POSITION needs its bounds (glTF 2.0, 3.7.2.1).
+  int addVec3(const std::vector<glm::vec3>& values, bool withBounds) {
+    Json accessor = {{"bufferView", addView(values.data(), values.size() * 12, kArrayBuffer)},
+                     {"componentType", kFloat},
+                     {"count", values.size()},
+                     {"type", "VEC3"}};
+    if (withBounds) {
+      glm::vec3 lo = values[0], hi = values[0];
+      for (const glm::vec3& v : values) {
+        lo = glm::min(lo, v);
+        hi = glm::max(hi, v);
+      }
+      accessor["min"] = {lo.x, lo.y, lo.z};
+      accessor["max"] = {hi.x, hi.y, hi.z};
+    }
+    accessors.push_back(accessor);
+    return static_cast<int>(accessors.size()) - 1;
+  }
+
+  int addIndices(const std::vector<glm::uvec3>& triangles) {
+    const int view = addView(triangles.data(), triangles.size() * 12, kElementArrayBuffer);
+    accessors.push_back({{"bufferView", view},
+                         {"componentType", kUnsignedInt},
+                         {"count", triangles.size() * 3},
+                         {"type", "SCALAR"}});
+    return static_cast<int>(accessors.size()) - 1;
+  }
+};
+
+// COLOR_0 and how it was made (extras.sss.color).
+struct DisplayColors {
+  std::vector<glm::vec3> colors;
+  Json description;
+};
+
+// scale * B, with scale = exposure * F_t(1, eta) / (pi (1 - 2 C_1(eta))): sss-render's exit term
+// along the normal (shaders/surface.vert, normalized exit model) under the bake's exposure.
+DisplayColors displayColors(const std::string& path, const BakedMesh& baked) {
+  const float eta = static_cast<float>(baked.eta);
+  const double radiancePerExitance = fresnelTransmittance(1.0f, eta) * exitRadianceScale(eta);
+  const double exposure = previewScaleFor(baked);
+  const double scale = exposure * radiancePerExitance;
+  DisplayColors out;
+  std::size_t clamped = 0;
+  float peak = 0.0f;
+  out.colors.reserve(baked.exitance.size());
+  for (const glm::vec3& b : baked.exitance) {
+    const glm::vec3 c = glm::vec3(scale * glm::dvec3(b));
+    const float high = std::max({c.x, c.y, c.z});
+    peak = std::max(peak, high);
+    clamped += high > 1.0f;
+    out.colors.push_back(glm::clamp(c, 0.0f, 1.0f));
+  }
+  if (clamped > 0) {
+    warn(path + ": COLOR_0 clamped to 1 at " + std::to_string(clamped) + " of " +
+         std::to_string(baked.exitance.size()) + " vertices (up to " + std::to_string(peak) +
+         " under the exposure " + std::to_string(exposure) + "); _EXITANCE holds them unclamped");
+  }
+  out.description = {{"exposure", exposure},
+                     {"exit_model", "normalized"},
+                     {"radiance_per_exitance", radiancePerExitance},
+                     {"scale", scale},
+                     {"clamped_vertices", clamped}};
+  return out;
+}
+
+Json sssExtras(const BakedMesh& baked, const Json& color, const std::string& reportJson) {
+  Json sss = {{"format", kFormatVersion}, {"position_unit", "m"}, {"mm_per_unit", baked.mmPerUnit}};
+  if (!baked.materialName.empty()) {
+    const glm::dvec3 &a = baked.sigmaA, &s = baked.sigmaSPrime;
+    sss["material"] = {{"name", baked.materialName},
+                       {"sigma_a_per_mm", {a.x, a.y, a.z}},
+                       {"sigma_s_prime_per_mm", {s.x, s.y, s.z}},
+                       {"eta", baked.eta}};
+  }
+  if (!color.is_null()) sss["color"] = color;
+  sss["checked"] = baked.meshChecked;
+  sss["comments"] = baked.extraComments;
+  if (!reportJson.empty()) sss["report"] = Json::parse(reportJson);
+  return sss;
+}
+
+// The glTF JSON for the primitive whose attributes `bin` holds.
+Json gltfDocument(const BakedMesh& baked, BinaryBuilder& bin, const DisplayColors& colors,
+                  const std::string& reportJson) {
+  const double metresPerUnit = baked.mmPerUnit / 1000.0;
+  std::vector<glm::vec3> metres;
+  metres.reserve(baked.mesh.positions.size());
+  for (const glm::vec3& p : baked.mesh.positions)
+    metres.push_back(glm::vec3(glm::dvec3(p) * metresPerUnit));
+  Json attributes = {{"POSITION", bin.addVec3(metres, true)},
+                     {"NORMAL", bin.addVec3(baked.mesh.normals, false)}};
+  if (!baked.exitance.empty()) attributes["COLOR_0"] = bin.addVec3(colors.colors, false);
+  if (!baked.irradiance.empty()) attributes["_IRRADIANCE"] = bin.addVec3(baked.irradiance, false);
+  if (!baked.exitance.empty()) attributes["_EXITANCE"] = bin.addVec3(baked.exitance, false);
+  const int indices = bin.addIndices(baked.mesh.triangles);
+  const std::string name = baked.materialName.empty() ? "baked" : baked.materialName;
+  return {{"asset",
+           {{"version", "2.0"},
+            {"generator", "sss-tools"},
+            {"extras", {{"sss", sssExtras(baked, colors.description, reportJson)}}}}},
+          {"extensionsUsed", {"KHR_materials_unlit"}},
+          {"scene", 0},
+          {"scenes", {{{"nodes", {0}}}}},
+          {"nodes", {{{"mesh", 0}, {"name", name}}}},
+          {"meshes",
+           {{{"name", name},
+             {"primitives",
+              {{{"attributes", attributes},
+                {"indices", indices},
+                {"material", 0},
+                {"mode", kTriangles}}}}}}},
+          {"materials",
+           {{{"name", name + " (baked radiance, vertex colour)"},
+             {"pbrMetallicRoughness",
+              {{"baseColorFactor", {1.0, 1.0, 1.0, 1.0}},
+               {"metallicFactor", 0.0},
+               {"roughnessFactor", 1.0}}},
+             {"extensions", {{"KHR_materials_unlit", Json::object()}}}}}},
+          {"buffers", {{{"byteLength", bin.bin.size()}}}},
+          {"bufferViews", bin.bufferViews},
+          {"accessors", bin.accessors}};
+}
+
+}  // namespace
+
+void writeBakedGlb(const std::string& path, const BakedMesh& baked, const std::string& reportJson) {
+  checkBakedMesh(path, baked);
+  DisplayColors colors;
+  if (!baked.exitance.empty()) colors = displayColors(path, baked);
+  BinaryBuilder bin;
+  std::string json;
+  try {
+    json = gltfDocument(baked, bin, colors, reportJson).dump();
+  } catch (const nlohmann::json::exception& e) {
+    fail(path, std::string("cannot encode the glTF JSON: ") + e.what());
+  }
+  json.resize((json.size() + 3) / 4 * 4, ' ');
+  const std::uint64_t total = 12 + 8 + json.size() + 8 + bin.bin.size();
+  if (total > std::numeric_limits<std::uint32_t>::max()) {
+    fail(path, "the mesh needs " + std::to_string(total) + " bytes, over GLB's 4 GiB");
+  }
+  std::string out;
+  out.reserve(total);
+  putU32(out, kGlbMagic);
+  putU32(out, 2);
+  putU32(out, static_cast<std::uint32_t>(total));
+  putU32(out, static_cast<std::uint32_t>(json.size()));
+  putU32(out, kChunkJson);
+  out += json;
+  putU32(out, static_cast<std::uint32_t>(bin.bin.size()));
+  putU32(out, kChunkBin);
+  out += bin.bin;
+  writeFileAtomically(path, out);
+}
+
+// ---------------------------------------------------------------- reading
+
+namespace {
+
+// The GLB's chunks, their lengths checked against the file.
+struct GlbChunks {
+  std::string json;
+  std::string bin;
+};
+
+GlbChunks readChunks(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) fail(path, "cannot open");
+  std::error_code ec;
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (ec) fail(path, "cannot read its size");
+  char header[20];
+  if (size < 20 || !file.read(header, 20)) {
+    fail(path, "not a GLB: " + std::to_string(size) + " bytes, under a header and one chunk");
+  }
+  if (getU32(header) != kGlbMagic) fail(path, "not a GLB: no 'glTF' magic");
+  if (getU32(header + 4) != 2) {
+    fail(path, "GLB version " + std::to_string(getU32(header + 4)) + ", not 2");
+  }
+  if (getU32(header + 8) != size) {
+    fail(path, "GLB header declares " + std::to_string(getU32(header + 8)) +
+                   " bytes, the file has " + std::to_string(size) + " (truncated?)");
+  }
+  const std::uint64_t jsonLength = getU32(header + 12);
+  if (getU32(header + 16) != kChunkJson) fail(path, "the first GLB chunk is not JSON");
+  if (jsonLength % 4 != 0 || 20 + jsonLength > size) {
+    fail(path, "JSON chunk of " + std::to_string(jsonLength) + " bytes does not fit the file");
+  }
+  GlbChunks chunks;
+  chunks.json.resize(jsonLength);
+  if (!file.read(chunks.json.data(), static_cast<std::streamsize>(jsonLength))) {
+    fail(path, "cannot read the JSON chunk");
+  }
+  if (20 + jsonLength == size) return chunks;  // no BIN chunk
+  char binHeader[8];
+  if (size - 20 - jsonLength < 8 || !file.read(binHeader, 8)) fail(path, "truncated BIN chunk");
+  const std::uint64_t binLength = getU32(binHeader);
+  if (getU32(binHeader + 4) != kChunkBin) fail(path, "the second GLB chunk is not BIN");
+  if (binLength % 4 != 0 || 28 + jsonLength + binLength > size) {
+    fail(path, "BIN chunk of " + std::to_string(binLength) + " bytes does not fit the file");
+  }
+  chunks.bin.resize(binLength);
+  if (!file.read(chunks.bin.data(), static_cast<std::streamsize>(binLength))) {
+    fail(path, "cannot read the BIN chunk");
+  }
+  return chunks;
+}
+
+// A non-negative integer member (required unless `fallback` is given).
+std::uint64_t index(const std::string& path, const Json& object, const char* key,
+                    std::optional<std::uint64_t> fallback = std::nullopt) {
+  const auto it = object.find(key);
+  if (it == object.end()) {
+    if (fallback) return *fallback;
+    fail(path, std::string("glTF: missing \"") + key + "\"");
+  }
+  if (!it->is_number_unsigned()) fail(path, std::string("glTF: \"") + key + "\" is not an index");
+  return it->get<std::uint64_t>();
+}
+
+const Json& element(const std::string& path, const Json& document, const char* array,
+                    std::uint64_t i) {
+  const auto it = document.find(array);
+  if (it == document.end() || !it->is_array() || i >= it->size()) {
+    fail(path, std::string("glTF: ") + array + "[" + std::to_string(i) + "] does not exist");
+  }
+  const Json& e = (*it)[i];
+  if (!e.is_object()) fail(path, std::string("glTF: ") + array + " holds a non-object");
+  return e;
+}
+
+// Where an accessor's elements lie in the BIN chunk, checked against its bufferView and buffer.
+struct AccessorSpan {
+  const char* data = nullptr;
+  std::uint64_t count = 0, stride = 0, componentType = 0;
+};
+
+AccessorSpan accessorSpan(const std::string& path, const Json& document, const std::string& bin,
+                          std::uint64_t accessorIndex, const char* type, const char* what) {
+  const Json& accessor = element(path, document, "accessors", accessorIndex);
+  const std::string where = std::string("glTF: the ") + what + " accessor";
+  if (accessor.contains("sparse")) fail(path, where + " is sparse (not supported)");
+  if (accessor.value("type", "") != type) fail(path, where + " is not " + type);
+  AccessorSpan span;
+  span.componentType = index(path, accessor, "componentType");
+  const std::uint64_t componentSize = span.componentType == kFloat           ? 4
+                                      : span.componentType == kUnsignedInt   ? 4
+                                      : span.componentType == kUnsignedShort ? 2
+                                      : span.componentType == kUnsignedByte  ? 1
+                                                                             : 0;
+  if (componentSize == 0) fail(path, where + " has an unsupported componentType");
+  const std::uint64_t elementSize = componentSize * (std::string(type) == "VEC3" ? 3 : 1);
+  span.count = index(path, accessor, "count");
+  if (span.count == 0) fail(path, where + " is empty");
+  const Json& view = element(path, document, "bufferViews", index(path, accessor, "bufferView"));
+  if (index(path, view, "buffer") != 0) fail(path, where + " is not in the GLB's buffer");
+  const std::uint64_t viewOffset = index(path, view, "byteOffset", 0);
+  const std::uint64_t viewLength = index(path, view, "byteLength");
+  span.stride = index(path, view, "byteStride", elementSize);
+  const std::uint64_t offset = index(path, accessor, "byteOffset", 0);
+  if (span.stride < elementSize || span.stride > 252) fail(path, where + ": bad byteStride");
+  // Overflow-free: every term is below 2^32 except the product, bounded by the division.
+  if (viewOffset > bin.size() || viewLength > bin.size() - viewOffset || offset > viewLength ||
+      elementSize > viewLength - offset ||
+      span.count - 1 > (viewLength - offset - elementSize) / span.stride) {
+    fail(path, where + " (" + std::to_string(span.count) + " elements) overruns its buffer");
+  }
+  span.data = bin.data() + viewOffset + offset;
+  return span;
+}
+
+std::vector<glm::vec3> readVec3(const std::string& path, const Json& document,
+                                const std::string& bin, std::uint64_t accessor, const char* what) {
+  const AccessorSpan span = accessorSpan(path, document, bin, accessor, "VEC3", what);
+  if (span.componentType != kFloat) fail(path, std::string("glTF: ") + what + " is not float");
+  std::vector<glm::vec3> values(span.count);
+  for (std::uint64_t i = 0; i < span.count; ++i)
+    std::memcpy(&values[i], span.data + i * span.stride, 12);
+  return values;
+}
+
+std::vector<unsigned> readIndices(const std::string& path, const Json& document,
+                                  const std::string& bin, std::uint64_t accessor) {
+  const AccessorSpan span = accessorSpan(path, document, bin, accessor, "SCALAR", "indices");
+  if (span.componentType == kFloat) fail(path, "glTF: the indices are float");
+  std::vector<unsigned> indices(span.count);
+  for (std::uint64_t i = 0; i < span.count; ++i) {
+    const char* p = span.data + i * span.stride;
+    if (span.componentType == kUnsignedInt) {
+      indices[i] = getU32(p);
+    } else if (span.componentType == kUnsignedShort) {
+      std::uint16_t v;
+      std::memcpy(&v, p, 2);
+      indices[i] = v;
+    } else {
+      indices[i] = static_cast<unsigned char>(*p);
+    }
+  }
+  return indices;
+}
+
+glm::dvec3 readTriple(const std::string& path, const Json& material, const char* key) {
+  const Json& t = material.at(key);
+  if (!t.is_array() || t.size() != 3) fail(path, std::string("glTF extras: bad ") + key);
+  return {t[0].get<double>(), t[1].get<double>(), t[2].get<double>()};
+}
+
+// extras.sss into contents (the material, exposure, flags, comments).
+void readSssExtras(const std::string& path, const Json& sss, BakedPlyContents& contents) {
+  BakedMesh& baked = contents.baked;
+  if (!sss.is_object()) fail(path, "glTF extras: \"sss\" is not an object");
+  if (sss.value("format", 0) > kFormatVersion) {
+    fail(path, "baked GLB format " + sss["format"].dump() + " is newer than this program reads");
+  }
+  if (const auto m = sss.find("material"); m != sss.end()) {
+    baked.materialName = m->at("name").get<std::string>();
+    baked.sigmaA = readTriple(path, *m, "sigma_a_per_mm");
+    baked.sigmaSPrime = readTriple(path, *m, "sigma_s_prime_per_mm");
+    baked.eta = m->at("eta").get<double>();
+    contents.hasMaterial = true;
+  }
+  if (const auto c = sss.find("color"); c != sss.end()) {
+    baked.previewScale = c->at("exposure").get<double>();
+  }
+  baked.meshChecked = sss.value("checked", false);
+  if (const auto c = sss.find("comments"); c != sss.end()) {
+    baked.extraComments = c->get<std::vector<std::string>>();
+  }
+}
+
+}  // namespace
+
+BakedPlyContents readBakedGlb(const std::string& path) {
+  const GlbChunks chunks = readChunks(path);
+  BakedPlyContents contents;
+  BakedMesh& baked = contents.baked;
+  RawMesh raw;
+  std::vector<glm::vec3> irradiance, exitance;
+  try {
+    const Json document = Json::parse(chunks.json);
+    if (!document.is_object()) fail(path, "glTF: the JSON chunk is not an object");
+    const auto meshes = document.find("meshes");
+    if (meshes == document.end() || !meshes->is_array() || meshes->size() != 1 ||
+        !(*meshes)[0].is_object() || !(*meshes)[0].contains("primitives") ||
+        !(*meshes)[0]["primitives"].is_array() || (*meshes)[0]["primitives"].size() != 1) {
+      fail(path, "glTF: not one mesh with one primitive (what sss-bake writes)");
+    }
+    const Json& primitive = (*meshes)[0]["primitives"][0];
+    if (!primitive.is_object() || index(path, primitive, "mode", kTriangles) != kTriangles) {
+      fail(path, "glTF: the primitive is not triangles");
+    }
+    const Json& attributes = primitive.at("attributes");
+    const std::string& bin = chunks.bin;
+    raw.positions = readVec3(path, document, bin, index(path, attributes, "POSITION"), "POSITION");
+    raw.normals = readVec3(path, document, bin, index(path, attributes, "NORMAL"), "NORMAL");
+    if (attributes.contains("_IRRADIANCE")) {
+      irradiance =
+          readVec3(path, document, bin, index(path, attributes, "_IRRADIANCE"), "_IRRADIANCE");
+      contents.hasIrradiance = true;
+    }
+    if (attributes.contains("_EXITANCE")) {
+      exitance = readVec3(path, document, bin, index(path, attributes, "_EXITANCE"), "_EXITANCE");
+      contents.hasExitance = true;
+    }
+    raw.faceCorners = readIndices(path, document, bin, index(path, primitive, "indices"));
+    const auto extras = document.at("asset").find("extras");
+    if (extras != document["asset"].end() && extras->contains("sss")) {
+      readSssExtras(path, extras->at("sss"), contents);
+    }
+  } catch (const nlohmann::json::exception& e) {
+    fail(path, std::string("glTF JSON: ") + e.what());
+  }
+  const std::size_t n = raw.positions.size();
+  for (const auto* values : {&raw.normals, &irradiance, &exitance}) {
+    if (!values->empty() && values->size() != n) {
+      fail(path, "glTF: the attributes have different counts");
+    }
+  }
+  if (raw.faceCorners.size() % 3 != 0) fail(path, "glTF: index count is not a multiple of 3");
+  raw.faceSizes.assign(raw.faceCorners.size() / 3, 3);
+  contents.hasUnits = true;  // glTF positions are metres
+  baked.mmPerUnit = 1000.0;
+  contents.report.format = "glb";
+  cleanBakedMesh(path, std::move(raw), irradiance, exitance, contents);
+  return contents;
+}
+
+}  // namespace sss

@@ -5,6 +5,7 @@
 #include "bake/error_budget.h"
 #include "core/timer.h"
 #include "envmap/environment.h"
+#include "optics/fresnel.h"
 
 namespace sss {
 
@@ -70,6 +71,11 @@ BakedMesh assembleBakedMesh(TriangleMesh mesh, VertexLighting& lighting, VertexE
   baked.mesh = std::move(mesh);
   baked.irradiance = std::move(lighting.irradiance);
   baked.exitance = std::move(exitance.exitance);
+  // The radiance leaving along the normal under the exit model the tools use (optics/fresnel.h):
+  // L = B F_t(1, eta) / (pi (1 - 2 C_1(eta))); for the path tracer too, whose B it converts.
+  const float eta = float(s.material.eta);
+  const float exitScale = float(fresnelTransmittance(1.0f, eta) * exitRadianceScale(eta));
+  for (const glm::vec3& b : baked.exitance) baked.radianceNormal.push_back(b * exitScale);
   baked.materialName = s.material.name;
   baked.sigmaA = s.material.sigmaA;
   baked.sigmaSPrime = s.material.sigmaSPrime;

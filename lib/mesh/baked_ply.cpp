@@ -10,8 +10,8 @@
 
 #include "core/atomic_output.h"
 #include "core/error.h"
-#include "core/srgb.h"
 #include "core/file_extension.h"
+#include "core/srgb.h"
 #include "mesh/ply_format.h"
 
 namespace sss {
@@ -97,6 +97,7 @@ void writeBakedPly(const std::string& path, const BakedMesh& baked) {
   checkValues(path, mesh.positions, nv, "position");
   checkValues(path, baked.irradiance, nv, "irradiance");
   checkValues(path, baked.exitance, nv, "exitance");
+  checkValues(path, baked.radianceNormal, nv, "radiance_normal");
   if (baked.materialName.find_first_of(" \t\r\n=") != std::string::npos) {
     fail(path, "material name '" + baked.materialName + "' contains a space or '='");
   }
@@ -104,6 +105,7 @@ void writeBakedPly(const std::string& path, const BakedMesh& baked) {
     if (c.find_first_of("\r\n") != std::string::npos) fail(path, "comment spans several lines");
   }
   const bool hasE = !baked.irradiance.empty(), hasB = !baked.exitance.empty();
+  const bool hasL = !baked.radianceNormal.empty();
   const double scale = !hasB                      ? 0.0
                        : baked.previewScale > 0.0 ? baked.previewScale
                                                   : autoPreviewScale(baked.exitance);
@@ -130,10 +132,14 @@ void writeBakedPly(const std::string& path, const BakedMesh& baked) {
     out += "property float exitance_r\nproperty float exitance_g\nproperty float exitance_b\n";
     out += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
   }
+  if (hasL)
+    out +=
+        "property float radiance_normal_r\nproperty float radiance_normal_g\n"
+        "property float radiance_normal_b\n";
   out += "element face " + std::to_string(mesh.triangles.size()) + "\n";
   out += "property list uchar int vertex_indices\nend_header\n";
 
-  const std::size_t vertexBytes = 24 + (hasE ? 12 : 0) + (hasB ? 15 : 0);
+  const std::size_t vertexBytes = 24 + (hasE ? 12 : 0) + (hasB ? 15 : 0) + (hasL ? 12 : 0);
   out.reserve(out.size() + nv * vertexBytes + mesh.triangles.size() * 13);
   for (std::size_t i = 0; i < nv; ++i) {
     for (int k = 0; k < 3; ++k) put(out, mesh.positions[i][k]);
@@ -146,6 +152,9 @@ void writeBakedPly(const std::string& path, const BakedMesh& baked) {
       for (int k = 0; k < 3; ++k) {
         put(out, srgb8(static_cast<float>(scale * baked.exitance[i][k])));
       }
+    }
+    if (hasL) {
+      for (int k = 0; k < 3; ++k) put(out, baked.radianceNormal[i][k]);
     }
   }
   for (const glm::uvec3& t : mesh.triangles) {
@@ -261,15 +270,19 @@ BakedPlyContents readBakedPly(const std::string& path) {
   const std::vector<glm::vec3> irradiance =
       readChannels(path, ply, "irradiance", result.hasIrradiance);
   const std::vector<glm::vec3> exitance = readChannels(path, ply, "exitance", result.hasExitance);
+  const std::vector<glm::vec3> radianceNormal =
+      readChannels(path, ply, "radiance_normal", result.hasRadianceNormal);
 
   std::vector<unsigned> origin;
   baked.mesh = cleanMesh(path, ply::takeMesh(ply, result.report), &result.report, &origin);
   for (unsigned o : origin) {
     if (result.hasIrradiance) baked.irradiance.push_back(irradiance[o]);
     if (result.hasExitance) baked.exitance.push_back(exitance[o]);
+    if (result.hasRadianceNormal) baked.radianceNormal.push_back(radianceNormal[o]);
   }
   checkValues(path, baked.irradiance, origin.size(), "irradiance");
   checkValues(path, baked.exitance, origin.size(), "exitance");
+  checkValues(path, baked.radianceNormal, origin.size(), "radiance_normal");
   return result;
 }
 

@@ -140,6 +140,13 @@ TEST_F(BakeTool, BakesASphereUnderUniformLight) {
   for (const glm::vec3& b : baked.baked.exitance) {
     ASSERT_TRUE(b.r > 0.0f && b.r < expected);  // total reflectance < 1
   }
+  // Radiance along the normal: the normalized exit model of B, L = B F_t(1) / (pi (1 - 2 C_1)).
+  ASSERT_TRUE(baked.hasRadianceNormal);
+  const double exitScale = fresnelTransmittance(1.0f, 1.3f) / expected;
+  for (std::size_t v = 0; v < baked.baked.exitance.size(); ++v)
+    for (int c = 0; c < 3; ++c)
+      ASSERT_NEAR(baked.baked.radianceNormal[v][c], baked.baked.exitance[v][c] * exitScale,
+                  1e-5 * baked.baked.exitance[v][c]);
   const auto report = nlohmann::json::parse(readFile(dir_ / "r.json"));
   EXPECT_EQ(report["mesh"]["vertices"], sphere_.vertexCount());
   EXPECT_EQ(report["material"]["name"], "marble");

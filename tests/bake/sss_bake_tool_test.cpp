@@ -166,6 +166,29 @@ TEST_F(BakeTool, BakesASphereUnderUniformLight) {
   }
 }
 
+// --albedo A --mfp D means the albedo the bake returns: a lit plane (an open sheet: the bake's
+// auto keeps the half-space energy) gives B / E = A on the default bake (the inversion of the
+// dipole's total returned 0.525 for 0.5).
+TEST_F(BakeTool, AlbedoComesBackFromALitPlane) {
+  writeAsciiPly(dir_ / "plane.ply", makeGridPlane(16, 200.0f), true);
+  const glm::dvec3 asked(0.5, 0.8, 0.3);
+  const RunResult r =
+      run(args("plane.ply", "--albedo 0.5,0.8,0.3 --mfp 1,2,0.5 --mm-per-unit 1", 64));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const BakedPlyContents baked = readBakedPly(path("out.ply"));
+  int vertices = 0;
+  for (std::size_t v = 0; v < baked.baked.mesh.vertexCount(); ++v) {
+    const glm::vec3 p = baked.baked.mesh.positions[v];
+    if (std::abs(p.x) > 60.0f || std::abs(p.y) > 60.0f) continue;
+    ++vertices;
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(baked.baked.exitance[v][c] / baked.baked.irradiance[v][c], asked[c],
+                  0.01 * asked[c])
+          << "vertex " << v << " channel " << c;
+  }
+  EXPECT_GE(vertices, 9);
+}
+
 TEST_F(BakeTool, SameOutputForOneAndTwoThreads) {
   ASSERT_EQ(run(args("sphere.ply", "-m skin1 --unit cm --threads 1")).exitCode, 0);
   fs::rename(dir_ / "out.ply", dir_ / "one.ply");

@@ -189,6 +189,40 @@ TEST_F(BakeTool, AlbedoComesBackFromALitPlane) {
   EXPECT_GE(vertices, 9);
 }
 
+// --bounces auto: a pit in a box gets the light its walls send it, and the JSON says how many
+// bounces it took.
+TEST_F(BakeTool, InterreflectionBrightensAPit) {
+  TriangleMesh box = makeBox(glm::vec3(20.0f), 12);
+  for (std::size_t v = 0; v < box.positions.size(); ++v) {
+    glm::vec3& p = box.positions[v];
+    const float r = std::hypot(p.x, p.y);
+    if (box.normals[v].z > 0.99f && r < 8.0f) p.z -= 6.0f * (1.0f - (r / 8.0f) * (r / 8.0f));
+  }
+  box.normals = computeVertexNormals(box);
+  writeAsciiPly(dir_ / "pit.ply", box, true);
+  ASSERT_EQ(run(args("pit.ply", "-m marble --unit mm", 64)).exitCode, 0);
+  const BakedPlyContents dark = readBakedPly(path("out.ply"));
+  const RunResult r =
+      run(args("pit.ply", "-m marble --unit mm --bounces auto --json " + path("r.json"), 64));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const BakedPlyContents lit = readBakedPly(path("out.ply"));
+  const auto report = nlohmann::json::parse(readFile(dir_ / "r.json"));
+  EXPECT_TRUE(report["interreflection"]["enabled"].get<bool>());
+  EXPECT_GE(report["interreflection"]["bounces"].get<int>(), 2);
+  EXPECT_LT(report["interreflection"]["last_change"].get<double>(), 0.001);
+  double darkPit = 0.0, litPit = 0.0;
+  for (std::size_t v = 0; v < box.positions.size(); ++v) {
+    if (std::hypot(box.positions[v].x, box.positions[v].y) > 3.0f || box.normals[v].z < 0.5f)
+      continue;
+    darkPit += dark.baked.irradiance[v].g;
+    litPit += lit.baked.irradiance[v].g;
+  }
+  EXPECT_GT(litPit, 1.15 * darkPit);  // marble: 1.43x measured
+  fs::remove(dir_ / "out.ply");
+  expectUsageError(run(args("pit.ply", "-m marble --unit mm --bounces -3")), "bounces");
+  expectUsageError(run(args("pit.ply", "-m marble --unit mm --bounces many")), "many");
+}
+
 TEST_F(BakeTool, SameOutputForOneAndTwoThreads) {
   ASSERT_EQ(run(args("sphere.ply", "-m skin1 --unit cm --threads 1")).exitCode, 0);
   fs::rename(dir_ / "out.ply", dir_ / "one.ply");

@@ -6,6 +6,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "core/barycentric.h"
 #include "core/bounds.h"
 #include "core/error.h"
 #include "core/parallel.h"
@@ -15,22 +16,6 @@
 #include "raytrace/triangle_scene.h"
 
 namespace sss {
-namespace {
-
-// Barycentric weights of p on triangle abc (clamped onto it).
-glm::vec3 barycentricOf(const glm::vec3& p, const glm::vec3& a, const glm::vec3& b,
-                        const glm::vec3& c) {
-  const glm::vec3 e0 = b - a, e1 = c - a, ep = p - a;
-  const float d00 = glm::dot(e0, e0), d01 = glm::dot(e0, e1), d11 = glm::dot(e1, e1);
-  const float d20 = glm::dot(ep, e0), d21 = glm::dot(ep, e1);
-  const float den = d00 * d11 - d01 * d01;
-  if (!(den > 0.0f)) return glm::vec3(1.0f / 3.0f);
-  float v = std::clamp((d11 * d20 - d01 * d21) / den, 0.0f, 1.0f);
-  float w = std::clamp((d00 * d21 - d01 * d20) / den, 0.0f, 1.0f - v);
-  return {1.0f - v - w, v, w};
-}
-
-}  // namespace
 
 InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> positions,
                                              std::span<const glm::vec3> normals,
@@ -69,8 +54,8 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
         ++count;
         const glm::uvec3 tri = triangles[hit.triangle];
         const glm::vec3 at = p + offset * nv + hit.t * w;
-        const glm::vec3 bary =
-            barycentricOf(at, positions[tri.x], positions[tri.y], positions[tri.z]);
+        const glm::vec3 bary(
+            barycentricWeights(at, positions[tri.x], positions[tri.y], positions[tri.z]));
         const glm::vec3 nh = glm::normalize(bary.x * normals[tri.x] + bary.y * normals[tri.y] +
                                             bary.z * normals[tri.z]);
         // The cosine at the hit by its smooth normal, as B's exit model is; where a facet seen

@@ -5,6 +5,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "core/barycentric.h"
 #include "core/bounds.h"
 #include "core/error.h"
 #include "core/parallel.h"
@@ -69,20 +70,6 @@ struct BatchTally {
   uint64_t reentries = 0, truncatedWalks = 0, lostWalks = 0, truncatedPaths = 0, events = 0;
 };
 
-// Barycentric weights of p (on or near triangle abc).
-glm::dvec3 barycentric(const glm::vec3& p, const glm::vec3& a, const glm::vec3& b,
-                       const glm::vec3& c) {
-  const glm::dvec3 e0(b - a), e1(c - a), ep(p - a);
-  const double d00 = glm::dot(e0, e0), d01 = glm::dot(e0, e1), d11 = glm::dot(e1, e1);
-  const double d20 = glm::dot(ep, e0), d21 = glm::dot(ep, e1);
-  const double den = d00 * d11 - d01 * d01;
-  if (!(den > 0.0)) return glm::dvec3(1.0 / 3.0);
-  double v = (d11 * d20 - d01 * d21) / den, w = (d00 * d21 - d01 * d20) / den;
-  v = std::clamp(v, 0.0, 1.0);
-  w = std::clamp(w, 0.0, 1.0 - v);
-  return {1.0 - v - w, v, w};
-}
-
 class LightTracer {
  public:
   LightTracer(const std::vector<glm::vec3>& positions, const std::vector<glm::vec3>& normals,
@@ -131,7 +118,7 @@ void LightTracer::tallyExit(const MediumExit& exit, const glm::dvec3& power,
                             BatchTally& tally) const {
   const glm::uvec3 tri = triangles_[exit.triangle];
   const glm::dvec3 l =
-      barycentric(exit.point, positions_[tri.x], positions_[tri.y], positions_[tri.z]);
+      barycentricWeights(exit.point, positions_[tri.x], positions_[tri.y], positions_[tri.z]);
   for (int k = 0; k < 3; ++k) {
     const uint32_t v = tri[k];
     tally.exitance[v] += l[k] * power;

@@ -9,6 +9,7 @@
 
 #include "bake/interreflection.h"
 #include "bake/visibility.h"
+#include "box_with_pit.h"
 #include "envmap/cubemap.h"
 #include "mesh/primitives.h"
 #include "mesh/triangle_mesh.h"
@@ -16,18 +17,6 @@
 
 namespace sss {
 namespace {
-
-// A 20 mm box with a smooth pit 6 mm deep and 8 mm wide (radius) in its top face: closed, concave.
-TriangleMesh boxWithPit() {
-  TriangleMesh mesh = makeBox(glm::vec3(20.0f), 12);
-  for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
-    glm::vec3& p = mesh.positions[v];
-    const float r = std::hypot(p.x, p.y);
-    if (mesh.normals[v].z > 0.99f && r < 8.0f) p.z -= 6.0f * (1.0f - (r / 8.0f) * (r / 8.0f));
-  }
-  mesh.normals = computeVertexNormals(mesh);
-  return mesh;
-}
 
 TEST(Interreflection, WhiteFurnaceSendsRadianceOneFromEveryVertex) {
   const TriangleMesh mesh = boxWithPit();

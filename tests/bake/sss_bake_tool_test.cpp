@@ -17,6 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "box_with_pit.h"
 #include "envmap/cubemap_io.h"
 #include "mesh/baked_ply.h"
 #include "mesh/primitives.h"
@@ -192,13 +193,7 @@ TEST_F(BakeTool, AlbedoComesBackFromALitPlane) {
 // --bounces auto: a pit in a box gets the light its walls send it, and the JSON says how many
 // bounces it took.
 TEST_F(BakeTool, InterreflectionBrightensAPit) {
-  TriangleMesh box = makeBox(glm::vec3(20.0f), 12);
-  for (std::size_t v = 0; v < box.positions.size(); ++v) {
-    glm::vec3& p = box.positions[v];
-    const float r = std::hypot(p.x, p.y);
-    if (box.normals[v].z > 0.99f && r < 8.0f) p.z -= 6.0f * (1.0f - (r / 8.0f) * (r / 8.0f));
-  }
-  box.normals = computeVertexNormals(box);
+  const TriangleMesh box = boxWithPit();
   writeAsciiPly(dir_ / "pit.ply", box, true);
   ASSERT_EQ(run(args("pit.ply", "-m marble --unit mm", 64)).exitCode, 0);
   const BakedPlyContents dark = readBakedPly(path("out.ply"));

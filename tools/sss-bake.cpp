@@ -121,6 +121,16 @@ int parseSamples(const std::string& text) {
   return n;
 }
 
+int parseBounces(const std::string& text) {
+  if (text == "auto") return sss::kAutoBounces;
+  int n = 0;
+  if (!CLI::detail::lexical_cast(text, n)) {
+    throw sss::Error("'" + text + "' is neither auto nor an integer");
+  }
+  sss::checkBounces(n);
+  return n;
+}
+
 void addBakeOptions(CLI::App& app, sss::BakeSettings& s) {
   cli::addEnumOption(app, "--visibility", s.visibility, sss::kVisibilityModeNames,
                      "E per vertex: the irradiance cubemap (none) or Embree shadow rays");
@@ -139,6 +149,10 @@ void addBakeOptions(CLI::App& app, sss::BakeSettings& s) {
   app.add_option("--tolerance", s.tolerance, "Target relative RMS error of the exitance")
       ->check(cli::checkedBy<double>(sss::checkTolerance))
       ->capture_default_str();
+  cli::addParsedOption(app, "--bounces", s.bounces, parseBounces,
+                       "Interreflection: rays that meet the object bring back its light, "
+                       "iterated N times or until converged (auto); 0: none")
+      ->default_str("0");
   app.add_option("--walks", s.walks, "Random walks per vertex (--method pathtrace)")
       ->check(cli::checkedBy<int>(sss::checkPathTracerWalks))
       ->capture_default_str();

@@ -407,8 +407,8 @@ void addShadingOptions(CLI::App& app, Arguments& a) {
   app.add_option("--eta", a.request.eta, "Relative index (default: the material's)")
       ->check(cli::checkedBy<double>([](double eta) { checkMaterialEta(eta); }));
   cli::addParsedOption(app, "--albedo", a.request.albedo, parseAlbedo,
-                       "brdf: diffuse albedo r,g,b (default: the material's dipole total "
-                       "reflectance)")
+                       "brdf: diffuse albedo r,g,b (default: the material's half-space "
+                       "albedo, what the bake returns on a lit plane)")
       ->type_name("R,G,B");
   cli::addParsedOption(app, "--background", a.background, parseBackground,
                        "env, or a colour r,g,b stored as given (0..1 display values)")

@@ -4,8 +4,10 @@
 #include <utility>
 
 #include "bake/error_budget.h"
+#include "bake/interreflection.h"
 #include "core/timer.h"
 #include "envmap/environment.h"
+#include "optics/fresnel.h"
 
 namespace sss {
 
@@ -53,6 +55,40 @@ BakeErrorReport errorReport(const BakeReport& r, double tolerance) {
   return e;
 }
 
+// Stage 4b: the light the object sends to itself (interreflection.h), iterated with the transport;
+// E and B become the converged ones.
+void addInterreflection(const BakeSettings& s, const PreparedMesh& mesh, const Cubemap& radiance,
+                        const TransportInput& transportIn, VertexLighting& lighting,
+                        VertexExitance& exitance, InterreflectionReport& report) {
+  const Stopwatch clock;
+  InterreflectionOptions options;
+  options.rays = s.interreflectionRays;
+  options.seed = s.seed;
+  options.threads = s.threads;
+  const TriangleMesh& m = mesh.meshMm;
+  const InterreflectionGather gather(m.positions, m.normals, m.triangles, radiance,
+                                     float(s.material.eta), options);
+  const auto transportOf = [&](std::span<const glm::vec3> e) {
+    TransportInput in = transportIn;
+    in.irradiance = e;
+    in.quiet = true;
+    VertexExitance b = transport(in);
+    exitance.report = std::move(b.report);
+    return std::move(b.exitance);
+  };
+  // Auto: converged to a tenth of the tolerance, well inside the budget of B.
+  BounceResult r = iterateInterreflection(gather, lighting.irradiance, transportOf, s.bounces,
+                                          0.1 * s.tolerance);
+  lighting.irradiance = std::move(r.irradiance);
+  exitance.exitance = std::move(r.exitance);
+  report.enabled = true;
+  report.automatic = s.bounces == kAutoBounces;
+  report.bounces = r.bounces;
+  report.change = r.change;
+  report.blockedFraction = gather.blockedFraction();
+  report.seconds = clock.seconds();
+}
+
 // Stage 5: the baked mesh in the file's units, with what made it in a comment.
 BakedMesh assembleBakedMesh(TriangleMesh mesh, VertexLighting& lighting, VertexExitance& exitance,
                             const BakeSettings& s, const BakeReport& r) {
@@ -60,6 +96,11 @@ BakedMesh assembleBakedMesh(TriangleMesh mesh, VertexLighting& lighting, VertexE
   baked.mesh = std::move(mesh);
   baked.irradiance = std::move(lighting.irradiance);
   baked.exitance = std::move(exitance.exitance);
+  // The radiance leaving along the normal under the exit model the tools use (optics/fresnel.h):
+  // L = B F_t(1, eta) / (pi (1 - 2 C_1(eta))); for the path tracer too, whose B it converts.
+  const float eta = float(s.material.eta);
+  const float exitScale = float(fresnelTransmittance(1.0f, eta) * exitRadianceScale(eta));
+  for (const glm::vec3& b : baked.exitance) baked.radianceNormal.push_back(b * exitScale);
   baked.materialName = s.material.name;
   baked.sigmaA = s.material.sigmaA;
   baked.sigmaSPrime = s.material.sigmaSPrime;
@@ -100,6 +141,8 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
   transportIn.threads = s.threads;
   transportIn.quiet = s.quiet;
   VertexExitance exitance = transport(transportIn);
+  if (s.bounces != 0 && s.method != BakeMethod::PathTrace)
+    addInterreflection(s, mesh, radiance, transportIn, lighting, exitance, report.interreflection);
 
   report.energy = std::move(energy.report);
   report.lighting = std::move(lighting.report);

@@ -29,6 +29,16 @@ struct BakeErrorReport {
   double tolerance = 0.0;
 };
 
+// Interreflection (interreflection.h): whether it ran, how many bounces, the last change of B.
+struct InterreflectionReport {
+  bool enabled = false;
+  bool automatic = false;        // bounces chosen by convergence
+  int bounces = 0;               // gathers done
+  double change = 0.0;           // relative RMS change of B at the last bounce
+  double blockedFraction = 0.0;  // of the gather's rays, those that met the object
+  double seconds = 0.0;
+};
+
 struct BakeReport {
   MeshStageReport mesh;
   EnvironmentStageReport environment;
@@ -36,6 +46,7 @@ struct BakeReport {
   EnergyStageReport energy;  // also the profile; empty for the path tracer
   LightingReport lighting;
   TransportReport transport;
+  InterreflectionReport interreflection;
   BakeErrorReport errors;
   int threads = 0;
   double totalSeconds = 0.0;

@@ -158,6 +158,12 @@ Json toJson(const BakeReport& r) {
   }
   j["visibility"] = toJson(r.lighting);
   j["exitance"] = toJson(r.transport);
+  j["interreflection"] = {{"enabled", r.interreflection.enabled},
+                          {"bounces_requested", r.interreflection.automatic ? "auto" : "count"},
+                          {"bounces", r.interreflection.bounces},
+                          {"last_change", r.interreflection.change},
+                          {"blocked_fraction", r.interreflection.blockedFraction},
+                          {"seconds", r.interreflection.seconds}};
   j["estimated_error"] = toJson(r.errors);
   j["threads"] = r.threads;
   j["stages"] = {{"load_mesh_s", r.mesh.seconds},     {"load_environment_s", r.environment.seconds},

@@ -35,6 +35,10 @@ void checkVisibilitySamples(int samples) {
   if (samples != 0 && samples < 2) fail("", "visibility rays per vertex must be at least 2");
 }
 
+void checkBounces(int bounces) {
+  if (bounces < kAutoBounces) fail("", "bounces must be auto or a count >= 0");
+}
+
 void checkPathTracerWalks(int walks) {
   if (walks < 1) fail("", "the path tracer needs at least 1 walk per vertex");
 }
@@ -57,6 +61,8 @@ void validateBakeSettings(const BakeSettings& s) {
   }
   checkVisibilitySamples(s.samples);
   if (s.method == BakeMethod::PathTrace) checkPathTracerWalks(s.walks);
+  checkBounces(s.bounces);
+  if (s.interreflectionRays < 1) fail("", "interreflection needs at least 1 ray per vertex");
   checkTolerance(s.tolerance);
 }
 

@@ -58,10 +58,14 @@ struct BakeSettings {
   EnergyModel energy = EnergyModel::Auto;       // unused by PathTrace
   // Relative RMS of B; ErrorBudget (error_budget.h) splits it between the estimates.
   double tolerance = 0.01;
-  int walks = 256;              // PathTrace: random walks per vertex (>= 1)
-  int environmentFaceSize = 0;  // 0: from the source resolution
-  int threads = 0;              // <= 0: all cores
-  bool quiet = false;           // no progress bars or info lines
+  int walks = 256;  // PathTrace: random walks per vertex (>= 1)
+  // Interreflection (interreflection.h): 0 none (a ray that meets the object is dark), N bounces,
+  // kAutoBounces until B changes less than the tolerance's share. Diffusion methods only.
+  int bounces = 0;
+  int interreflectionRays = 64;  // cosine rays per vertex for the gather (>= 1)
+  int environmentFaceSize = 0;   // 0: from the source resolution
+  int threads = 0;               // <= 0: all cores
+  bool quiet = false;            // no progress bars or info lines
 };
 
 // Everything that needs no file, so that a typo costs nothing: the material, the units, the
@@ -71,6 +75,8 @@ void validateBakeSettings(const BakeSettings& settings);
 void checkTolerance(double tolerance);     // in (0, 1)
 void checkVisibilitySamples(int samples);  // 0 (auto) or >= 2
 void checkPathTracerWalks(int walks);      // >= 1
-void checkSizeMm(double sizeMm);           // finite, > 0
+inline constexpr int kAutoBounces = -1;
+void checkBounces(int bounces);   // kAutoBounces or >= 0
+void checkSizeMm(double sizeMm);  // finite, > 0
 
 }  // namespace sss

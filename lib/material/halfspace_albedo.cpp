@@ -76,4 +76,13 @@ double halfSpaceDiffuseAlbedo(double a, double eta) {
   return std::clamp((1.0 - w) * row(e) + w * row(e + 1), 0.0, 1.0);
 }
 
+double scatteringAlbedoFromHalfSpaceAlbedo(double albedo, double eta) {
+  double lo = 0.0, hi = 1.0;
+  for (int i = 0; i < 60; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (halfSpaceDiffuseAlbedo(mid, eta) < albedo ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
 }  // namespace sss

@@ -34,6 +34,10 @@ HalfSpaceAlbedoEstimate simulateHalfSpaceAlbedo(double scatteringAlbedo, double 
 // Tabulated value for a in [0, 1], eta in [1, 3] (clamped).
 double halfSpaceDiffuseAlbedo(double scatteringAlbedo, double eta);
 
+// Its inverse in the scattering albedo: the a in [0, 1] with halfSpaceDiffuseAlbedo(a, eta) =
+// albedo (bisection; the table rises with a). albedo in [0, halfSpaceDiffuseAlbedo(1, eta)].
+double scatteringAlbedoFromHalfSpaceAlbedo(double albedo, double eta);
+
 // The table's nodes (for the generator).
 inline constexpr int kHalfSpaceAlbedoNodes = 33;
 inline constexpr int kHalfSpaceEtaNodes = 15;

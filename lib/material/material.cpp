@@ -6,7 +6,7 @@
 #include <sstream>
 
 #include "core/error.h"
-#include "material/dipole_profile.h"
+#include "material/halfspace_albedo.h"
 
 namespace sss {
 
@@ -111,7 +111,7 @@ Material findMaterialPreset(const std::string& name) {
 Material materialFromAlbedoMfp(const glm::dvec3& albedo, const glm::dvec3& mfpMm, double eta,
                                const std::string& name) {
   checkMaterialEta(eta, name);
-  const double maxAlbedo = dipoleTotalReflectance(1.0, eta);
+  const double maxAlbedo = halfSpaceDiffuseAlbedo(1.0, eta);
   Material m;
   m.name = name;
   m.eta = eta;
@@ -119,12 +119,12 @@ Material materialFromAlbedoMfp(const glm::dvec3& albedo, const glm::dvec3& mfpMm
     if (!std::isfinite(albedo[c]) || albedo[c] <= 0.0 || albedo[c] >= maxAlbedo) {
       std::ostringstream out;
       out << "albedo " << channelText(albedo) << " must lie in (0, " << maxAlbedo
-          << ") (the dipole's largest total reflectance at eta " << eta << ")";
+          << ") (the half-space albedo's largest value at eta " << eta << ")";
       fail(name, out.str());
     }
     if (!std::isfinite(mfpMm[c]) || mfpMm[c] <= 0.0)
       fail(name, "mean free path " + channelText(mfpMm) + " mm must be positive");
-    const double alphaPrime = dipoleAlbedoFromReflectance(albedo[c], eta);
+    const double alphaPrime = scatteringAlbedoFromHalfSpaceAlbedo(albedo[c], eta);
     const double sigmaTr = 1.0 / mfpMm[c];
     const double sigmaTPrime = sigmaTr / std::sqrt(3.0 * (1.0 - alphaPrime));
     m.sigmaSPrime[c] = alphaPrime * sigmaTPrime;

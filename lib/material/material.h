@@ -7,10 +7,11 @@
 //   mm^-1 for the R, G, B channels, measured with eta = 1.3 (the value the paper renders with).
 // - Albedo/mfp inversion: Jensen & Buhler, "A Rapid Hierarchical Rendering Technique for
 //   Translucent Materials", SIGGRAPH 2002, Sec. 4: the user gives the total diffuse reflectance
-//   R_d and the diffuse mean free path l_d = 1 / sigma_tr; alpha' follows by inverting the
-//   dipole's total reflectance R_d(alpha') numerically (dipole_profile.h), then
-//   sigma_t' = sigma_tr / sqrt(3 (1 - alpha')), sigma_s' = alpha' sigma_t',
-//   sigma_a = sigma_t' - sigma_s'.
+//   R_d and the diffuse mean free path l_d = 1 / sigma_tr; alpha' follows by inverting R_d(alpha')
+//   numerically, then sigma_t' = sigma_tr / sqrt(3 (1 - alpha')), sigma_s' = alpha' sigma_t',
+//   sigma_a = sigma_t' - sigma_s'. Unlike Jensen & Buhler we invert the Monte Carlo half-space
+//   albedo (halfspace_albedo.h), the energy the bake's profiles return on a lit plane, not the
+//   dipole's total (off by -5 % to +7 %): the albedo asked for is the albedo the bake gives.
 //
 // Units: every coefficient is per millimetre; every length is in millimetres.
 #pragma once
@@ -54,7 +55,7 @@ void checkMaterialEta(double eta, const std::string& context = "");
 
 // A diffuse (Lambertian) albedo, as sss-render's BRDF takes it: each channel finite, in [0, 1]
 // (energy conservation). Throws Error("<context>: ..."). (materialFromAlbedoMfp needs more: a
-// total reflectance in (0, 1) that the dipole can invert.)
+// total reflectance in (0, 1) that the half-space albedo can invert.)
 void checkDiffuseAlbedo(const glm::dvec3& albedo, const std::string& context = "");
 
 // The measured presets of Jensen et al. 2001 (apple ... wholemilk), eta = 1.3.
@@ -64,7 +65,8 @@ std::vector<std::string> materialPresetNames();
 Material findMaterialPreset(const std::string& name);
 
 // Jensen & Buhler 2002 inversion (see header comment). albedo: total diffuse reflectance per
-// channel in (0, dipoleTotalReflectance(1, eta)) = (0, 1); mfp: diffuse mean free path
+// channel (the half-space albedo) in (0, halfSpaceDiffuseAlbedo(1, eta)); mfp: diffuse mean free
+// path
 // l_d = 1 / sigma_tr in mm (> 0). Throws sss::Error on values out of range.
 Material materialFromAlbedoMfp(const glm::dvec3& albedo, const glm::dvec3& mfpMm, double eta,
                                const std::string& name = "custom");

@@ -445,7 +445,7 @@ BakedPlyContents readBakedGlb(const std::string& path) {
   contents.hasUnits = true;  // glTF positions are metres
   baked.mmPerUnit = 1000.0;
   contents.report.format = "glb";
-  cleanBakedMesh(path, std::move(raw), irradiance, exitance, contents);
+  cleanBakedMesh(path, std::move(raw), irradiance, exitance, {}, contents);
   return contents;
 }
 

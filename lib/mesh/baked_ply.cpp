@@ -93,6 +93,7 @@ void checkBakedMesh(const std::string& path, const BakedMesh& baked) {
   checkVertexValues(path, mesh.positions, nv, "position");
   checkVertexValues(path, baked.irradiance, nv, "irradiance");
   checkVertexValues(path, baked.exitance, nv, "exitance");
+  checkVertexValues(path, baked.radianceNormal, nv, "radiance_normal");
 }
 
 namespace {
@@ -117,6 +118,7 @@ void writeBakedPly(const std::string& path, const BakedMesh& baked) {
     if (c.find_first_of("\r\n") != std::string::npos) fail(path, "comment spans several lines");
   }
   const bool hasE = !baked.irradiance.empty(), hasB = !baked.exitance.empty();
+  const bool hasL = !baked.radianceNormal.empty();
   const double scale = previewScaleFor(baked);
 
   std::string out;
@@ -142,10 +144,14 @@ void writeBakedPly(const std::string& path, const BakedMesh& baked) {
     out += "property float exitance_r\nproperty float exitance_g\nproperty float exitance_b\n";
     out += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
   }
+  if (hasL)
+    out +=
+        "property float radiance_normal_r\nproperty float radiance_normal_g\n"
+        "property float radiance_normal_b\n";
   out += "element face " + std::to_string(mesh.triangles.size()) + "\n";
   out += "property list uchar int vertex_indices\nend_header\n";
 
-  const std::size_t vertexBytes = 24 + (hasE ? 12 : 0) + (hasB ? 15 : 0);
+  const std::size_t vertexBytes = 24 + (hasE ? 12 : 0) + (hasB ? 15 : 0) + (hasL ? 12 : 0);
   out.reserve(out.size() + nv * vertexBytes + mesh.triangles.size() * 13);
   for (std::size_t i = 0; i < nv; ++i) {
     for (int k = 0; k < 3; ++k) put(out, mesh.positions[i][k]);
@@ -158,6 +164,9 @@ void writeBakedPly(const std::string& path, const BakedMesh& baked) {
       for (int k = 0; k < 3; ++k) {
         put(out, srgb8(static_cast<float>(scale * baked.exitance[i][k])));
       }
+    }
+    if (hasL) {
+      for (int k = 0; k < 3; ++k) put(out, baked.radianceNormal[i][k]);
     }
   }
   for (const glm::uvec3& t : mesh.triangles) {
@@ -277,22 +286,28 @@ BakedPlyContents readBakedPly(const std::string& path) {
   const std::vector<glm::vec3> irradiance =
       readChannels(path, ply, "irradiance", result.hasIrradiance);
   const std::vector<glm::vec3> exitance = readChannels(path, ply, "exitance", result.hasExitance);
+  const std::vector<glm::vec3> radianceNormal =
+      readChannels(path, ply, "radiance_normal", result.hasRadianceNormal);
 
-  cleanBakedMesh(path, ply::takeMesh(ply, result.report), irradiance, exitance, result);
+  cleanBakedMesh(path, ply::takeMesh(ply, result.report), irradiance, exitance, radianceNormal,
+                 result);
   return result;
 }
 
 void cleanBakedMesh(const std::string& path, RawMesh raw, const std::vector<glm::vec3>& irradiance,
-                    const std::vector<glm::vec3>& exitance, BakedPlyContents& contents) {
+                    const std::vector<glm::vec3>& exitance,
+                    const std::vector<glm::vec3>& radianceNormal, BakedPlyContents& contents) {
   BakedMesh& baked = contents.baked;
   std::vector<unsigned> origin;
   baked.mesh = cleanMesh(path, std::move(raw), &contents.report, &origin);
   for (unsigned o : origin) {
     if (contents.hasIrradiance) baked.irradiance.push_back(irradiance[o]);
     if (contents.hasExitance) baked.exitance.push_back(exitance[o]);
+    if (contents.hasRadianceNormal) baked.radianceNormal.push_back(radianceNormal[o]);
   }
   checkVertexValues(path, baked.irradiance, origin.size(), "irradiance");
   checkVertexValues(path, baked.exitance, origin.size(), "exitance");
+  checkVertexValues(path, baked.radianceNormal, origin.size(), "radiance_normal");
   if (baked.meshChecked) contents.report.warnings.clear();  // sss-bake showed them
 }
 

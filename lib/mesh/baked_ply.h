@@ -22,6 +22,9 @@
 //   property float irradiance_r, irradiance_g, irradiance_b   (when irradiance is given)
 //   property float exitance_r, exitance_g, exitance_b         (when exitance is given)
 //   property uchar red, green, blue                           (with exitance)
+//   property float radiance_normal_r, radiance_normal_g, radiance_normal_b
+//                  (when given: the radiance leaving along the vertex normal, under the exit
+//                  model of the bake, so that a bake compares with a reference in radiance)
 //   element face M
 //   property list uchar int vertex_indices
 //   end_header
@@ -42,13 +45,14 @@ namespace sss {
 
 struct BakedMesh {
   TriangleMesh mesh;
-  std::vector<glm::vec3> irradiance;  // E per vertex (empty: not written/not present)
-  std::vector<glm::vec3> exitance;    // B per vertex (empty: not written/not present)
-  std::string materialName;           // no spaces or '='
-  glm::dvec3 sigmaA{0.0};             // absorption, per mm
-  glm::dvec3 sigmaSPrime{0.0};        // reduced scattering, per mm
-  double eta = 1.0;                   // relative index of refraction
-  double mmPerUnit = 1.0;             // millimetres per mesh unit
+  std::vector<glm::vec3> irradiance;      // E per vertex (empty: not written/not present)
+  std::vector<glm::vec3> exitance;        // B per vertex (empty: not written/not present)
+  std::vector<glm::vec3> radianceNormal;  // L along the normal per vertex (idem)
+  std::string materialName;               // no spaces or '='
+  glm::dvec3 sigmaA{0.0};                 // absorption, per mm
+  glm::dvec3 sigmaSPrime{0.0};            // reduced scattering, per mm
+  double eta = 1.0;                       // relative index of refraction
+  double mmPerUnit = 1.0;                 // millimetres per mesh unit
   // Preview colour = sRGB(previewScale * exitance). <= 0 on write: auto-exposed so that the
   // 99th percentile of max(exitance) maps to 1; the scale used is stored in the header.
   double previewScale = 0.0;
@@ -78,11 +82,12 @@ void writeBakedPly(const std::string& path, const BakedMesh& baked);
 // What readBakedPly found.
 struct BakedPlyContents {
   BakedMesh baked;
-  bool hasIrradiance = false;  // irradiance_r/g/b present
-  bool hasExitance = false;    // exitance_r/g/b present
-  bool hasMaterial = false;    // "sss material/sigma_a/sigma_s_prime/eta" comments present
-  bool hasUnits = false;       // "sss mm_per_unit" comment present
-  MeshReport report;           // cleanup of the mesh part; no warnings when baked.meshChecked
+  bool hasIrradiance = false;      // irradiance_r/g/b present
+  bool hasExitance = false;        // exitance_r/g/b present
+  bool hasRadianceNormal = false;  // radiance_normal_r/g/b present
+  bool hasMaterial = false;        // "sss material/sigma_a/sigma_s_prime/eta" comments present
+  bool hasUnits = false;           // "sss mm_per_unit" comment present
+  MeshReport report;               // cleanup of the mesh part; no warnings when baked.meshChecked
 };
 
 // Reads a baked PLY back bit-exactly. Any other mesh file (plain PLY, OBJ, ...) loads too, with
@@ -95,6 +100,7 @@ BakedPlyContents readBakedPly(const std::string& path);
 // per-vertex values (those the has* flags say are present) following their vertices, and no
 // cleanup warnings when contents.baked.meshChecked (sss-bake showed them).
 void cleanBakedMesh(const std::string& path, RawMesh raw, const std::vector<glm::vec3>& irradiance,
-                    const std::vector<glm::vec3>& exitance, BakedPlyContents& contents);
+                    const std::vector<glm::vec3>& exitance,
+                    const std::vector<glm::vec3>& radianceNormal, BakedPlyContents& contents);
 
 }  // namespace sss

@@ -17,6 +17,7 @@
 #include "material/material.h"
 #include "mesh/triangle_mesh.h"
 #include "optics/fresnel.h"
+#include "pathtrace/medium_walk.h"
 #include "pathtrace/one_ring_sampler.h"
 #include "pathtrace/walk_sampling.h"
 #include "raytrace/triangle_scene.h"
@@ -29,96 +30,25 @@ constexpr double kLongWalkEvents = 500.0;
 constexpr int kPilotWalks = 256;
 // Outside directions cut off by the faceted 1-ring are redrawn at most this often per sample.
 constexpr int kMaxRedraws = 16;
-constexpr uint32_t kNoVertex = std::numeric_limits<uint32_t>::max();
 
-struct WalkStats {
-  uint64_t events = 0;
-  uint64_t boundaryHits = 0;
-  bool truncated = false;
-  bool escaped = false;
-  bool blocked = false;  // left through the start vertex's own triangles before scattering
-};
-
+// The backward walk: the shared medium walk, then the environment along the refracted exit
+// direction where the mesh does not occlude it.
 struct Walker {
   const TriangleScene& scene;
-  const std::vector<glm::uvec3>& triangles;
   const Cubemap& environment;
-  glm::dvec3 sigmaS, sigmaT;
-  float eta;
-  double g;
+  MediumWalker medium;
   bool occlusion;
   int minOrder;
-  int maxInteractions;
 
   // One walk from a point inside along d, started at mesh vertex `start`; returns the
   // MIS-weighted radiance it brings back per unit starting weight.
-  glm::dvec3 walk(glm::vec3 p, glm::vec3 d, uint32_t start, Pcg32& rng, WalkStats& stats) const {
-    const int hero = std::min(2, static_cast<int>(rng.uniformDouble() * 3.0));
-    const double sigmaTh = sigmaT[hero];
-    glm::dvec3 beta(1.0);  // f_c / p_hero over the path so far
-    glm::dvec3 ru(1.0);    // p_j / p_hero over the path so far
-    const float eps = scene.epsilon();
-    for (int interactions = 0;; ++interactions) {
-      if (interactions >= maxInteractions) {
-        stats.truncated = true;
-        return glm::dvec3(0.0);
-      }
-      const SceneHit hit = scene.intersect(p, d);
-      if (!hit.hit) {
-        stats.escaped = true;
-        return glm::dvec3(0.0);
-      }
-      const double t = sigmaTh > 0.0 ? -std::log(1.0 - rng.uniformDouble()) / sigmaTh
-                                     : std::numeric_limits<double>::infinity();
-      if (t < hit.t) {
-        // Scattering event: f_c = sigma_s,c T_c(t), p_j = sigma_t,j T_j(t), relative to hero.
-        for (int c = 0; c < 3; ++c) {
-          const double ratio = std::exp(-(sigmaT[c] - sigmaTh) * t);
-          beta[c] *= sigmaS[c] / sigmaTh * ratio;
-          ru[c] *= sigmaT[c] / sigmaTh * ratio;
-        }
-        ++stats.events;
-        p += static_cast<float>(t) * d;
-        d = sampleHenyeyGreenstein(d, g, rng);
-        const double m = std::max({beta.x, beta.y, beta.z}) / ((ru.x + ru.y + ru.z) / 3.0);
-        if (!(m > 0.0)) return glm::dvec3(0.0);
-        if (m < 1.0) {  // Russian roulette on the MIS-weighted throughput
-          const double q = std::max(m, 0.05);
-          if (rng.uniformDouble() >= q) return glm::dvec3(0.0);
-          beta /= q;
-        }
-        continue;
-      }
-      if (stats.events == 0 && stats.boundaryHits == 0) {
-        const glm::uvec3 tri = triangles[hit.triangle];
-        if (tri.x == start || tri.y == start || tri.z == start) {
-          stats.blocked = true;
-          return glm::dvec3(0.0);
-        }
-      }
-      // Boundary: f_c = p_j = T(t_hit), relative to hero.
-      for (int c = 0; c < 3; ++c) {
-        const double ratio = std::exp(-(sigmaT[c] - sigmaTh) * static_cast<double>(hit.t));
-        beta[c] *= ratio;
-        ru[c] *= ratio;
-      }
-      ++stats.boundaryHits;
-      const glm::vec3 hitPoint = p + hit.t * d;
-      const BoundaryCrossing boundary = boundaryCrossing(d, hit.faceNormal);
-      const glm::vec3 n = boundary.normal;
-      const float fr = fresnelDielectric(boundary.cosI, 1.0f / eta);
-      if (rng.uniformDouble() < fr) {  // reflect back inside (total internal reflection: fr = 1)
-        d = reflectInside(d, boundary);
-        p = hitPoint - eps * n;
-        continue;
-      }
-      if (static_cast<int>(stats.events) < minOrder) return glm::dvec3(0.0);
-      const glm::vec3 out = refractDirection(d, n, eta);
-      const glm::vec3 origin = hitPoint + eps * n;
-      if (occlusion && scene.occluded(origin, out)) return glm::dvec3(0.0);
-      const glm::dvec3 radiance(environment.sample(out));
-      return beta * radiance / ((ru.x + ru.y + ru.z) / 3.0);
-    }
+  glm::dvec3 walk(glm::vec3 p, glm::vec3 d, uint32_t start, Pcg32& rng,
+                  MediumWalkStats& stats) const {
+    const MediumExit exit = medium.walkToExit(p, d, start, rng, stats);
+    if (!exit.exited || static_cast<int>(stats.events) < minOrder) return glm::dvec3(0.0);
+    const glm::vec3 origin = exit.point + scene.epsilon() * exit.normal;
+    if (occlusion && scene.occluded(origin, exit.direction)) return glm::dvec3(0.0);
+    return exit.weight * glm::dvec3(environment.sample(exit.direction));
   }
 };
 
@@ -166,16 +96,8 @@ void validateInputs(const std::vector<glm::vec3>& positions, const std::vector<g
   if (positions.empty() || triangles.empty()) fail("", "path tracer: empty mesh");
   if (normals.size() != positions.size()) fail("", "path tracer: one normal per vertex needed");
   if (environment.empty()) fail("", "path tracer: empty environment");
-  if (!(std::abs(medium.g) < 1.0)) fail("", "path tracer: |g| must be below 1");
   if (options.samples < 1) fail("", "path tracer: samples must be at least 1");
-  const glm::dvec3 sigmaT = medium.sigmaA + medium.sigmaS;
-  for (int c = 0; c < 3; ++c) {
-    if (!(medium.sigmaA[c] >= 0.0) || !(medium.sigmaS[c] >= 0.0) || !std::isfinite(sigmaT[c]))
-      fail("", "path tracer: coefficients must be finite and non-negative");
-  }
-  if (!(std::max({sigmaT.x, sigmaT.y, sigmaT.z}) > 0.0))
-    fail("", "path tracer: the medium has no extinction");
-  if (!(medium.eta >= 1.0)) fail("", "path tracer: eta must be at least 1");
+  validateHomogeneousMedium(medium);
 }
 
 // The walks of one run over the listed vertices (all of them when the list is empty).
@@ -190,16 +112,10 @@ class VertexTracer {
         options_(options),
         sigmaT_(medium.sigmaA + medium.sigmaS),
         scene_(positions, triangles),
-        walker_{scene_,
-                triangles,
-                environment,
-                medium.sigmaS,
-                sigmaT_,
-                static_cast<float>(medium.eta),
-                medium.g,
-                options.occlusion,
-                options.minScatteringOrder,
-                options.maxScatteringEvents},
+        walker_{scene_, environment,
+                MediumWalker(scene_, triangles, medium.sigmaS, sigmaT_,
+                             static_cast<float>(medium.eta), medium.g, options.maxScatteringEvents),
+                options.occlusion, options.minScatteringOrder},
         eta_(static_cast<float>(medium.eta)),
         eps_(scene_.epsilon()),
         oneRing_(positions, triangles) {
@@ -223,7 +139,7 @@ class VertexTracer {
   // One walk entering at x through a boundary of normal n (start: the vertex whose own triangles
   // count as "blocked", or none).
   glm::dvec3 walkFrom(const glm::vec3& x, uint32_t start, const glm::vec3& n, const glm::vec3& wo,
-                      Pcg32& rng, WalkStats& stats) const {
+                      Pcg32& rng, MediumWalkStats& stats) const {
     const float mu = glm::dot(wo, n);
     if (!(mu > 0.0f)) return glm::dvec3(0.0);  // a facet turned away from a fixed direction
     const glm::vec3 inward = refractDirection(-wo, -n, 1.0f / eta_);
@@ -239,11 +155,11 @@ class VertexTracer {
                     Pcg32& rng, Accumulator& acc, WalkCounts& counts) const {
     glm::dvec3 value(0.0);
     for (int attempt = 0; attempt < kMaxRedraws; ++attempt) {
-      WalkStats stats;
+      MediumWalkStats stats;
       if (options_.entry == WalkEntry::OneRing && oneRing_.hasSurface(uint32_t(i))) {
         const SurfacePoint entry = oneRing_.sample(uint32_t(i), rng);
         const glm::vec3 wo = fixedWo ? *fixedWo : sampleCosineHemisphere(entry.normal, rng);
-        value = walkFrom(entry.position, kNoVertex, entry.normal, wo, rng, stats);
+        value = walkFrom(entry.position, kNoStartVertex, entry.normal, wo, rng, stats);
       } else {
         const glm::vec3 wo = fixedWo ? *fixedWo : sampleCosineHemisphere(normal, rng);
         value = walkFrom(positions_[i], uint32_t(i), normal, wo, rng, stats);
@@ -286,7 +202,7 @@ void VertexTracer::warnOfLongWalks(PathTraceResult& result) const {
     Pcg32 rng(options_.seed ^ 0x9E3779B97F4A7C15ULL, i);
     const glm::vec3 normal = glm::normalize(normals_[i]);
     for (std::size_t s = 0; s < kPilotWalks / probes; ++s, ++walks) {
-      WalkStats stats;
+      MediumWalkStats stats;
       walkFrom(positions_[i], uint32_t(i), normal, sampleCosineHemisphere(normal, rng), rng, stats);
       events += stats.events;
     }
@@ -371,6 +287,18 @@ void summarizeWalks(const AtomicWalkCounts& total, const PathTraceOptions& optio
 }
 
 }  // namespace
+
+void validateHomogeneousMedium(const HomogeneousMedium& medium) {
+  if (!(std::abs(medium.g) < 1.0)) fail("", "path tracer: |g| must be below 1");
+  const glm::dvec3 sigmaT = medium.sigmaA + medium.sigmaS;
+  for (int c = 0; c < 3; ++c) {
+    if (!(medium.sigmaA[c] >= 0.0) || !(medium.sigmaS[c] >= 0.0) || !std::isfinite(sigmaT[c]))
+      fail("", "path tracer: coefficients must be finite and non-negative");
+  }
+  if (!(std::max({sigmaT.x, sigmaT.y, sigmaT.z}) > 0.0))
+    fail("", "path tracer: the medium has no extinction");
+  if (!(medium.eta >= 1.0)) fail("", "path tracer: eta must be at least 1");
+}
 
 PathTraceResult pathTraceSubsurface(const std::vector<glm::vec3>& positions,
                                     const std::vector<glm::vec3>& normals,

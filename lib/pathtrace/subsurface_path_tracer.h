@@ -128,6 +128,9 @@ struct HomogeneousMedium {
   double eta = 1.0;                     // medium index relative to outside, >= 1
   double g = 0.0;                       // Henyey-Greenstein mean cosine, |g| < 1
 };
+// Throws Error unless |g| < 1, the coefficients are finite and non-negative with some
+// extinction, and eta >= 1.
+void validateHomogeneousMedium(const HomogeneousMedium& medium);
 PathTraceResult pathTraceSubsurface(const std::vector<glm::vec3>& positionsMm,
                                     const std::vector<glm::vec3>& normals,
                                     const std::vector<glm::uvec3>& triangles,

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "material/dipole_profile.h"
+#include "material/halfspace_albedo.h"
 #include "optics/fresnel.h"
 
 namespace sss {
@@ -12,11 +12,12 @@ std::string channels(const char* prefix) {
   return std::string(prefix) + "_r, " + prefix + "_g, " + prefix + "_b";
 }
 
-// The total diffuse reflectance of the material's dipole, per channel.
-glm::vec3 dipoleAlbedo(const BakedMesh& baked, float eta) {
+// The material's total diffuse reflectance as the bake models it, per channel: the Monte Carlo
+// half-space albedo of its reduced albedo (what a lit plane returns; material/halfspace_albedo.h).
+glm::vec3 halfSpaceAlbedo(const BakedMesh& baked, float eta) {
   const glm::dvec3 albedo = baked.sigmaSPrime / (baked.sigmaA + baked.sigmaSPrime);
   glm::vec3 out;
-  for (int c = 0; c < 3; ++c) out[c] = static_cast<float>(dipoleTotalReflectance(albedo[c], eta));
+  for (int c = 0; c < 3; ++c) out[c] = static_cast<float>(halfSpaceDiffuseAlbedo(albedo[c], eta));
   return out;
 }
 
@@ -34,7 +35,7 @@ ShadingParameters shadingFor(const BakedPlyContents& contents, const ShadingRequ
     if (request.albedo) {
       p.albedo = *request.albedo;
     } else if (contents.hasMaterial) {
-      p.albedo = dipoleAlbedo(contents.baked, p.eta);
+      p.albedo = halfSpaceAlbedo(contents.baked, p.eta);
     } else {
       p.albedo = glm::vec3(kFallbackAlbedo);
       p.albedoIsFallback = true;

@@ -37,7 +37,7 @@ struct ShadingRequest {
   ExitModel exitModel = ExitModel::Normalized;
   CullMode cull = CullMode::Auto;
   std::optional<float> eta;         // default: the material's, else kFallbackEta
-  std::optional<glm::vec3> albedo;  // brdf; default: the material's dipole total reflectance
+  std::optional<glm::vec3> albedo;  // brdf; default: the material's half-space albedo
                                     // (so that B = R_d E on flat, uniformly lit regions), else
                                     // kFallbackAlbedo
 };

@@ -16,6 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "box_with_pit.h"
 #include "envmap/cubemap_io.h"
 #include "mesh/baked_mesh.h"
 #include "mesh/baked_ply.h"
@@ -152,6 +153,13 @@ TEST_F(BakeTool, BakesASphereUnderUniformLight) {
   for (const glm::vec3& b : baked.baked.exitance) {
     ASSERT_TRUE(b.r > 0.0f && b.r < expected);  // total reflectance < 1
   }
+  // Radiance along the normal: the normalized exit model of B, L = B F_t(1) / (pi (1 - 2 C_1)).
+  ASSERT_TRUE(baked.hasRadianceNormal);
+  const double exitScale = fresnelTransmittance(1.0f, 1.3f) / expected;
+  for (std::size_t v = 0; v < baked.baked.exitance.size(); ++v)
+    for (int c = 0; c < 3; ++c)
+      ASSERT_NEAR(baked.baked.radianceNormal[v][c], baked.baked.exitance[v][c] * exitScale,
+                  1e-5 * baked.baked.exitance[v][c]);
   const auto report = nlohmann::json::parse(readFile(dir_ / "r.json"));
   EXPECT_EQ(report["mesh"]["vertices"], sphere_.vertexCount());
   EXPECT_EQ(report["material"]["name"], "marble");
@@ -169,6 +177,57 @@ TEST_F(BakeTool, BakesASphereUnderUniformLight) {
   for (const glm::vec3& e : readBakedPly(path("out.ply")).baked.irradiance) {
     ASSERT_NEAR(e.g / expected, 1.0, 0.01);
   }
+}
+
+// --albedo A --mfp D means the albedo the bake returns: a lit plane (an open sheet: the bake's
+// auto keeps the half-space energy) gives B / E = A on the default bake (the inversion of the
+// dipole's total returned 0.525 for 0.5).
+TEST_F(BakeTool, AlbedoComesBackFromALitPlane) {
+  writeAsciiPly(dir_ / "plane.ply", makeGridPlane(16, 200.0f), true);
+  const glm::dvec3 asked(0.5, 0.8, 0.3);
+  const RunResult r =
+      run(args("plane.ply", "--albedo 0.5,0.8,0.3 --mfp 1,2,0.5 --mm-per-unit 1", 64));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const BakedPlyContents baked = readBakedPly(path("out.ply"));
+  int vertices = 0;
+  for (std::size_t v = 0; v < baked.baked.mesh.vertexCount(); ++v) {
+    const glm::vec3 p = baked.baked.mesh.positions[v];
+    if (std::abs(p.x) > 60.0f || std::abs(p.y) > 60.0f) continue;
+    ++vertices;
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(baked.baked.exitance[v][c] / baked.baked.irradiance[v][c], asked[c],
+                  0.01 * asked[c])
+          << "vertex " << v << " channel " << c;
+  }
+  EXPECT_GE(vertices, 9);
+}
+
+// --bounces auto: a pit in a box gets the light its walls send it, and the JSON says how many
+// bounces it took.
+TEST_F(BakeTool, InterreflectionBrightensAPit) {
+  const TriangleMesh box = boxWithPit();
+  writeAsciiPly(dir_ / "pit.ply", box, true);
+  ASSERT_EQ(run(args("pit.ply", "-m marble --unit mm", 64)).exitCode, 0);
+  const BakedPlyContents dark = readBakedPly(path("out.ply"));
+  const RunResult r =
+      run(args("pit.ply", "-m marble --unit mm --bounces auto --json " + path("r.json"), 64));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const BakedPlyContents lit = readBakedPly(path("out.ply"));
+  const auto report = nlohmann::json::parse(readFile(dir_ / "r.json"));
+  EXPECT_TRUE(report["interreflection"]["enabled"].get<bool>());
+  EXPECT_GE(report["interreflection"]["bounces"].get<int>(), 2);
+  EXPECT_LT(report["interreflection"]["last_change"].get<double>(), 0.001);
+  double darkPit = 0.0, litPit = 0.0;
+  for (std::size_t v = 0; v < box.positions.size(); ++v) {
+    if (std::hypot(box.positions[v].x, box.positions[v].y) > 3.0f || box.normals[v].z < 0.5f)
+      continue;
+    darkPit += dark.baked.irradiance[v].g;
+    litPit += lit.baked.irradiance[v].g;
+  }
+  EXPECT_GT(litPit, 1.15 * darkPit);  // marble: 1.43x measured
+  fs::remove(dir_ / "out.ply");
+  expectUsageError(run(args("pit.ply", "-m marble --unit mm --bounces -3")), "bounces");
+  expectUsageError(run(args("pit.ply", "-m marble --unit mm --bounces many")), "many");
 }
 
 TEST_F(BakeTool, SameOutputForOneAndTwoThreads) {

@@ -32,6 +32,7 @@ BakedMesh sampleBake(int subdivisions = 2) {
   for (std::size_t i = 0; i < b.mesh.vertexCount(); ++i) {
     b.irradiance.push_back({rng.uniform() * 3, rng.uniform() * 3, rng.uniform() * 3});
     b.exitance.push_back({rng.uniform() * 0.1f, rng.uniform() * 1e-3f, rng.uniform() * 1e-7f});
+    b.radianceNormal.push_back({rng.uniform() * 0.03f, rng.uniform() * 3e-4f, rng.uniform()});
   }
   b.materialName = "marble";
   b.sigmaA = {0.0021, 0.0041, 0.0071};
@@ -50,6 +51,7 @@ TEST(MeshBakedPly, RoundTripIsBitExact) {
   const BakedPlyContents r = readBakedPly(path);
   EXPECT_TRUE(r.hasIrradiance);
   EXPECT_TRUE(r.hasExitance);
+  EXPECT_TRUE(r.hasRadianceNormal);
   EXPECT_TRUE(r.hasMaterial);
   EXPECT_TRUE(r.hasUnits);
   EXPECT_TRUE(r.report.warnings.empty());
@@ -58,6 +60,7 @@ TEST(MeshBakedPly, RoundTripIsBitExact) {
   EXPECT_TRUE(bitEqual(r.baked.mesh.triangles, b.mesh.triangles));
   EXPECT_TRUE(bitEqual(r.baked.irradiance, b.irradiance));
   EXPECT_TRUE(bitEqual(r.baked.exitance, b.exitance));
+  EXPECT_TRUE(bitEqual(r.baked.radianceNormal, b.radianceNormal));
   EXPECT_EQ(r.baked.materialName, "marble");
   EXPECT_EQ(r.baked.sigmaA, b.sigmaA);
   EXPECT_EQ(r.baked.sigmaSPrime, b.sigmaSPrime);

@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "material/dipole_profile.h"
+#include "material/halfspace_albedo.h"
 #include "mesh/primitives.h"
 #include "optics/fresnel.h"
 #include "render/baked_shading.h"
@@ -43,13 +43,14 @@ TEST(BakedShading, EtaComesFromTheMaterialUnlessAsked) {
   EXPECT_TRUE(p.etaIsFallback);
 }
 
-TEST(BakedShading, BrdfAlbedoIsTheDipoleTotalReflectance) {
+// The albedo of the model the bake uses: the Monte Carlo half-space albedo, not the dipole's total.
+TEST(BakedShading, BrdfAlbedoIsTheHalfSpaceAlbedo) {
   BakedPlyContents c = marbleSphere();
   ShadingRequest request;
   request.mode = ShadingMode::Brdf;
   ShadingParameters p = shadingFor(c, request);
   const double alpha = 2.62 / (2.62 + 0.0041);
-  EXPECT_EQ(p.albedo.g, static_cast<float>(dipoleTotalReflectance(alpha, 1.4f)));
+  EXPECT_EQ(p.albedo.g, static_cast<float>(halfSpaceDiffuseAlbedo(alpha, 1.4f)));
   EXPECT_FALSE(p.albedoIsFallback);
   request.albedo = glm::vec3(0.1f, 0.2f, 0.3f);
   EXPECT_EQ(shadingFor(c, request).albedo, glm::vec3(0.1f, 0.2f, 0.3f));

@@ -16,6 +16,7 @@
 #include "material/dipole_profile.h"
 #include "mesh/baked_glb.h"
 #include "mesh/baked_mesh.h"
+#include "material/halfspace_albedo.h"
 #include "mesh/baked_ply.h"
 #include "mesh/primitives.h"
 #include "optics/fresnel.h"
@@ -117,7 +118,7 @@ TEST_F(SssRenderTool, BrdfAndSssAgreeOnAFlatUniformRegionAndDifferInAShadow) {
   glm::vec3 b;
   for (int c = 0; c < 3; ++c) {
     const double alpha = baked.sigmaSPrime[c] / (baked.sigmaSPrime[c] + baked.sigmaA[c]);
-    b[c] = static_cast<float>(dipoleTotalReflectance(alpha, eta) * transmitted * radiance[c]);
+    b[c] = static_cast<float>(halfSpaceDiffuseAlbedo(alpha, eta) * transmitted * radiance[c]);
   }
   for (std::size_t i = 0; i < baked.mesh.positions.size(); ++i) {
     baked.exitance[i] = baked.mesh.positions[i].x < 0.0f ? 0.3f * b : b;  // left half: a shadow

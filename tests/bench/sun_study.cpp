@@ -1,0 +1,296 @@
+// Issue 11's study rows under a sun, against the forward light tracer (lib/pathtrace/
+// light_tracer.h), environments unblurred: a sphere of radius 10 mm (accuracy_study's `sphere`)
+// and of radius 5 mm per material under a sun of 1 degree angular radius, and a 40 x 40 x 2 mm
+// slab lit from behind at 30 degrees. Measures today's bake (the escape energy model
+// that `auto` picks, and the half-space energy) stage by stage as tests/bench/accuracy_study.cpp
+// does: visibility rays, the energy plan, the auto profile and diffusion method at 1 %.
+//
+//   sun_study OUT_DIR [--paths N] [--only NAME]
+//
+// Writes OUT_DIR/sun.csv (one row per scene and energy model) and OUT_DIR/sun_bands.csv (per band).
+// Metrics, on the radiance along the normal (the bake's through its exit model
+// L = B F_t(1) / (pi (1 - 2 C_1))), all three channels:
+//  - bands: 8 equal-area bands of the polar angle from the sun direction (cos theta in steps of
+//    0.25); each band's mean is area-weighted over its vertices;
+//    band_rms = sqrt(sum_bands,c (bake - ref)^2 / sum ref^2), the reference's noise removed
+//    (band_rms_raw keeps it);
+//  - unlit: sum over the vertices facing away from the sun (n . s < 0) of bake / reference (area
+//    weighted); for the slab, the central part (|x|, |y| < 10 mm) of the face away from the sun.
+// The same metrics on the exitance B (no exit model) in the _B columns; ref_unscattered_B is the
+// share of the reference's B on the unlit part that crossed without scattering, and the
+// _scattered columns compare with the reference that leaves that light out (minScatteringOrder 1).
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "bake/diffusion.h"
+#include "bake/error_budget.h"
+#include "bake/finite_object_energy.h"
+#include "bake/visibility.h"
+#include "core/error.h"
+#include "core/timer.h"
+#include "material/diffusion_profile.h"
+#include "material/material.h"
+#include "mesh/primitives.h"
+#include "optics/fresnel.h"
+#include "pathtrace/light_tracer.h"
+
+namespace {
+
+using namespace sss;
+
+constexpr int kBands = 8;
+constexpr double kTolerance = 0.01;  // the bake's default
+constexpr int kVisibilityRays = 256;
+
+struct Scene {
+  std::string name;
+  TriangleMesh mesh;
+  Material material;
+  glm::vec3 sun;  // towards the sun, unit
+  bool slab;
+};
+
+// A black environment with a sun of angular radius `radiusDeg` (texel centres within it).
+Cubemap sunEnvironment(const glm::vec3& towardsSun, double radiusDeg, int faceSize) {
+  Cubemap env(faceSize, glm::vec3(0.0f));
+  const float cosRadius = float(std::cos(radiusDeg * M_PI / 180.0));
+  for (int f = 0; f < 6; ++f)
+    for (int y = 0; y < faceSize; ++y)
+      for (int x = 0; x < faceSize; ++x)
+        if (glm::dot(env.direction(f, x, y), towardsSun) >= cosRadius)
+          env.at(f, x, y) = glm::vec3(1000.0f);
+  return env;
+}
+
+// Which vertices a metric sums over, with their weights (areas); band b of vertex v, or -1.
+struct Selection {
+  std::vector<int> band;
+  std::vector<char> unlit;
+};
+
+Selection selectVertices(const Scene& s, const std::vector<float>& areas) {
+  Selection sel;
+  const std::size_t n = s.mesh.positions.size();
+  sel.band.assign(n, -1);
+  sel.unlit.assign(n, 0);
+  for (std::size_t v = 0; v < n; ++v) {
+    const glm::vec3 p = s.mesh.positions[v], nrm = s.mesh.normals[v];
+    if (s.slab) {  // the central part of the face away from the sun
+      sel.unlit[v] = glm::dot(nrm, s.sun) < -0.5f && std::abs(p.x) < 10.0f &&
+                     std::abs(p.y) < 10.0f && areas[v] > 0.0f;
+      continue;
+    }
+    const double c = glm::dot(glm::normalize(p), s.sun);  // sphere about the origin
+    sel.band[v] = std::min(kBands - 1, int((c + 1.0) / 2.0 * kBands));
+    sel.unlit[v] = c < 0.0;
+  }
+  return sel;
+}
+
+struct Metrics {
+  double bandRms = 0.0, bandRmsRaw = 0.0, unlitRatio = 0.0;
+  std::vector<glm::dvec3> bandBake, bandRef;
+};
+
+Metrics compare(const std::vector<glm::vec3>& bake, const std::vector<glm::vec3>& ref,
+                const std::vector<glm::vec3>& refSe, const std::vector<float>& areas,
+                const Selection& sel) {
+  Metrics m;
+  m.bandBake.assign(kBands, glm::dvec3(0.0));
+  m.bandRef.assign(kBands, glm::dvec3(0.0));
+  std::vector<glm::dvec3> bandVar(kBands, glm::dvec3(0.0));
+  std::vector<double> bandArea(kBands, 0.0);
+  glm::dvec3 unlitBake(0.0), unlitRef(0.0);
+  for (std::size_t v = 0; v < areas.size(); ++v) {
+    const double a = areas[v];
+    if (sel.unlit[v]) {
+      unlitBake += a * glm::dvec3(bake[v]);
+      unlitRef += a * glm::dvec3(ref[v]);
+    }
+    const int b = sel.band[v];
+    if (b < 0) continue;
+    m.bandBake[b] += a * glm::dvec3(bake[v]);
+    m.bandRef[b] += a * glm::dvec3(ref[v]);
+    bandVar[b] += a * a * glm::dvec3(refSe[v]) * glm::dvec3(refSe[v]);
+    bandArea[b] += a;
+  }
+  double num = 0, den = 0, noise = 0;
+  for (int b = 0; b < kBands; ++b) {
+    if (!(bandArea[b] > 0.0)) continue;
+    m.bandBake[b] /= bandArea[b];
+    m.bandRef[b] /= bandArea[b];
+    for (int c = 0; c < 3; ++c) {
+      num += (m.bandBake[b][c] - m.bandRef[b][c]) * (m.bandBake[b][c] - m.bandRef[b][c]);
+      den += m.bandRef[b][c] * m.bandRef[b][c];
+      noise += bandVar[b][c] / (bandArea[b] * bandArea[b]);
+    }
+  }
+  if (den > 0.0) {
+    m.bandRmsRaw = std::sqrt(num / den);
+    m.bandRms = std::sqrt(std::max(0.0, num - noise) / den);
+  }
+  const double ub = unlitBake.x + unlitBake.y + unlitBake.z;
+  const double ur = unlitRef.x + unlitRef.y + unlitRef.z;
+  m.unlitRatio = ur > 0.0 ? ub / ur : 0.0;
+  return m;
+}
+
+// Today's bake with the given energy model: B per vertex and the seconds it took.
+std::vector<glm::vec3> bakeExitance(const Scene& s, const Cubemap& env,
+                                    const std::vector<float>& areas, EnergyModel model,
+                                    std::string& chosen, double& seconds) {
+  const Stopwatch clock;
+  VisibilityOptions vis;
+  vis.samples = kVisibilityRays;
+  const float eta = float(s.material.eta);
+  const std::vector<glm::vec3> e = transmittedIrradianceWithVisibility(
+      s.mesh.positions, s.mesh.normals, s.mesh.triangles, env, eta, vis);
+  const ErrorBudget budget(kTolerance);
+  EnergyOptions energyOptions;
+  energyOptions.model = model;
+  energyOptions.noiseBudget = budget.walkBudget();
+  const EnergyPlan plan = planFiniteObjectEnergy(s.mesh, areas, s.material, energyOptions);
+  const std::string profileName = autoProfileName(plan.model);
+  const auto profile = makeProfile(profileName, s.material);
+  DiffusionOptions dopt;
+  dopt.quiet = true;
+  const double energyError = plan.model == EnergyModel::Escape ? plan.escape.relativeStdError : 0.0;
+  dopt.tolerance =
+      budget.diffusionTolerance(plan.model == EnergyModel::Escape, energyError, std::nullopt);
+  const DiffusionInput input{s.mesh.positions, s.mesh.normals, areas, e};
+  const DiffusionResult r = diffuseWithEnergy(input, *profile, dopt, plan, s.material);
+  chosen = std::string(kEnergyModelNames.name(plan.model)) + "/" + profileName + "/" +
+           kDiffusionMethodNames.name(r.report.method);
+  seconds = clock.seconds();
+  return r.exitance;
+}
+
+void study(const Scene& s, uint64_t paths, std::ofstream& csv, std::ofstream& bandsCsv) {
+  const Cubemap env = sunEnvironment(s.sun, 1.0, 256);
+  const std::vector<float> areas = vertexAreas(s.mesh);
+  HomogeneousMedium medium;
+  medium.sigmaA = s.material.sigmaA;
+  medium.sigmaS = s.material.sigmaS();
+  medium.eta = s.material.eta;
+  medium.g = s.material.g;
+  LightTraceOptions lo;
+  lo.paths = paths;
+  const LightTraceResult ref =
+      lightTraceSubsurface(s.mesh.positions, s.mesh.normals, s.mesh.triangles,
+                           DistantLight::environment(env), medium, lo);
+  // The reference without the light that crossed unscattered (what no diffusion model produces,
+  // issue 11 part 5): its share of the unlit part's B, and the errors against it.
+  const Selection sel = selectVertices(s, areas);
+  lo.minScatteringOrder = 1;
+  const LightTraceResult scattered =
+      lightTraceSubsurface(s.mesh.positions, s.mesh.normals, s.mesh.triangles,
+                           DistantLight::environment(env), medium, lo);
+  double all = 0.0, ms = 0.0;
+  for (std::size_t v = 0; v < areas.size(); ++v) {
+    if (!sel.unlit[v]) continue;
+    for (int c = 0; c < 3; ++c) {
+      all += areas[v] * ref.exitance[v][c];
+      ms += areas[v] * scattered.exitance[v][c];
+    }
+  }
+  const double unscatteredShare = all > 0.0 ? 1.0 - ms / all : 0.0;
+  std::printf("%s: reference %llu paths, %.1f s, %.0f events/path, %llu re-entries\n",
+              s.name.c_str(), (unsigned long long)paths, ref.seconds, ref.meanScatteringEvents,
+              (unsigned long long)ref.reentries);
+  std::fflush(stdout);
+  const float exitScale = float(fresnelTransmittance(1.0f, float(s.material.eta)) *
+                                exitRadianceScale(float(s.material.eta)));
+  for (EnergyModel model : {EnergyModel::Auto, EnergyModel::HalfSpace}) {
+    std::string chosen;
+    double seconds = 0.0;
+    const std::vector<glm::vec3> b = bakeExitance(s, env, areas, model, chosen, seconds);
+    std::vector<glm::vec3> l(b.size());
+    for (std::size_t v = 0; v < b.size(); ++v) l[v] = b[v] * exitScale;
+    const Metrics mL = compare(l, ref.radiance, ref.radianceStdErr, areas, sel);
+    const Metrics mB = compare(b, ref.exitance, ref.exitanceStdErr, areas, sel);
+    const Metrics mS = compare(l, scattered.radiance, scattered.radianceStdErr, areas, sel);
+    const Metrics mSB = compare(b, scattered.exitance, scattered.exitanceStdErr, areas, sel);
+    const char* energy = model == EnergyModel::Auto ? "auto" : "halfspace";
+    char line[512];
+    std::snprintf(line, sizeof line,
+                  "%s,%s,%s,%s,%zu,%.5f,%.5f,%.4f,%.5f,%.4f,%.4f,%.5f,%.4f,%.4f,%.3f,%llu,%.1f\n",
+                  s.name.c_str(), s.material.name.c_str(), energy, chosen.c_str(),
+                  s.mesh.positions.size(), mL.bandRms, mL.bandRmsRaw, mL.unlitRatio, mB.bandRms,
+                  mB.unlitRatio, unscatteredShare, mS.bandRms, mS.unlitRatio, mSB.unlitRatio,
+                  seconds, (unsigned long long)paths, ref.seconds + scattered.seconds);
+    csv << line;
+    csv.flush();
+    std::printf(
+        "  %-9s %-32s band rms L %.4f (raw %.4f), unlit L %.3fx; B: %.4f, %.3fx; unscattered "
+        "%.3f; vs scattered-only L: %.4f, %.3fx, B %.3fx\n",
+        energy, chosen.c_str(), mL.bandRms, mL.bandRmsRaw, mL.unlitRatio, mB.bandRms, mB.unlitRatio,
+        unscatteredShare, mS.bandRms, mS.unlitRatio, mSB.unlitRatio);
+    std::fflush(stdout);
+    if (s.slab) continue;
+    for (int band = 0; band < kBands; ++band) {
+      const glm::dvec3 r = mL.bandRef[band], k = mL.bandBake[band];
+      std::snprintf(line, sizeof line, "%s,%s,%s,%d,%.2f,%.2f,%.5g,%.5g,%.5g,%.4f,%.4f,%.4f\n",
+                    s.name.c_str(), s.material.name.c_str(), energy, band,
+                    -1.0 + 2.0 * band / kBands, -1.0 + 2.0 * (band + 1) / kBands, r.x, r.y, r.z,
+                    r.x > 0 ? k.x / r.x : 0.0, r.y > 0 ? k.y / r.y : 0.0,
+                    r.z > 0 ? k.z / r.z : 0.0);
+      bandsCsv << line;
+    }
+    bandsCsv.flush();
+  }
+}
+
+int run(int argc, char** argv) {
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: sun_study OUT_DIR [--paths N] [--only NAME]\n");
+    return 2;
+  }
+  const std::string outDir = argv[1];
+  uint64_t paths = 500000;
+  std::string only;
+  for (int i = 2; i < argc; ++i) {
+    if (std::string(argv[i]) == "--paths" && i + 1 < argc) paths = std::strtoull(argv[++i], 0, 10);
+    if (std::string(argv[i]) == "--only" && i + 1 < argc) only = argv[++i];
+  }
+  std::filesystem::create_directories(outDir);
+  const glm::vec3 sun = glm::normalize(glm::vec3(0.3f, 0.8f, 0.5f));
+  // 30 degrees from the slab's normal: the light crossing unscattered leaves along it, outside
+  // the reference's 15-degree cone about the normal (it is in B).
+  const glm::vec3 behind = glm::normalize(glm::vec3(0.5f, 0.0f, -0.866f));
+  std::vector<Scene> scenes;
+  for (float radius : {10.0f, 5.0f})
+    for (const char* m : {"marble", "skin1", "ketchup"})
+      scenes.push_back({std::string(radius == 10.0f ? "sphere-sun-" : "sphere-r5-sun-") + m,
+                        makeIcosphere(3, radius), findMaterialPreset(m), sun, false});
+  for (const char* m : {"marble", "skin1", "ketchup"})
+    scenes.push_back({std::string("slab-backlit-") + m, makeSlab(40.0f, 2.0f, 20),
+                      findMaterialPreset(m), behind, true});
+  std::ofstream csv(outDir + "/sun.csv");
+  csv << "scene,material,energy,chosen,vertices,band_rms_L,band_rms_L_raw,unlit_ratio_L,"
+         "band_rms_B,unlit_ratio_B,ref_unscattered_B,band_rms_L_scattered,unlit_ratio_L_scattered,"
+         "unlit_ratio_B_scattered,bake_s,ref_paths,ref_s\n";
+  std::ofstream bandsCsv(outDir + "/sun_bands.csv");
+  bandsCsv << "scene,material,energy,band,cos_lo,cos_hi,ref_L_r,ref_L_g,ref_L_b,ratio_r,ratio_g,"
+              "ratio_b\n";
+  for (const Scene& s : scenes)
+    if (only.empty() || s.name.find(only) != std::string::npos) study(s, paths, csv, bandsCsv);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "sun_study: error: %s\n", e.what());
+    return 1;
+  }
+}

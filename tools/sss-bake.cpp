@@ -250,10 +250,7 @@ int main(int argc, char** argv) {
   app.add_option("-o,--output", output,
                  "Output baked mesh: .ply or .glb (glTF 2.0 binary), or a folder DIR/ (several "
                  "meshes: DIR/<stem>.ply)")
-      ->required()
-      ->check(sss::cli::checkedBy<std::string>([](const std::string& path) {
-        if (!sss::namesFolder(path)) sss::checkBakedMeshPath(path);
-      }));
+      ->required();
   addMaterialOptions(app, material);
   addUnitOptions(app, s);
   addBakeOptions(app, s);
@@ -271,6 +268,7 @@ int main(int argc, char** argv) {
       return bakeBatch(meshes, output, jsonPath, s);
     }
     s.meshPath = meshes.front();
+    sss::checkBakedMeshPath(output);
     sss::checkOutputsAreNotInputs({{"-o", output}, {"--json", jsonPath}},
                                   {{"the mesh", s.meshPath}, {"the environment", s.environment}});
     if (skyOption->count() > 0) s.environment = sky.empty() ? "sky" : "sky:" + sky;

@@ -23,6 +23,7 @@
 #include "mesh/primitives.h"
 #include "optics/fresnel.h"
 #include "support/glb_test.h"
+#include "support/tool_test.h"
 
 namespace fs = std::filesystem;
 
@@ -46,10 +47,7 @@ RunResult run(const std::string& arguments) {
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
 }
 
-std::string readFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using test::readFile;
 
 // ASCII PLY with optional normals; faces as given.
 void writeAsciiPly(const fs::path& path, const TriangleMesh& mesh, bool normals) {

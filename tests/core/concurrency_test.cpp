@@ -24,10 +24,7 @@ using test::describeStatus;
 
 const std::string kBake = SSS_BINARY_DIR "/tools/sss-bake";
 
-std::string readFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using test::readFile;
 
 class Concurrency : public ::testing::Test {
  protected:

@@ -31,10 +31,7 @@ using test::describeStatus;
 const std::string kBake = SSS_BINARY_DIR "/tools/sss-bake";
 const std::string kRender = SSS_BINARY_DIR "/tools/sss-render";
 
-std::string readFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using test::readFile;
 
 class Interruption : public ::testing::Test {
  protected:

@@ -23,10 +23,7 @@ namespace {
 
 using test::ScratchDir;
 
-std::string readFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using test::readFile;
 
 // Sets SSS_MEMORY_LIMIT_MB for one scope.
 class MemoryLimit {

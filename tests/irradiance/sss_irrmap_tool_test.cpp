@@ -209,34 +209,20 @@ TEST_F(SssIrrmap, BadOptions) {
   EXPECT_TRUE(files().empty());
 }
 
-// Issue 13: the files of the scratch directory and their bytes, before and after a refused run.
-std::vector<std::pair<std::string, std::string>> contents(const test::ScratchDir& dir) {
-  std::vector<std::pair<std::string, std::string>> files;
-  for (const std::string& name : dir.fileNames()) {
-    if (fs::is_directory(dir.path(name))) {
-      files.emplace_back(name, "<directory>");
-      continue;
-    }
-    std::ifstream in(dir.path(name), std::ios::binary);
-    files.emplace_back(name, std::string(std::istreambuf_iterator<char>(in), {}));
-  }
-  return files;
-}
-
 TEST_F(SssIrrmap, LyingHeaderAndDirectoryAreNamedErrors) {
   // Before: "sss-irrmap: error: std::bad_alloc" for both.
   std::ofstream(path("tall.hdr"), std::ios::binary)
       << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 99999999999 +X 64\n\x01\x02\x03\x04";
   std::ofstream(path("short.hdr"), std::ios::binary)
       << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 512 +X 1024\n\x01\x02\x03\x04";
-  const auto before = contents(scratch_);
+  const auto before = scratch_.contents();
   expectRefused(path("tall.hdr"), path("tall.hdr") +
                                       ": header declares 64x2147483647 pixels, more than the "
                                       "268435456 (2^28) an image may have");
   expectRefused(path("short.hdr"), path("short.hdr") +
                                        ": header declares 1024x512 pixels, which take at least "
                                        "38912 bytes, but the file has 54 (truncated?)");
-  EXPECT_EQ(contents(scratch_), before);
+  EXPECT_EQ(scratch_.contents(), before);
   fs::create_directory(path("folder.exr"));
   expectRefused(path("folder.exr"), path("folder.exr") + ": is a directory, not a file");
 }
@@ -263,11 +249,11 @@ TEST_F(SssIrrmap, OutputNamingTheInputIsAUsageError) {
            {"--sky -o " + path("e.exr") + " --radiance " + path("e.exr"),
             "-o " + path("e.exr") + " is the same file as --radiance (" + path("e.exr") +
                 "): two outputs cannot share a file"}}) {
-    const auto before = contents(scratch_);
+    const auto before = scratch_.contents();
     const ToolRun r = run(c.args);
     EXPECT_EQ(r.exitCode, 2) << c.args;
     EXPECT_EQ(r.output, "sss-irrmap: error: " + c.message + "\n");
-    EXPECT_EQ(contents(scratch_), before) << c.args;
+    EXPECT_EQ(scratch_.contents(), before) << c.args;
   }
 }
 

@@ -14,9 +14,9 @@
 
 #include "envmap/image.h"
 #include "material/dipole_profile.h"
+#include "material/halfspace_albedo.h"
 #include "mesh/baked_glb.h"
 #include "mesh/baked_mesh.h"
-#include "material/halfspace_albedo.h"
 #include "mesh/baked_ply.h"
 #include "mesh/primitives.h"
 #include "optics/fresnel.h"
@@ -312,20 +312,6 @@ TEST_F(SssRenderTool, BadOptionsAreRejectedBeforeAnyOutput) {
   expectOnlyInputs(2);
 }
 
-// Issue 13: the scratch directory's files and their bytes, before and after a refused run.
-std::vector<std::pair<std::string, std::string>> contents(const test::ScratchDir& dir) {
-  std::vector<std::pair<std::string, std::string>> files;
-  for (const std::string& name : dir.fileNames()) {
-    if (fs::is_directory(dir.path(name))) {
-      files.emplace_back(name, "<directory>");
-      continue;
-    }
-    std::ifstream in(dir.path(name), std::ios::binary);
-    files.emplace_back(name, std::string(std::istreambuf_iterator<char>(in), {}));
-  }
-  return files;
-}
-
 TEST_F(SssRenderTool, HostileInputsAreRefusedAndLeaveTheFilesAsTheyWere) {
   writeBakedPly(path("sphere.ply"), bakedSphere());
   BakedMesh far = bakedSphere();
@@ -362,12 +348,12 @@ TEST_F(SssRenderTool, HostileInputsAreRefusedAndLeaveTheFilesAsTheyWere) {
             "--env-size: a cubemap face size must be 1 to 8192 texels, got 9000", 2},
            {path("sphere.ply") + env + out + " --eta 0.5", "--eta: eta 0.5 is outside [1, 3]",
             2}}) {
-    const auto before = contents(scratch_);
+    const auto before = scratch_.contents();
     const ToolRun r = run(c.args + " -q");
     EXPECT_EQ(r.exitCode, c.exitCode) << c.args << "\n" << r.output;
     EXPECT_EQ(r.output.rfind("sss-render: error: " + c.message, 0), 0u) << r.output;
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
-    EXPECT_EQ(contents(scratch_), before) << c.args;
+    EXPECT_EQ(scratch_.contents(), before) << c.args;
   }
 }
 

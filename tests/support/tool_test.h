@@ -11,11 +11,30 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <system_error>
+#include <utility>
 #include <vector>
 
 namespace sss::test {
+
+// A whole file's bytes ("" when it cannot be read).
+inline std::string readFile(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// Names of everything in `dir`, sorted (none when it does not exist): a batch's outputs, and no
+// temporary file among them.
+inline std::vector<std::string> fileNamesIn(const std::string& dir) {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(dir, ec))
+    names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
 
 // A fresh directory per test under the system temp directory, removed afterwards. The process id
 // and the test's name keep parallel test processes apart.
@@ -40,14 +59,18 @@ class ScratchDir {
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
 
   // Names of everything in the directory, sorted: what a failed run must leave unchanged.
-  std::vector<std::string> fileNames() const {
-    std::vector<std::string> names;
-    for (const auto& entry : std::filesystem::directory_iterator(dir_))
-      names.push_back(entry.path().filename().string());
-    std::sort(names.begin(), names.end());
-    return names;
-  }
+  std::vector<std::string> fileNames() const { return fileNamesIn(dir_.string()); }
   std::size_t fileCount() const { return fileNames().size(); }
+  // Each file's name and bytes ("<directory>" for a folder): what a refused run must leave as
+  // it was (issue 13).
+  std::vector<std::pair<std::string, std::string>> contents() const {
+    std::vector<std::pair<std::string, std::string>> files;
+    for (const std::string& name : fileNames()) {
+      files.emplace_back(
+          name, std::filesystem::is_directory(dir_ / name) ? "<directory>" : readFile(dir_ / name));
+    }
+    return files;
+  }
   void makeDir(const std::string& name) const { std::filesystem::create_directories(dir_ / name); }
 
  private:
@@ -75,17 +98,6 @@ inline ToolRun runShell(const std::string& command) {
   const int status = ::pclose(pipe);
   result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return result;
-}
-
-// Names of everything in `dir`, sorted (none when it does not exist): a batch's outputs, and no
-// temporary file among them.
-inline std::vector<std::string> fileNamesIn(const std::string& dir) {
-  std::vector<std::string> names;
-  std::error_code ec;
-  for (const auto& entry : std::filesystem::directory_iterator(dir, ec))
-    names.push_back(entry.path().filename().string());
-  std::sort(names.begin(), names.end());
-  return names;
 }
 
 inline void writeText(const std::string& path, const std::string& text) {

@@ -1,10 +1,12 @@
 // Shading of the baked surface (Li & Guo's CubeMapping.vert/.frag, made physically consistent):
-//   L = B F_t(mu_o, eta) * exitScale + F_r(mu_o, eta) * L_env(reflect(-w_o, n))
+//   L = B F_t(mu_o, eta) w(mu_o) * exitScale + F_r(mu_o, eta) * L_env(reflect(-w_o, n))
 // B: exitance baked per vertex (MODE_SSS), or albedo * E(n) from the diffuse irradiance cubemap
 // (MODE_BRDF: a Lambertian surface, the paper's Figure 3 comparison, so that the two modes differ
 // only by light transport). exitScale is 1 / (pi (1 - 2 C_1(eta))) for the normalized exit model
 // (the emitted flux equals B; d'Eon 2012) or 1 / pi (Jensen et al. 2001). The paper writes F_r for
-// the factor that lets light out; that is the transmittance F_t = 1 - F_r.
+// the factor that lets light out; that is the transmittance F_t = 1 - F_r. w(mu_o) per channel is
+// the calibrated exit model's angular weight (material/directional_albedo_weight.h: the half-space
+// Monte Carlo's shape across albedo, flux-preserving), all 1 for the other two models.
 // REFLECT_MIX reproduces the paper's constant mix(base, cube, reflect_factor) instead.
 // MODE_IRRADIANCE shows the baked E as a white Lambertian surface (E / pi); MODE_NORMALS shows
 // n * 0.5 + 0.5.
@@ -22,12 +24,19 @@ uniform mat4 uViewProjection;
 uniform vec3 uEye;
 uniform float uEta;
 uniform float uExitScale;
+uniform vec3 uExitWeight[17];  // w(mu) at mu = k / 16
 uniform vec3 uAlbedo;
 uniform samplerCube uIrradiance;
 
 out vec3 vBase;       // view-independent radiance: the exit term (or E / pi)
 out vec3 vDirection;  // reflected view direction (the normal for MODE_NORMALS)
 out float vFresnel;   // F_r(mu_o) weighting the reflection
+
+vec3 exitWeight(float mu) {
+  float t = clamp(mu, 0.0, 1.0) * 16.0;
+  int k = min(int(t), 15);
+  return mix(uExitWeight[k], uExitWeight[k + 1], t - float(k));
+}
 
 void main() {
   gl_Position = uViewProjection * vec4(aPosition, 1.0);
@@ -47,6 +56,6 @@ void main() {
 #elif defined(MODE_BRDF)
   vBase = uAlbedo * textureLod(uIrradiance, n, 0.0).rgb * ((1.0 - vFresnel) * uExitScale);
 #else
-  vBase = aValue * ((1.0 - vFresnel) * uExitScale);
+  vBase = aValue * exitWeight(mu) * ((1.0 - vFresnel) * uExitScale);
 #endif
 }

@@ -146,6 +146,9 @@ void addBakeOptions(CLI::App& app, sss::BakeSettings& s) {
   cli::addEnumOption(app, "--energy", s.energy, sss::kEnergyModelNames,
                      "escape rescales B by the object's own escape probability (random walks), "
                      "for objects small against the diffusion length");
+  cli::addEnumOption(app, "--entry", s.entry, sss::kEntryModelNames,
+                     "directional weighs light by how much of it a half-space returns from its "
+                     "angle (a sun); diffuse counts every angle alike, as the profiles assume");
   app.add_option("--tolerance", s.tolerance, "Target relative RMS error of the exitance")
       ->check(cli::checkedBy<double>(sss::checkTolerance))
       ->capture_default_str();

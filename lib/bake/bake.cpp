@@ -7,7 +7,7 @@
 #include "bake/interreflection.h"
 #include "core/timer.h"
 #include "envmap/environment.h"
-#include "optics/fresnel.h"
+#include "material/directional_albedo_weight.h"
 
 namespace sss {
 
@@ -15,10 +15,11 @@ namespace {
 
 LightingInput lightingInput(const BakeSettings& s, const PreparedMesh& mesh,
                             const Cubemap& radiance, const EnergyStage& energy,
-                            const ErrorBudget& budget) {
+                            const ErrorBudget& budget, const DirectionalAlbedoWeight& weight) {
   const bool escape = energy.report.escape();
   LightingInput in{mesh.meshMm, mesh.areasMm2, radiance, *energy.profile};
   in.eta = static_cast<float>(s.material.eta);
+  if (s.entry == EntryModel::Directional && s.method != BakeMethod::PathTrace) in.entry = &weight;
   in.mode = s.visibility;
   in.samples = s.samples;
   in.visibilityBudget = budget.visibilityBudget(escape);
@@ -58,11 +59,14 @@ BakeErrorReport errorReport(const BakeReport& r, double tolerance) {
 // Stage 4b: the light the object sends to itself (interreflection.h), iterated with the transport;
 // E and B become the converged ones.
 void addInterreflection(const BakeSettings& s, const PreparedMesh& mesh, const Cubemap& radiance,
-                        const TransportInput& transportIn, VertexLighting& lighting,
-                        VertexExitance& exitance, InterreflectionReport& report) {
+                        const TransportInput& transportIn, const DirectionalAlbedoWeight& weight,
+                        VertexLighting& lighting, VertexExitance& exitance,
+                        InterreflectionReport& report) {
   const Stopwatch clock;
   InterreflectionOptions options;
   options.rays = s.interreflectionRays;
+  options.weight = &weight;
+  options.weightEntry = !lighting.entryWeighted.empty();
   options.seed = s.seed;
   options.threads = s.threads;
   const TriangleMesh& m = mesh.meshMm;
@@ -77,9 +81,15 @@ void addInterreflection(const BakeSettings& s, const PreparedMesh& mesh, const C
     return std::move(b.exitance);
   };
   // Auto: converged to a tenth of the tolerance, well inside the budget of B.
-  BounceResult r = iterateInterreflection(gather, lighting.irradiance, transportOf, s.bounces,
-                                          0.1 * s.tolerance);
+  const std::vector<glm::vec3>& direct = lighting.transportIrradiance();
+  BounceResult r =
+      iterateInterreflection(gather, direct, transportOf, s.bounces, 0.1 * s.tolerance);
+  // E in the output: the unweighted direct light plus what the object sent itself.
+  if (!lighting.entryWeighted.empty())
+    for (std::size_t i = 0; i < r.irradiance.size(); ++i)
+      r.irradiance[i] += lighting.irradiance[i] - direct[i];
   lighting.irradiance = std::move(r.irradiance);
+  lighting.entryWeighted.clear();
   exitance.exitance = std::move(r.exitance);
   report.enabled = true;
   report.automatic = s.bounces == kAutoBounces;
@@ -96,10 +106,11 @@ BakedMesh assembleBakedMesh(TriangleMesh mesh, VertexLighting& lighting, VertexE
   baked.mesh = std::move(mesh);
   baked.irradiance = std::move(lighting.irradiance);
   baked.exitance = std::move(exitance.exitance);
-  // The radiance leaving along the normal under the exit model the tools use (optics/fresnel.h):
-  // L = B F_t(1, eta) / (pi (1 - 2 C_1(eta))); for the path tracer too, whose B it converts.
-  const float eta = float(s.material.eta);
-  const float exitScale = float(fresnelTransmittance(1.0f, eta) * exitRadianceScale(eta));
+  // The radiance leaving along the normal under the exit model sss-render uses by default (the
+  // calibrated one, material/directional_albedo_weight.h): L = B F_t(1, eta) w(1) / (pi (1 -
+  // 2 C_1(eta))); for the path tracer too, whose B it converts.
+  const glm::vec3 exitScale =
+      calibratedExitRadiance(DirectionalAlbedoWeight(s.material), 1.0f, float(s.material.eta));
   for (const glm::vec3& b : baked.exitance) baked.radianceNormal.push_back(b * exitScale);
   baked.materialName = s.material.name;
   baked.sigmaA = s.material.sigmaA;
@@ -112,7 +123,8 @@ BakedMesh assembleBakedMesh(TriangleMesh mesh, VertexLighting& lighting, VertexE
       "bake method=" + r.transport.methodName() +
       (r.transport.pathTrace ? ""
                              : " profile=" + r.energy.profileName +
-                                   " energy=" + kEnergyModelNames.name(r.energy.plan.model)) +
+                                   " energy=" + kEnergyModelNames.name(r.energy.plan.model) +
+                                   " entry=" + kEntryModelNames.name(r.lighting.entry)) +
       " visibility=" + kVisibilityModeNames.name(s.visibility) + " samples=" +
       std::to_string(rays ? r.lighting.rays.samples : 0) + " seed=" + std::to_string(s.seed));
   return baked;
@@ -132,9 +144,11 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
   EnergyStage energy =
       planEnergy({mesh.meshMm, mesh.areasMm2, s.material, s.energy, s.profile, budget.walkBudget(),
                   s.method != BakeMethod::PathTrace, s.seed, s.threads, s.quiet});
-  VertexLighting lighting = lightVertices(lightingInput(s, mesh, radiance, energy, budget));
-  TransportInput transportIn{mesh.meshMm, mesh.areasMm2,   lighting.irradiance, radiance,
-                             s.material,  *energy.profile, energy.report.plan,  s.method};
+  const DirectionalAlbedoWeight weight(s.material);
+  VertexLighting lighting = lightVertices(lightingInput(s, mesh, radiance, energy, budget, weight));
+  TransportInput transportIn{mesh.meshMm,        mesh.areasMm2, lighting.transportIrradiance(),
+                             radiance,           s.material,    *energy.profile,
+                             energy.report.plan, s.method};
   transportIn.diffusionTolerance = diffusionTolerance(s, budget, energy.report, lighting.report);
   transportIn.walks = s.walks;
   transportIn.seed = s.seed;
@@ -142,7 +156,8 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
   transportIn.quiet = s.quiet;
   VertexExitance exitance = transport(transportIn);
   if (s.bounces != 0 && s.method != BakeMethod::PathTrace)
-    addInterreflection(s, mesh, radiance, transportIn, lighting, exitance, report.interreflection);
+    addInterreflection(s, mesh, radiance, transportIn, weight, lighting, exitance,
+                       report.interreflection);
 
   report.energy = std::move(energy.report);
   report.lighting = std::move(lighting.report);

@@ -79,6 +79,7 @@ Json toJson(const EnergyStageReport& r) {
 Json toJson(const LightingReport& r) {
   Json j;
   j["mode"] = kVisibilityModeNames.name(r.mode);
+  j["entry"] = kEntryModelNames.name(r.entry);
   if (r.mode == VisibilityMode::None) {
     j["irradiance_method"] = kIrradianceMethodNames.name(r.cubemap.method);
     j["irradiance_face_size"] = r.cubemap.faceSize;

@@ -43,6 +43,14 @@ inline constexpr EnumNames<ProfileChoice, 4> kProfileChoiceNames{
       {ProfileChoice::Beam, "beam"},
       {ProfileChoice::Burley, "burley"}}}};
 
+// How light entering from a direction counts (material/directional_albedo_weight.h): weighted by
+// the half-space's directional albedo relative to diffuse light (directional), or every direction
+// alike, as the diffusion profiles assume (diffuse). Only visibility rays can weight per
+// direction; the cubemap lookup is diffuse.
+enum class EntryModel { Directional, Diffuse };
+inline constexpr EnumNames<EntryModel, 2> kEntryModelNames{
+    "entry", {{{EntryModel::Directional, "directional"}, {EntryModel::Diffuse, "diffuse"}}}};
+
 struct BakeSettings {
   std::string meshPath;
   std::string environment;  // an environment file, or "sky" / "sky:<spec>" (loadEnvironment)
@@ -56,6 +64,7 @@ struct BakeSettings {
   BakeMethod method = BakeMethod::Auto;
   ProfileChoice profile = ProfileChoice::Auto;  // unused by PathTrace
   EnergyModel energy = EnergyModel::Auto;       // unused by PathTrace
+  EntryModel entry = EntryModel::Directional;   // unused by PathTrace
   // Relative RMS of B; ErrorBudget (error_budget.h) splits it between the estimates.
   double tolerance = 0.01;
   int walks = 256;  // PathTrace: random walks per vertex (>= 1)

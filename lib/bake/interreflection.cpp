@@ -27,7 +27,8 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
   if (options.rays < 1) fail("", "interreflection: at least one ray per vertex");
   const TriangleScene scene(positions, triangles);
   const float extent = boundsOf(positions).longestSide();
-  const float exitScale = float(exitRadianceScale(eta));
+  const DirectionalAlbedoWeight flat;
+  const DirectionalAlbedoWeight& weight = options.weight ? *options.weight : flat;
   const uint32_t rays = uint32_t(options.rays);
   const float perRay = float(M_PI / options.rays);
   std::vector<std::vector<Hit>> perVertex(n);
@@ -63,9 +64,10 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
         float muH = -glm::dot(w, nh);
         if (!(muH > 0.0f)) muH = -glm::dot(w, hit.faceNormal);
         if (!(muH > 0.0f)) continue;  // the back of a surface: no light leaves towards v
-        const float entry = perRay * fresnelTransmittance(local.z, eta);
+        const glm::vec3 entry = perRay * fresnelTransmittance(local.z, eta) *
+                                (options.weightEntry ? weight.at(local.z) : glm::vec3(1.0f));
         const glm::vec3 mirror = w + 2.0f * muH * nh;
-        perVertex[v].push_back({tri, bary, entry * fresnelTransmittance(muH, eta) * exitScale,
+        perVertex[v].push_back({tri, bary, entry * calibratedExitRadiance(weight, muH, eta),
                                 entry * fresnelDielectric(muH, eta) * radiance.sample(mirror)});
       }
     }

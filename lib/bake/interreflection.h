@@ -26,11 +26,18 @@
 #include <glm/vec3.hpp>
 
 #include "envmap/cubemap.h"
+#include "material/directional_albedo_weight.h"
 
 namespace sss {
 
 struct InterreflectionOptions {
   int rays = 64;  // cosine-distributed rays per vertex (>= 1)
+  // The material's directional albedo weight (material/directional_albedo_weight.h): the light
+  // leaving the hit point follows the calibrated exit model, and with weightEntry the light
+  // arriving is weighted as the transport's direct light is (directional entry). Null: w = 1
+  // (the normalized exit model, diffuse entry). Not kept.
+  const DirectionalAlbedoWeight* weight = nullptr;
+  bool weightEntry = false;
   uint64_t seed = 1;
   int threads = 0;  // <= 0: all cores
 };
@@ -51,8 +58,8 @@ class InterreflectionGather {
   struct Hit {
     glm::uvec3 vertices;
     glm::vec3 barycentric;
-    float exitWeight;      // pi / N F_t(mu) F_t(mu_h) / (pi (1 - 2 C_1))
-    glm::vec3 reflection;  // pi / N F_t(mu) F_r(mu_h) L_env(r)
+    glm::vec3 exitWeight;  // pi / N F_t(mu) w(mu) F_t(mu_h) w(mu_h) / (pi (1 - 2 C_1))
+    glm::vec3 reflection;  // pi / N F_t(mu) w(mu) F_r(mu_h) L_env(r)
   };
   std::vector<uint32_t> offsets_;  // hits of vertex v: [offsets_[v], offsets_[v + 1])
   std::vector<Hit> hits_;

@@ -45,13 +45,15 @@ std::string samplesReason(const LightingInput& in, double error, double share) {
 }
 
 // E with the mesh's own shadows, the ray count from the pilot's noise model when auto.
-std::vector<glm::vec3> lightWithRays(const LightingInput& in, LightingReport& report) {
+std::vector<glm::vec3> lightWithRays(const LightingInput& in, LightingReport& report,
+                                     std::vector<glm::vec3>& entryWeighted) {
   RayLightingReport& rays = report.rays;
   VisibilityOptions options;
   options.samples = in.samples;
   options.seed = in.seed;
   options.threads = in.threads;
   options.quiet = in.quiet;
+  options.entry = in.entry;
   options.pilot = VisibilityPilotOptions{};
   options.chooseSamples = [&](const VisibilityPilot& pilot) {
     const Stopwatch clock;
@@ -71,6 +73,7 @@ std::vector<glm::vec3> lightWithRays(const LightingInput& in, LightingReport& re
   rays.samplesReason = samplesReason(in, report.estimatedError, in.visibilityShare);
   rays.irradianceError = rays.noiseModel.irradianceErrorAt(rays.visibility.pilot, rays.samples);
   rays.budget = in.samples == 0 ? in.visibilityBudget : in.tolerance;
+  entryWeighted = std::move(rays.visibility.entryWeighted);
   return e;
 }
 
@@ -80,8 +83,10 @@ VertexLighting lightVertices(const LightingInput& in) {
   const Stopwatch clock;
   VertexLighting out;
   out.report.mode = in.mode;
-  out.irradiance = in.mode == VisibilityMode::None ? lightFromCubemap(in, out.report)
-                                                   : lightWithRays(in, out.report);
+  out.irradiance = in.mode == VisibilityMode::None
+                       ? lightFromCubemap(in, out.report)
+                       : lightWithRays(in, out.report, out.entryWeighted);
+  out.report.entry = out.entryWeighted.empty() ? EntryModel::Diffuse : EntryModel::Directional;
   out.report.seconds = clock.seconds();
   info("irradiance (" + std::string(kVisibilityModeNames.name(in.mode)) +
            "): " + format("%.3f s", out.report.seconds),

@@ -28,6 +28,9 @@ struct LightingInput {
   const Cubemap& radiance;
   const DiffusionProfile& profile;  // weights the visibility noise model
   float eta = 1.3f;
+  // Rays: also E_w, the irradiance weighted by the directional entry (not owned; null: none).
+  // The cubemap lookup (mode none) has no per-direction samples to weight: E_w = E there.
+  const DirectionalAlbedoWeight* entry = nullptr;
   VisibilityMode mode = VisibilityMode::Rays;
   int samples = 0;                // rays per vertex; 0: auto, from visibilityBudget
   double visibilityBudget = 0.0;  // auto samples: the noise in B the rays may leave
@@ -60,6 +63,7 @@ struct RayLightingReport {
 
 struct LightingReport {
   VisibilityMode mode = VisibilityMode::Rays;
+  EntryModel entry = EntryModel::Diffuse;  // what the transport's irradiance used
   // Predicted relative RMS error of B from E's error (cubemap lookup or ray noise).
   double estimatedError = 0.0;
   CubemapLightingReport cubemap;  // mode none
@@ -68,7 +72,12 @@ struct LightingReport {
 };
 
 struct VertexLighting {
-  std::vector<glm::vec3> irradiance;  // E per vertex
+  std::vector<glm::vec3> irradiance;     // E per vertex
+  std::vector<glm::vec3> entryWeighted;  // E_w per vertex (LightingInput::entry), else empty
+  // What the transport sums: E_w where there is one, else E.
+  const std::vector<glm::vec3>& transportIrradiance() const {
+    return entryWeighted.empty() ? irradiance : entryWeighted;
+  }
   LightingReport report;
 };
 

@@ -25,7 +25,8 @@ namespace {
 void validateInput(std::size_t vertexCount, std::span<const glm::vec3> normals,
                    std::span<const glm::uvec3> triangles, const VisibilityOptions& options) {
   if (normals.size() != vertexCount) fail("", "visibility: one normal per vertex required");
-  if (!options.chooseSamples && options.samples < 2) fail("", "visibility rays per vertex must be at least 2");
+  if (!options.chooseSamples && options.samples < 2)
+    fail("", "visibility rays per vertex must be at least 2");
   if (triangles.empty()) fail("", "visibility: the mesh has no triangles");
   for (const glm::uvec3& t : triangles) {
     if (t.x >= vertexCount || t.y >= vertexCount || t.z >= vertexCount) {
@@ -46,7 +47,7 @@ TriangleSceneOptions occlusionSceneOptions(int threads) {
 }
 
 struct FullPass {
-  std::vector<glm::vec3> irradiance;
+  std::vector<glm::vec3> irradiance, entryWeighted;
   std::vector<float> relativeVariance;  // < 0: unlit vertex
   uint64_t rays = 0, occluded = 0;
   double seconds = 0.0;
@@ -57,6 +58,7 @@ FullPass traceAllVertices(std::size_t vertexCount, int samples, const Visibility
                           const std::function<VertexEstimator()>& makeEstimator) {
   FullPass pass;
   pass.irradiance.assign(vertexCount, glm::vec3(0.0f));
+  if (options.entry) pass.entryWeighted.assign(vertexCount, glm::vec3(0.0f));
   pass.relativeVariance.assign(vertexCount, -1.0f);
   std::atomic<uint64_t> totalRays{0}, totalOccluded{0};
   Progress progress("visibility", vertexCount, options.quiet);
@@ -68,6 +70,7 @@ FullPass traceAllVertices(std::size_t vertexCount, int samples, const Visibility
       Pcg32 rng(options.seed, v);
       const VertexEstimate e = estimator.estimate(v, samples, rng);
       pass.irradiance[v] = e.irradiance;
+      if (options.entry) pass.entryWeighted[v] = e.entryWeighted;
       pass.relativeVariance[v] = e.relativeVariance;
       rays += e.rays;
       occluded += e.occluded;
@@ -113,8 +116,10 @@ std::vector<glm::vec3> transmittedIrradianceWithVisibility(std::span<const glm::
   const double buildSeconds = buildClock.seconds();
 
   const float extent = boundsOf(positions).longestSide();
+  const DirectionalAlbedoWeight diffuseEntry;
+  const DirectionalAlbedoWeight& entry = options.entry ? *options.entry : diffuseEntry;
   const auto makeEstimator = [&]() {
-    return VertexEstimator(positions, normals, sampler, scene, eta, extent);
+    return VertexEstimator(positions, normals, sampler, scene, eta, extent, entry);
   };
 
   VisibilityPilot pilot;
@@ -135,6 +140,7 @@ std::vector<glm::vec3> transmittedIrradianceWithVisibility(std::span<const glm::
     report->relativeStdError = rmsRelativeStdError(pass.relativeVariance);
     report->samples = samples;
     report->pilot = std::move(pilot);
+    report->entryWeighted = std::move(pass.entryWeighted);
   }
   return std::move(pass.irradiance);
 }

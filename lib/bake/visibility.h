@@ -36,6 +36,7 @@
 #include <glm/vec3.hpp>
 
 #include "envmap/cubemap.h"
+#include "material/directional_albedo_weight.h"
 
 namespace sss {
 
@@ -68,6 +69,10 @@ struct VisibilityOptions {
   int threads = 0;                        // <= 0: all cores
   bool quiet = true;                      // no progress bar
   VisibilityPilotOptions pilot{0, 0, 0};  // replicas 0: no pilot
+  // The directional entry (material/directional_albedo_weight.h): when set, the full pass also
+  // returns E_w, the same samples weighted by w(cosine) (VisibilityReport::entryWeighted). Not
+  // owned.
+  const DirectionalAlbedoWeight* entry = nullptr;
   // Called with the pilot (if one runs) before the full pass; returns the rays per vertex to use
   // (>= 2). Empty: `samples`.
   std::function<int(const VisibilityPilot&)> chooseSamples;
@@ -81,8 +86,9 @@ struct VisibilityReport {
   // Root mean square over lit vertices of the estimated relative standard error of the
   // luminance of E (per-technique sample variance; stratification makes it an overestimate).
   double relativeStdError = 0.0;
-  int samples = 0;        // rays per vertex of the full pass
-  VisibilityPilot pilot;  // empty if none ran
+  int samples = 0;                       // rays per vertex of the full pass
+  VisibilityPilot pilot;                 // empty if none ran
+  std::vector<glm::vec3> entryWeighted;  // E_w per vertex when VisibilityOptions::entry is set
 };
 
 // Per-vertex transmitted irradiance with shadows from the mesh itself. `normals` are unit vertex

@@ -33,7 +33,7 @@ void VertexEstimator::traceCandidates(std::size_t v, uint32_t envCount, uint32_t
     const glm::vec3 f = fresnelTransmittance(cosine, eta_) * cosine * l;
     if (f.r <= 0.0f && f.g <= 0.0f && f.b <= 0.0f) return;
     rays_.push_back({origin, w, offset, std::numeric_limits<float>::infinity()});
-    candidates_.push_back({f / (nEnv * pdfEnv + nCos * cosine * invPi), tech});
+    candidates_.push_back({f / (nEnv * pdfEnv + nCos * cosine * invPi), entry_.at(cosine), tech});
   };
   for (uint32_t j = 0; j < envCount; ++j) {
     float u1, u2;
@@ -59,7 +59,8 @@ VertexEstimate VertexEstimator::estimate(std::size_t v, int samples, Pcg32& rng)
   const uint32_t cosCount = static_cast<uint32_t>(samples) - envCount;
   traceCandidates(v, envCount, cosCount, rng);
 
-  VertexEstimate result{glm::vec3(0.0f), -1.0f, static_cast<uint32_t>(rays_.size()), 0};
+  VertexEstimate result{glm::vec3(0.0f), glm::vec3(0.0f), -1.0f,
+                        static_cast<uint32_t>(rays_.size()), 0};
   double sum[2] = {0.0, 0.0}, sumSq[2] = {0.0, 0.0};
   for (std::size_t k = 0; k < candidates_.size(); ++k) {
     if (blocked_[k]) {
@@ -68,6 +69,7 @@ VertexEstimate VertexEstimator::estimate(std::size_t v, int samples, Pcg32& rng)
     }
     const glm::vec3 c = candidates_[k].contribution;
     result.irradiance += c;
+    result.entryWeighted += c * candidates_[k].entryWeight;
     const double y = luminance(c);
     sum[candidates_[k].technique] += y;
     sumSq[candidates_[k].technique] += y * y;

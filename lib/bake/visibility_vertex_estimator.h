@@ -12,13 +12,15 @@
 
 #include "core/random.h"
 #include "envmap/environment_sampler.h"
+#include "material/directional_albedo_weight.h"
 #include "raytrace/triangle_scene.h"
 
 namespace sss {
 
 struct VertexEstimate {
   glm::vec3 irradiance;
-  float relativeVariance;  // per-technique estimate of the luminance's; < 0: unlit
+  glm::vec3 entryWeighted;  // the same samples weighted by the directional entry (E_w)
+  float relativeVariance;   // per-technique estimate of the luminance's; < 0: unlit
   uint32_t rays, occluded;
 };
 
@@ -28,11 +30,12 @@ class VertexEstimator {
   // `extent`: the mesh's longest bounding-box side, a floor for the ray offset's scale.
   VertexEstimator(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
                   const EnvironmentSampler& sampler, const TriangleScene& scene, float eta,
-                  float extent)
+                  float extent, const DirectionalAlbedoWeight& entry)
       : positions_(positions),
         normals_(normals),
         sampler_(sampler),
         scene_(scene),
+        entry_(entry),
         eta_(eta),
         extent_(extent) {}
 
@@ -43,6 +46,7 @@ class VertexEstimator {
  private:
   struct Candidate {
     glm::vec3 contribution;  // if unoccluded
+    glm::vec3 entryWeight;   // w(cosine) of the directional entry
     int technique;           // 0: environment, 1: cosine
   };
   // Fills rays_ and candidates_ with the samples that can contribute, and traces them.
@@ -51,6 +55,7 @@ class VertexEstimator {
   std::span<const glm::vec3> positions_, normals_;
   const EnvironmentSampler& sampler_;
   const TriangleScene& scene_;
+  const DirectionalAlbedoWeight& entry_;
   float eta_, extent_;
   std::vector<OcclusionRay> rays_;
   std::vector<Candidate> candidates_;

@@ -31,6 +31,15 @@ struct HalfSpaceAlbedoEstimate {
 HalfSpaceAlbedoEstimate simulateHalfSpaceAlbedo(double scatteringAlbedo, double eta,
                                                 int64_t photons, uint64_t seed = 1);
 
+// The same for collimated light arriving from outside at direction cosine muOutside (0..1),
+// refracted in: the directional albedo, per transmitted flux. Light arriving at grazing angles
+// enters at the critical angle and scatters shallower, so more of it comes back than at normal
+// incidence; by reciprocity the same function of the exit cosine shapes the radiance that leaves
+// under uniform light.
+HalfSpaceAlbedoEstimate simulateHalfSpaceDirectionalAlbedo(double scatteringAlbedo, double eta,
+                                                           double muOutside, int64_t photons,
+                                                           uint64_t seed = 1);
+
 // Tabulated value for a in [0, 1], eta in [1, 3] (clamped).
 double halfSpaceDiffuseAlbedo(double scatteringAlbedo, double eta);
 
@@ -38,7 +47,13 @@ double halfSpaceDiffuseAlbedo(double scatteringAlbedo, double eta);
 // albedo (bisection; the table rises with a). albedo in [0, halfSpaceDiffuseAlbedo(1, eta)].
 double scatteringAlbedoFromHalfSpaceAlbedo(double albedo, double eta);
 
-// The table's nodes (for the generator).
+// The directional albedo from a second table (the same generator, 2e5 photons per node) over
+// eta nodes as above, u = sqrt(1 - a) = k / 16 and the outside cosine mu = k / 16 (trilinear).
+double halfSpaceDirectionalAlbedo(double scatteringAlbedo, double eta, double muOutside);
+
+// The tables' nodes (for the generator).
+inline constexpr int kDirectionalAlbedoNodes = 17;  // u = k / 16
+inline constexpr int kDirectionalCosineNodes = 17;  // mu = k / 16
 inline constexpr int kHalfSpaceAlbedoNodes = 33;
 inline constexpr int kHalfSpaceEtaNodes = 15;
 inline constexpr double kHalfSpaceEtas[kHalfSpaceEtaNodes] = {

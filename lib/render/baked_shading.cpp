@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "material/directional_albedo_weight.h"
 #include "material/halfspace_albedo.h"
 #include "optics/fresnel.h"
 
@@ -23,6 +24,15 @@ glm::vec3 halfSpaceAlbedo(const BakedMesh& baked, float eta) {
 
 }  // namespace
 
+ExitWeightTable exitWeightTable(const BakedMesh& baked, float eta) {
+  const glm::dvec3 albedo = baked.sigmaSPrime / (baked.sigmaA + baked.sigmaSPrime);
+  const DirectionalAlbedoWeight w(albedo, eta);
+  ExitWeightTable table;
+  for (int k = 0; k < kExitWeightNodes; ++k)
+    table[k] = w.at(static_cast<float>(k) / (kExitWeightNodes - 1));
+  return table;
+}
+
 ShadingParameters shadingFor(const BakedPlyContents& contents, const ShadingRequest& request) {
   ShadingParameters p;
   p.eta = contents.hasMaterial ? static_cast<float>(contents.baked.eta) : kFallbackEta;
@@ -31,6 +41,8 @@ ShadingParameters shadingFor(const BakedPlyContents& contents, const ShadingRequ
   p.exitScale = request.exitModel == ExitModel::Jensen
                     ? static_cast<float>(1.0 / M_PI)
                     : static_cast<float>(exitRadianceScale(p.eta));
+  if (request.exitModel == ExitModel::Calibrated && contents.hasMaterial)
+    p.exitWeight = exitWeightTable(contents.baked, p.eta);
   if (request.mode == ShadingMode::Brdf) {
     if (request.albedo) {
       p.albedo = *request.albedo;

@@ -14,12 +14,17 @@
 
 namespace sss {
 
-// How exitance B leaves the surface as radiance (ShadingOptions::exitScale): normalized,
-// L = B F_t / (pi (1 - 2 C_1)), whose flux is B (d'Eon 2012, optics/fresnel.h); jensen,
-// L = B F_t / pi (Jensen et al. 2001).
-enum class ExitModel { Normalized, Jensen };
-inline constexpr EnumNames<ExitModel, 2> kExitModelNames{
-    "exit model", {{{ExitModel::Normalized, "normalized"}, {ExitModel::Jensen, "jensen"}}}};
+// How exitance B leaves the surface as radiance (ShadingOptions::exitScale, exitWeight):
+// calibrated, L = B F_t w(mu) / (pi (1 - 2 C_1)) with w the material's directional albedo weight
+// (material/directional_albedo_weight.h: the half-space Monte Carlo's angular distribution,
+// across albedo; its flux is still B); normalized, the same with w = 1, the diffusion
+// approximation's shape (d'Eon 2012, optics/fresnel.h; ~7 % high along the normal at alpha' 0.7);
+// jensen, L = B F_t / pi (Jensen et al. 2001).
+enum class ExitModel { Calibrated, Normalized, Jensen };
+inline constexpr EnumNames<ExitModel, 3> kExitModelNames{"exit model",
+                                                         {{{ExitModel::Calibrated, "calibrated"},
+                                                           {ExitModel::Normalized, "normalized"},
+                                                           {ExitModel::Jensen, "jensen"}}}};
 
 // Back-face culling. Auto culls only closed, consistently wound meshes: culling would punch holes
 // where a scan's triangles are wound the wrong way.
@@ -34,7 +39,7 @@ inline constexpr float kFallbackAlbedo = 0.8f;
 // What the caller asks for; an unset value comes from the bake.
 struct ShadingRequest {
   ShadingMode mode = ShadingMode::Sss;
-  ExitModel exitModel = ExitModel::Normalized;
+  ExitModel exitModel = ExitModel::Calibrated;
   CullMode cull = CullMode::Auto;
   std::optional<float> eta;         // default: the material's, else kFallbackEta
   std::optional<glm::vec3> albedo;  // brdf; default: the material's half-space albedo
@@ -46,13 +51,16 @@ struct ShadingRequest {
 struct ShadingParameters {
   float eta = kFallbackEta;
   float exitScale = 0.0f;
-  glm::vec3 albedo = glm::vec3(1.0f);  // set in the brdf mode only
+  ExitWeightTable exitWeight = flatExitWeight();  // calibrated: the material's w at mu = k / 16
+  glm::vec3 albedo = glm::vec3(1.0f);             // set in the brdf mode only
   bool cullBackFaces = false;
   bool etaIsFallback = false;     // sss mode, no material in the file, none asked
   bool albedoIsFallback = false;  // brdf mode, idem
 };
 
 ShadingParameters shadingFor(const BakedPlyContents& contents, const ShadingRequest& request);
+// The calibrated exit model's weights for a baked material at eta.
+ExitWeightTable exitWeightTable(const BakedMesh& baked, float eta);
 
 // The per-vertex properties `mode` draws that the file lacks ("exitance_r, exitance_g,
 // exitance_b" for sss, the irradiance ones for the irradiance view); empty when none is missing.

@@ -234,6 +234,8 @@ void Renderer::setCamera(const Camera& camera) {
   glProgramUniform1i(s, glGetUniformLocation(s, "uIrradiance"), 1);
   glProgramUniform1f(s, glGetUniformLocation(s, "uEta"), shading_.eta);
   glProgramUniform1f(s, glGetUniformLocation(s, "uExitScale"), shading_.exitScale);
+  glProgramUniform3fv(s, glGetUniformLocation(s, "uExitWeight"), kExitWeightNodes,
+                      glm::value_ptr(shading_.exitWeight[0]));
   glProgramUniform1f(s, glGetUniformLocation(s, "uReflectFactor"),
                      shading_.reflectFactor.value_or(0.0f));
   glProgramUniform3fv(s, glGetUniformLocation(s, "uAlbedo"), 1, glm::value_ptr(shading_.albedo));

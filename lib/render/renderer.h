@@ -4,6 +4,8 @@
 // is uploaded per frame, so --frames measures the drawing alone.
 #pragma once
 
+#include <array>
+
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -16,6 +18,15 @@
 #include "render/shader_sources.h"
 
 namespace sss {
+
+// The exit model's angular weight w_c(mu) at mu = k / 16 (shaders/surface.vert interpolates it).
+inline constexpr int kExitWeightNodes = 17;
+using ExitWeightTable = std::array<glm::vec3, kExitWeightNodes>;
+inline ExitWeightTable flatExitWeight() {
+  ExitWeightTable t;
+  t.fill(glm::vec3(1.0f));
+  return t;
+}
 
 class Cubemap;
 
@@ -54,6 +65,8 @@ struct ShadingOptions {
   // Radiance leaving at normal incidence per unit exitance, before F_t: 1 / (pi (1 - 2 C_1))
   // for the normalized exit model (exitRadianceScale), 1 / pi for Jensen et al.'s.
   float exitScale = 0.31830988f;
+  // w_c(mu) at mu = k / 16 multiplying the exit term (ExitModel::Calibrated); all 1 otherwise.
+  ExitWeightTable exitWeight = flatExitWeight();
   // Set: the paper's constant mix(base, reflection, f) instead of the Fresnel-weighted sum.
   std::optional<float> reflectFactor;
   glm::vec3 albedo = glm::vec3(1.0f);  // brdf: total diffuse reflectance of the material

@@ -14,6 +14,8 @@
 #include "core/luminance.h"
 #include "envmap/environment_sampler.h"
 #include "floor_and_wall.h"
+#include "material/directional_albedo_weight.h"
+#include "material/material.h"
 #include "mesh/primitives.h"
 #include "optics/fresnel.h"
 
@@ -170,6 +172,47 @@ TEST(Visibility, SmallBrightSunGivesNoFireflies) {
   EXPECT_NEAR(mean / reference, 1.0, 0.01);
   EXPECT_LT(hi / mean, 1.1);
   EXPECT_GT(lo / mean, 0.9);
+}
+
+// The directional entry's E_w: under a small sun every sample comes from one direction, so
+// E_w / E is w at the sun's cosine at each vertex; under an even sky it averages to E.
+TEST(Visibility, EntryWeightFollowsTheSunAndAveragesOutUnderAnEvenSky) {
+  const TriangleMesh sphere = makeIcosphere(3, 10.0f);
+  const DirectionalAlbedoWeight entry(findMaterialPreset("skin1"));
+  VisibilityOptions options;
+  options.samples = 64;
+  options.entry = &entry;
+  const glm::vec3 sun = glm::normalize(glm::vec3(0.2f, 0.9f, 0.3f));
+  Cubemap sunEnv(64, glm::vec3(0.0f));
+  for (int f = 0; f < 6; ++f)
+    for (int y = 0; y < 64; ++y)
+      for (int x = 0; x < 64; ++x)
+        if (glm::dot(sunEnv.direction(f, x, y), sun) > 0.9995f)
+          sunEnv.at(f, x, y) = glm::vec3(1e3f);
+  VisibilityReport report;
+  const auto e = transmittedIrradianceWithVisibility(
+      sphere.positions, sphere.normals, sphere.triangles, sunEnv, kEta, options, &report);
+  ASSERT_EQ(report.entryWeighted.size(), e.size());
+  int lit = 0;
+  for (std::size_t v = 0; v < e.size(); ++v) {
+    const float mu = glm::dot(sphere.normals[v], sun);
+    if (mu < 0.1f || e[v].x <= 0.0f) continue;
+    ++lit;
+    const glm::vec3 w = entry.at(mu);
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(report.entryWeighted[v][c] / e[v][c], w[c], 0.01f) << v << " channel " << c;
+  }
+  EXPECT_GT(lit, 200);
+
+  const Cubemap even(16, glm::vec3(1.0f));
+  const auto u = transmittedIrradianceWithVisibility(
+      sphere.positions, sphere.normals, sphere.triangles, even, kEta, options, &report);
+  glm::dvec3 sumE(0.0), sumW(0.0);
+  for (std::size_t v = 0; v < u.size(); ++v) {
+    sumE += glm::dvec3(u[v]);
+    sumW += glm::dvec3(report.entryWeighted[v]);
+  }
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(sumW[c] / sumE[c], 1.0, 0.005) << "channel " << c;
 }
 
 TEST(Visibility, ConcaveCornerIsDarkerAsQuadratureSays) {

@@ -46,6 +46,7 @@
 #include "core/timer.h"
 #include "envmap/environment.h"
 #include "material/diffusion_profile.h"
+#include "material/directional_albedo_weight.h"
 #include "material/material.h"
 #include "mesh/load_mesh.h"
 #include "mesh/primitives.h"
@@ -143,7 +144,7 @@ TriangleMesh loadScaled(const std::string& path, double longestMm) {
 void halfSpaceStudy(const std::string& outDir, int walks) {
   std::ofstream csv(outDir + "/halfspace.csv");
   csv << "material,channel,reduced_albedo,mc_all,mc_all_se,mc_multiple,mc_multiple_se,dipole,"
-         "beam,burley,exit_ratio_normal\n";
+         "beam,burley,exit_ratio_normal,exit_ratio_all_normalized,exit_ratio_all_calibrated\n";
   const Cubemap uniform(8, glm::vec3(1.0f));
   for (const Material& m : materialPresets()) {
     const glm::dvec3 ld = m.diffuseMeanFreePath(), mfp = m.meanFreePath();
@@ -168,17 +169,22 @@ void halfSpaceStudy(const std::string& outDir, int walks) {
     glm::dvec3 totals[3];
     const char* kinds[3] = {"dipole", "beam", "burley"};
     for (int k = 0; k < 3; ++k) totals[k] = makeProfile(kinds[k], m)->totalReflectance();
+    const glm::vec3 calibrated = calibratedExitRadiance(DirectionalAlbedoWeight(m), 1.0f, eta);
     for (int c = 0; c < 3; ++c) {
       // Exit model check: the radiance along the normal that L = B F_t/(pi (1 - 2 C_1)) predicts
-      // from the Monte Carlo B, divided into the Monte Carlo radiance.
-      const double model =
-          ms.exitance[0][c] * fresnelTransmittance(1.0f, eta) * exitRadianceScale(eta);
+      // from the Monte Carlo B, divided into the Monte Carlo radiance: of the multiply scattered
+      // light (exit_ratio_normal), and of all scattered light (what the bake's B holds) for the
+      // normalized and the calibrated exit model.
+      const double normalized = fresnelTransmittance(1.0f, eta) * exitRadianceScale(eta);
+      const double model = ms.exitance[0][c] * normalized;
       char line[512];
-      std::snprintf(line, sizeof line, "%s,%c,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.4f\n",
-                    m.name.c_str(), "rgb"[c], m.reducedAlbedo()[c], all.exitance[0][c] / et,
-                    all.exitanceStdErr[0][c] / et, ms.exitance[0][c] / et,
-                    ms.exitanceStdErr[0][c] / et, totals[0][c], totals[1][c], totals[2][c],
-                    ms.radiance[0][c] / model);
+      std::snprintf(
+          line, sizeof line, "%s,%c,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.4f,%.4f,%.4f\n",
+          m.name.c_str(), "rgb"[c], m.reducedAlbedo()[c], all.exitance[0][c] / et,
+          all.exitanceStdErr[0][c] / et, ms.exitance[0][c] / et, ms.exitanceStdErr[0][c] / et,
+          totals[0][c], totals[1][c], totals[2][c], ms.radiance[0][c] / model,
+          all.radiance[0][c] / (all.exitance[0][c] * normalized),
+          all.radiance[0][c] / (all.exitance[0][c] * calibrated[c]));
       csv << line;
     }
     std::printf("halfspace %-10s done (%.1f s, %.0f events/walk)\n", m.name.c_str(),
@@ -228,24 +234,31 @@ void sceneStudy(const Scene& scene, int walks, int visibilitySamples, WalkEntry 
   std::fflush(stdout);
 
   // Transmitted irradiance with the mesh's shadows (the bake's default stage).
+  // The same samples also give E_w, the irradiance weighted by the directional entry (today's
+  // default; material/directional_albedo_weight.h), for the "bake-defaults" rows.
+  const DirectionalAlbedoWeight weight(scene.material);
   VisibilityOptions vis;
   vis.samples = visibilitySamples;
+  vis.entry = &weight;
+  VisibilityReport visReport;
   const Stopwatch visClock;
   const std::vector<glm::vec3> e = transmittedIrradianceWithVisibility(
-      mesh.positions, mesh.normals, mesh.triangles, *scene.env, eta, vis);
+      mesh.positions, mesh.normals, mesh.triangles, *scene.env, eta, vis, &visReport);
   const double visSeconds = visClock.seconds();
   const std::vector<float> areas = vertexAreas(mesh);
   DiffusionInput input{mesh.positions, mesh.normals, areas, e};
-  const double exitScale = fresnelTransmittance(1.0f, eta) * exitRadianceScale(eta);
+  const glm::vec3 normalizedExit(float(fresnelTransmittance(1.0f, eta) * exitRadianceScale(eta)));
+  const glm::vec3 calibratedExit = calibratedExitRadiance(weight, 1.0f, eta);
 
   auto record = [&](const std::string& profile, const std::string& method,
                     const std::string& chosen, double tolerance, int gaussians, double seconds,
                     const std::vector<glm::vec3>& b, const std::vector<glm::vec3>* exact,
-                    double droppedFraction = 0.0, const std::string& energy = "halfspace") {
+                    double droppedFraction = 0.0, const std::string& energy = "halfspace",
+                    bool calibrated = false) {
     std::vector<glm::vec3> bEval, lEval;
     for (uint32_t v : ref.vertices) {
       bEval.push_back(b[v]);
-      lEval.push_back(b[v] * float(exitScale));
+      lEval.push_back(b[v] * (calibrated ? calibratedExit : normalizedExit));
     }
     const ErrorPair errL = relativeRms(lEval, ref, ref.radiance, ref.radianceSe);
     const ErrorPair errB = relativeRms(bEval, ref, ref.exitance, ref.exitanceSe);
@@ -340,6 +353,37 @@ void sceneStudy(const Scene& scene, int walks, int visibilitySamples, WalkEntry 
            tol, r.report.gaussians, seconds, b,
            &exactSums.at(profileName + "/" + kEnergyModelNames.name(plan.model)), 0.0,
            kEnergyModelNames.name(plan.model));
+  }
+
+  // sss-bake's defaults since issue 11's part 2: the same choices on E_w (directional entry),
+  // radiance through the normalized exit model ("bake-defaults") and through the calibrated one
+  // ("bake-calibrated", part 4). err_vs_exact against the exact sum of the model chosen on E_w.
+  {
+    const double tol = 0.01;
+    EnergyOptions energyOptions;
+    const ErrorBudget budget(tol);
+    energyOptions.noiseBudget = budget.walkBudget();
+    const EnergyPlan plan = planFiniteObjectEnergy(mesh, areas, scene.material, energyOptions);
+    const std::string profileName = autoProfileName(plan.model);
+    const auto profile = makeProfile(profileName, scene.material);
+    const DiffusionInput weighted{mesh.positions, mesh.normals, areas, visReport.entryWeighted};
+    DiffusionOptions dopt;
+    dopt.quiet = true;
+    dopt.method = DiffusionMethod::Exact;
+    const DiffusionResult exact = diffuseWithEnergy(weighted, *profile, dopt, plan, scene.material);
+    dopt.method = DiffusionMethod::Auto;
+    dopt.tolerance = budget.diffusionTolerance(
+        plan.model == EnergyModel::Escape,
+        plan.model == EnergyModel::Escape ? plan.escape.relativeStdError : 0.0, std::nullopt);
+    const Stopwatch clock;
+    const DiffusionResult r = diffuseWithEnergy(weighted, *profile, dopt, plan, scene.material);
+    const double seconds = plan.seconds + clock.seconds();
+    const std::string chosen = profileName + "/" + kDiffusionMethodNames.name(r.report.method);
+    const std::string energy = kEnergyModelNames.name(plan.model);
+    record("auto", "bake-defaults", chosen, tol, r.report.gaussians, seconds, r.exitance,
+           &exact.exitance, 0.0, energy + "/directional/normalized", false);
+    record("auto", "bake-calibrated", chosen, tol, r.report.gaussians, seconds, r.exitance,
+           &exact.exitance, 0.0, energy + "/directional/calibrated", true);
   }
 }
 

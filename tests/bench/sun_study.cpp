@@ -1,15 +1,22 @@
 // Issue 11's study rows under a sun, against the forward light tracer (lib/pathtrace/
 // light_tracer.h), environments unblurred: a sphere of radius 10 mm (accuracy_study's `sphere`)
 // and of radius 5 mm per material under a sun of 1 degree angular radius, and a 40 x 40 x 2 mm
-// slab lit from behind at 30 degrees. Measures today's bake (the escape energy model
-// that `auto` picks, and the half-space energy) stage by stage as tests/bench/accuracy_study.cpp
-// does: visibility rays, the energy plan, the auto profile and diffusion method at 1 %.
+// slab lit from behind at 30 degrees. Measures the bake stage by stage as
+// tests/bench/accuracy_study.cpp does (visibility rays, the energy plan, the auto profile and
+// diffusion method at 1 %) in four configurations (the `energy` column: energy/entry/exit):
+// today's defaults (the escape energy model that `auto` picks, the directional entry, the
+// calibrated exit model; material/directional_albedo_weight.h), the same with the normalized exit
+// model, the defaults before issue 11's parts 2 and 4 (diffuse entry, normalized exit), and the
+// half-space energy with those.
 //
-//   sun_study OUT_DIR [--paths N] [--only NAME]
+//   sun_study OUT_DIR [--paths N] [--only NAME] [--cache DIR]
 //
-// Writes OUT_DIR/sun.csv (one row per scene and energy model) and OUT_DIR/sun_bands.csv (per band).
-// Metrics, on the radiance along the normal (the bake's through its exit model
-// L = B F_t(1) / (pi (1 - 2 C_1))), all three channels:
+// --cache DIR keeps each scene's two reference runs in DIR (raw floats, named by scene and path
+// count) and reuses them: the bake can then be re-measured in seconds.
+//
+// Writes OUT_DIR/sun.csv (one row per scene and configuration) and OUT_DIR/sun_bands.csv (per
+// band). Metrics, on the radiance along the normal (the bake's through its exit model L = B F_t(1)
+// / (pi (1 - 2 C_1))), all three channels:
 //  - bands: 8 equal-area bands of the polar angle from the sun direction (cos theta in steps of
 //    0.25); each band's mean is area-weighted over its vertices;
 //    band_rms = sqrt(sum_bands,c (bake - ref)^2 / sum ref^2), the reference's noise removed
@@ -19,16 +26,19 @@
 // The same metrics on the exitance B (no exit model) in the _B columns; ref_unscattered_B is the
 // share of the reference's B on the unlit part that crossed without scattering, and the
 // _scattered columns compare with the reference that leaves that light out (minScatteringOrder 1).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <string>
 #include <vector>
 
 #include <glm/geometric.hpp>
 
+#include "bake/bake_settings.h"
 #include "bake/diffusion.h"
 #include "bake/error_budget.h"
 #include "bake/finite_object_energy.h"
@@ -36,6 +46,7 @@
 #include "core/error.h"
 #include "core/timer.h"
 #include "material/diffusion_profile.h"
+#include "material/directional_albedo_weight.h"
 #include "material/material.h"
 #include "mesh/primitives.h"
 #include "optics/fresnel.h"
@@ -142,16 +153,20 @@ Metrics compare(const std::vector<glm::vec3>& bake, const std::vector<glm::vec3>
   return m;
 }
 
-// Today's bake with the given energy model: B per vertex and the seconds it took.
+// The bake with the given energy and entry models: B per vertex and the seconds it took.
 std::vector<glm::vec3> bakeExitance(const Scene& s, const Cubemap& env,
                                     const std::vector<float>& areas, EnergyModel model,
-                                    std::string& chosen, double& seconds) {
+                                    EntryModel entryModel, std::string& chosen, double& seconds) {
   const Stopwatch clock;
+  const DirectionalAlbedoWeight entry(s.material);
   VisibilityOptions vis;
   vis.samples = kVisibilityRays;
+  if (entryModel == EntryModel::Directional) vis.entry = &entry;
+  VisibilityReport visReport;
   const float eta = float(s.material.eta);
-  const std::vector<glm::vec3> e = transmittedIrradianceWithVisibility(
-      s.mesh.positions, s.mesh.normals, s.mesh.triangles, env, eta, vis);
+  std::vector<glm::vec3> e = transmittedIrradianceWithVisibility(
+      s.mesh.positions, s.mesh.normals, s.mesh.triangles, env, eta, vis, &visReport);
+  if (entryModel == EntryModel::Directional) e = std::move(visReport.entryWeighted);
   const ErrorBudget budget(kTolerance);
   EnergyOptions energyOptions;
   energyOptions.model = model;
@@ -166,13 +181,50 @@ std::vector<glm::vec3> bakeExitance(const Scene& s, const Cubemap& env,
       budget.diffusionTolerance(plan.model == EnergyModel::Escape, energyError, std::nullopt);
   const DiffusionInput input{s.mesh.positions, s.mesh.normals, areas, e};
   const DiffusionResult r = diffuseWithEnergy(input, *profile, dopt, plan, s.material);
-  chosen = std::string(kEnergyModelNames.name(plan.model)) + "/" + profileName + "/" +
+  chosen = std::string(kEnergyModelNames.name(plan.model)) + "/" +
+           kEntryModelNames.name(entryModel) + "/" + profileName + "/" +
            kDiffusionMethodNames.name(r.report.method);
   seconds = clock.seconds();
   return r.exitance;
 }
 
-void study(const Scene& s, uint64_t paths, std::ofstream& csv, std::ofstream& bandsCsv) {
+// The reference's per-vertex arrays, kept in `cache` (if not empty) as raw floats.
+LightTraceResult cachedReference(const std::string& cache, const std::string& key,
+                                 const std::function<LightTraceResult()>& trace) {
+  const std::string path = cache.empty() ? "" : cache + "/" + key + ".bin";
+  LightTraceResult r;
+  if (!path.empty()) {
+    std::ifstream in(path, std::ios::binary);
+    uint64_t n = 0;
+    if (in.read(reinterpret_cast<char*>(&n), sizeof n)) {
+      for (auto* v : {&r.exitance, &r.exitanceStdErr, &r.radiance, &r.radianceStdErr}) {
+        v->resize(n);
+        in.read(reinterpret_cast<char*>(v->data()), std::streamsize(n * sizeof(glm::vec3)));
+      }
+      in.read(reinterpret_cast<char*>(&r.seconds), sizeof r.seconds);
+      in.read(reinterpret_cast<char*>(&r.meanScatteringEvents), sizeof r.meanScatteringEvents);
+      in.read(reinterpret_cast<char*>(&r.reentries), sizeof r.reentries);
+      if (in) return r;
+    }
+  }
+  r = trace();
+  if (!path.empty()) {
+    std::filesystem::create_directories(cache);
+    std::ofstream out(path, std::ios::binary);
+    const uint64_t n = r.exitance.size();
+    out.write(reinterpret_cast<const char*>(&n), sizeof n);
+    for (auto* v : {&r.exitance, &r.exitanceStdErr, &r.radiance, &r.radianceStdErr})
+      out.write(reinterpret_cast<const char*>(v->data()), std::streamsize(n * sizeof(glm::vec3)));
+    out.write(reinterpret_cast<const char*>(&r.seconds), sizeof r.seconds);
+    out.write(reinterpret_cast<const char*>(&r.meanScatteringEvents),
+              sizeof r.meanScatteringEvents);
+    out.write(reinterpret_cast<const char*>(&r.reentries), sizeof r.reentries);
+  }
+  return r;
+}
+
+void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstream& csv,
+           std::ofstream& bandsCsv) {
   const Cubemap env = sunEnvironment(s.sun, 1.0, 256);
   const std::vector<float> areas = vertexAreas(s.mesh);
   HomogeneousMedium medium;
@@ -182,16 +234,19 @@ void study(const Scene& s, uint64_t paths, std::ofstream& csv, std::ofstream& ba
   medium.g = s.material.g;
   LightTraceOptions lo;
   lo.paths = paths;
-  const LightTraceResult ref =
-      lightTraceSubsurface(s.mesh.positions, s.mesh.normals, s.mesh.triangles,
-                           DistantLight::environment(env), medium, lo);
+  const std::string key = s.name + "-" + std::to_string(paths);
+  const LightTraceResult ref = cachedReference(cache, key, [&] {
+    return lightTraceSubsurface(s.mesh.positions, s.mesh.normals, s.mesh.triangles,
+                                DistantLight::environment(env), medium, lo);
+  });
   // The reference without the light that crossed unscattered (what no diffusion model produces,
   // issue 11 part 5): its share of the unlit part's B, and the errors against it.
   const Selection sel = selectVertices(s, areas);
   lo.minScatteringOrder = 1;
-  const LightTraceResult scattered =
-      lightTraceSubsurface(s.mesh.positions, s.mesh.normals, s.mesh.triangles,
-                           DistantLight::environment(env), medium, lo);
+  const LightTraceResult scattered = cachedReference(cache, key + "-scattered", [&] {
+    return lightTraceSubsurface(s.mesh.positions, s.mesh.normals, s.mesh.triangles,
+                                DistantLight::environment(env), medium, lo);
+  });
   double all = 0.0, ms = 0.0;
   for (std::size_t v = 0; v < areas.size(); ++v) {
     if (!sel.unlit[v]) continue;
@@ -205,39 +260,59 @@ void study(const Scene& s, uint64_t paths, std::ofstream& csv, std::ofstream& ba
               s.name.c_str(), (unsigned long long)paths, ref.seconds, ref.meanScatteringEvents,
               (unsigned long long)ref.reentries);
   std::fflush(stdout);
-  const float exitScale = float(fresnelTransmittance(1.0f, float(s.material.eta)) *
-                                exitRadianceScale(float(s.material.eta)));
-  for (EnergyModel model : {EnergyModel::Auto, EnergyModel::HalfSpace}) {
+  // Radiance along the normal per unit B: the calibrated exit model (today's default) or the
+  // normalized one (w = 1).
+  const float eta = float(s.material.eta);
+  const glm::vec3 calibrated =
+      calibratedExitRadiance(DirectionalAlbedoWeight(s.material), 1.0f, eta);
+  const glm::vec3 normalized(float(fresnelTransmittance(1.0f, eta) * exitRadianceScale(eta)));
+  // Today's defaults; the directional entry with the normalized exit; the defaults before issue
+  // 11's parts 2 and 4 (diffuse entry, normalized exit); the half-space energy with those.
+  struct Config {
+    EnergyModel energy;
+    EntryModel entry;
+    bool calibratedExit;
+  };
+  const Config configs[] = {{EnergyModel::Auto, EntryModel::Directional, true},
+                            {EnergyModel::Auto, EntryModel::Directional, false},
+                            {EnergyModel::Auto, EntryModel::Diffuse, false},
+                            {EnergyModel::HalfSpace, EntryModel::Diffuse, false}};
+  for (const Config& config : configs) {
+    const EnergyModel model = config.energy;
     std::string chosen;
     double seconds = 0.0;
-    const std::vector<glm::vec3> b = bakeExitance(s, env, areas, model, chosen, seconds);
+    const std::vector<glm::vec3> b =
+        bakeExitance(s, env, areas, model, config.entry, chosen, seconds);
     std::vector<glm::vec3> l(b.size());
+    const glm::vec3 exitScale = config.calibratedExit ? calibrated : normalized;
     for (std::size_t v = 0; v < b.size(); ++v) l[v] = b[v] * exitScale;
     const Metrics mL = compare(l, ref.radiance, ref.radianceStdErr, areas, sel);
     const Metrics mB = compare(b, ref.exitance, ref.exitanceStdErr, areas, sel);
     const Metrics mS = compare(l, scattered.radiance, scattered.radianceStdErr, areas, sel);
     const Metrics mSB = compare(b, scattered.exitance, scattered.exitanceStdErr, areas, sel);
-    const char* energy = model == EnergyModel::Auto ? "auto" : "halfspace";
+    const std::string energy = std::string(model == EnergyModel::Auto ? "auto" : "halfspace") +
+                               "/" + kEntryModelNames.name(config.entry) + "/" +
+                               (config.calibratedExit ? "calibrated" : "normalized");
     char line[512];
     std::snprintf(line, sizeof line,
                   "%s,%s,%s,%s,%zu,%.5f,%.5f,%.4f,%.5f,%.4f,%.4f,%.5f,%.4f,%.4f,%.3f,%llu,%.1f\n",
-                  s.name.c_str(), s.material.name.c_str(), energy, chosen.c_str(),
+                  s.name.c_str(), s.material.name.c_str(), energy.c_str(), chosen.c_str(),
                   s.mesh.positions.size(), mL.bandRms, mL.bandRmsRaw, mL.unlitRatio, mB.bandRms,
                   mB.unlitRatio, unscatteredShare, mS.bandRms, mS.unlitRatio, mSB.unlitRatio,
                   seconds, (unsigned long long)paths, ref.seconds + scattered.seconds);
     csv << line;
     csv.flush();
     std::printf(
-        "  %-9s %-32s band rms L %.4f (raw %.4f), unlit L %.3fx; B: %.4f, %.3fx; unscattered "
+        "  %-22s %-42s band rms L %.4f (raw %.4f), unlit L %.3fx; B: %.4f, %.3fx; unscattered "
         "%.3f; vs scattered-only L: %.4f, %.3fx, B %.3fx\n",
-        energy, chosen.c_str(), mL.bandRms, mL.bandRmsRaw, mL.unlitRatio, mB.bandRms, mB.unlitRatio,
-        unscatteredShare, mS.bandRms, mS.unlitRatio, mSB.unlitRatio);
+        energy.c_str(), chosen.c_str(), mL.bandRms, mL.bandRmsRaw, mL.unlitRatio, mB.bandRms,
+        mB.unlitRatio, unscatteredShare, mS.bandRms, mS.unlitRatio, mSB.unlitRatio);
     std::fflush(stdout);
     if (s.slab) continue;
     for (int band = 0; band < kBands; ++band) {
       const glm::dvec3 r = mL.bandRef[band], k = mL.bandBake[band];
       std::snprintf(line, sizeof line, "%s,%s,%s,%d,%.2f,%.2f,%.5g,%.5g,%.5g,%.4f,%.4f,%.4f\n",
-                    s.name.c_str(), s.material.name.c_str(), energy, band,
+                    s.name.c_str(), s.material.name.c_str(), energy.c_str(), band,
                     -1.0 + 2.0 * band / kBands, -1.0 + 2.0 * (band + 1) / kBands, r.x, r.y, r.z,
                     r.x > 0 ? k.x / r.x : 0.0, r.y > 0 ? k.y / r.y : 0.0,
                     r.z > 0 ? k.z / r.z : 0.0);
@@ -249,15 +324,16 @@ void study(const Scene& s, uint64_t paths, std::ofstream& csv, std::ofstream& ba
 
 int run(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: sun_study OUT_DIR [--paths N] [--only NAME]\n");
+    std::fprintf(stderr, "usage: sun_study OUT_DIR [--paths N] [--only NAME] [--cache DIR]\n");
     return 2;
   }
   const std::string outDir = argv[1];
   uint64_t paths = 500000;
-  std::string only;
+  std::string only, cache;
   for (int i = 2; i < argc; ++i) {
     if (std::string(argv[i]) == "--paths" && i + 1 < argc) paths = std::strtoull(argv[++i], 0, 10);
     if (std::string(argv[i]) == "--only" && i + 1 < argc) only = argv[++i];
+    if (std::string(argv[i]) == "--cache" && i + 1 < argc) cache = argv[++i];
   }
   std::filesystem::create_directories(outDir);
   const glm::vec3 sun = glm::normalize(glm::vec3(0.3f, 0.8f, 0.5f));
@@ -280,7 +356,8 @@ int run(int argc, char** argv) {
   bandsCsv << "scene,material,energy,band,cos_lo,cos_hi,ref_L_r,ref_L_g,ref_L_b,ratio_r,ratio_g,"
               "ratio_b\n";
   for (const Scene& s : scenes)
-    if (only.empty() || s.name.find(only) != std::string::npos) study(s, paths, csv, bandsCsv);
+    if (only.empty() || s.name.find(only) != std::string::npos)
+      study(s, paths, cache, csv, bandsCsv);
   return 0;
 }
 

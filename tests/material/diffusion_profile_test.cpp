@@ -3,13 +3,16 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "core/error.h"
 #include "material/beam_diffusion_profile.h"
 #include "material/burley_profile.h"
 #include "material/diffusion_profile.h"
 #include "material/dipole_profile.h"
+#include "material/directional_albedo_weight.h"
 #include "material/halfspace_albedo.h"
+#include "material/material.h"
 #include "optics/fresnel.h"
 
 namespace sss {
@@ -181,6 +184,15 @@ struct HFunction {
   double h1;  // H(1)
   double h0;  // int_0^1 H dmu
   double m1;  // int_0^1 H mu dmu
+  double a = 0.0;
+  std::vector<double> grid;  // H at the midpoints (i + 0.5) / n
+  // H(mu) from the defining equation over the converged grid.
+  double at(double mu) const {
+    const double n = static_cast<double>(grid.size());
+    double s = 0.0;
+    for (std::size_t j = 0; j < grid.size(); ++j) s += grid[j] / (mu + (j + 0.5) / n) / n;
+    return 1.0 / (1.0 - 0.5 * a * mu * s);
+  }
 };
 HFunction chandrasekharH(double a) {
   const int n = 200;
@@ -197,7 +209,7 @@ HFunction chandrasekharH(double a) {
     }
     h.swap(next);
   }
-  HFunction out{1.0 / (1.0 - 0.5 * a * integral(1.0)), 0.0, 0.0};
+  HFunction out{1.0 / (1.0 - 0.5 * a * integral(1.0)), 0.0, 0.0, a, h};
   for (int i = 0; i < n; ++i) {
     out.h0 += h[i] / n;
     out.m1 += h[i] * (i + 0.5) / n / n;
@@ -253,6 +265,75 @@ TEST(HalfSpaceAlbedo, TableInterpolatesTheSimulation) {
           << "a " << a << " eta " << eta;
     }
   }
+}
+
+// Index-matched half-space under a collimated beam at cosine mu: exact albedo
+// 1 - H(mu) sqrt(1 - a) (Chandrasekhar), which the directional walk must reproduce at every angle.
+TEST(HalfSpaceDirectionalAlbedo, MatchesChandrasekharAtEveryAngle) {
+  for (double a : {0.5, 0.9, 0.99}) {
+    const HFunction H = chandrasekharH(a);
+    for (double mu : {0.1, 0.5, 1.0}) {
+      const double exact = 1.0 - H.at(mu) * std::sqrt(1.0 - a);
+      const HalfSpaceAlbedoEstimate mc = simulateHalfSpaceDirectionalAlbedo(a, 1.0, mu, 40000, 5);
+      EXPECT_NEAR(mc.albedo, exact, 4.0 * mc.standardError + 2e-3) << "a " << a << " mu " << mu;
+      EXPECT_NEAR(halfSpaceDirectionalAlbedo(a, 1.0, mu), exact, 6e-3) << "a " << a << " mu " << mu;
+    }
+    // Grazing light comes back more than normal light.
+    EXPECT_GT(1.0 - H.at(0.1) * std::sqrt(1.0 - a), 1.0 - H.at(1.0) * std::sqrt(1.0 - a));
+  }
+}
+
+// The directional table between its nodes (a, eta, mu off-grid) against a fresh simulation, and
+// its average over diffuse light against the diffuse table: the two tables tell one story.
+TEST(HalfSpaceDirectionalAlbedo, TableInterpolatesTheSimulationAndAveragesToTheDiffuseTable) {
+  for (double a : {0.4, 0.93, 0.996}) {
+    for (double eta : {1.33, 1.62}) {
+      for (double mu : {0.07, 0.55, 0.97}) {
+        const HalfSpaceAlbedoEstimate mc =
+            simulateHalfSpaceDirectionalAlbedo(a, eta, mu, 20000, 13);
+        EXPECT_NEAR(halfSpaceDirectionalAlbedo(a, eta, mu), mc.albedo,
+                    4.0 * mc.standardError + 6e-3)
+            << "a " << a << " eta " << eta << " mu " << mu;
+      }
+      double num = 0.0, den = 0.0;
+      for (int i = 0; i < 2000; ++i) {
+        const double mu = (i + 0.5) / 2000.0;
+        const double w = fresnelTransmittance(float(mu), float(eta)) * mu;
+        num += w * halfSpaceDirectionalAlbedo(a, eta, mu);
+        den += w;
+      }
+      EXPECT_NEAR(num / den, halfSpaceDiffuseAlbedo(a, eta), 6e-3) << "a " << a << " eta " << eta;
+    }
+  }
+}
+
+// The entry weight averages to 1 over diffuse light (an even sky keeps its E), is 1 without
+// absorption, and favours grazing light the more the lower the albedo.
+TEST(DirectionalAlbedoWeight, AveragesToOneUnderDiffuseLight) {
+  for (const char* name : {"marble", "skin1", "ketchup"}) {
+    const Material m = findMaterialPreset(name);
+    const DirectionalAlbedoWeight w(m);
+    glm::dvec3 num(0.0);
+    double den = 0.0;
+    for (int i = 0; i < 4000; ++i) {
+      const double mu = (i + 0.5) / 4000.0;
+      const double f = fresnelTransmittance(float(mu), float(m.eta)) * mu;
+      num += f * glm::dvec3(w.at(float(mu)));
+      den += f;
+    }
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(num[c] / den, 1.0, 1e-3) << name << " channel " << c;
+      EXPECT_GT(w.at(0.05f)[c], w.at(1.0f)[c]) << name << " channel " << c;
+    }
+  }
+  const DirectionalAlbedoWeight white(glm::dvec3(1.0), 1.3);
+  EXPECT_FLOAT_EQ(white.at(0.0f).x, 1.0f);
+  EXPECT_FLOAT_EQ(white.at(1.0f).z, 1.0f);
+  // skin1's blue (alpha' 0.68) departs more from 1 than marble's red (alpha' 0.999).
+  const float skinBlue = DirectionalAlbedoWeight(findMaterialPreset("skin1")).at(1.0f).z;
+  const float marbleRed = DirectionalAlbedoWeight(findMaterialPreset("marble")).at(1.0f).x;
+  EXPECT_LT(skinBlue, marbleRed);
+  EXPECT_LT(skinBlue, 0.97f);
 }
 
 }  // namespace

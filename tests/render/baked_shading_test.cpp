@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "material/directional_albedo_weight.h"
 #include "material/halfspace_albedo.h"
 #include "mesh/primitives.h"
 #include "optics/fresnel.h"
@@ -36,6 +37,20 @@ TEST(BakedShading, EtaComesFromTheMaterialUnlessAsked) {
   p = shadingFor(c, request);
   EXPECT_EQ(p.eta, 1.2f);
   EXPECT_EQ(p.exitScale, static_cast<float>(1.0 / M_PI));
+  // The calibrated exit model (the default) carries the material's angular weights; marble's
+  // albedo is near 1, so they are near 1, a little below along the normal.
+  request = {};
+  p = shadingFor(c, request);
+  const DirectionalAlbedoWeight w(c.baked.sigmaSPrime / (c.baked.sigmaA + c.baked.sigmaSPrime),
+                                  1.4);
+  for (int k = 0; k < kExitWeightNodes; ++k)
+    for (int ch = 0; ch < 3; ++ch)
+      EXPECT_FLOAT_EQ(p.exitWeight[k][ch], w.at(float(k) / (kExitWeightNodes - 1))[ch]);
+  EXPECT_LT(p.exitWeight[16].x, 1.0f);
+  EXPECT_GT(p.exitWeight[16].x, 0.97f);
+  request.exitModel = ExitModel::Normalized;
+  p = shadingFor(c, request);
+  EXPECT_EQ(p.exitWeight[16].x, 1.0f);
   // No material recorded: the fallback, said so for the sss mode.
   c.hasMaterial = false;
   p = shadingFor(c, {});

@@ -12,6 +12,7 @@
 #include "envmap/cubemap.h"
 #include "envmap/environment.h"
 #include "envmap/equirect.h"
+#include "material/directional_albedo_weight.h"
 #include "mesh/primitives.h"
 #include "optics/fresnel.h"
 #include "render/camera.h"
@@ -100,13 +101,16 @@ FrameOptions linearFrame(int size) {
 struct ExitCase {
   FresnelModel fresnel;
   bool normalized;  // exit scale F_t-normalized (exitRadianceScale) rather than 1/pi
+  bool calibrated;  // and the angular weights of a skin-like material (ExitModel::Calibrated)
 };
 
-// The test name's suffix (exact_normalized, schlick_over_pi), also what ctest -N and a failure
-// print.
+// The test name's suffix (exact_normalized, schlick_over_pi, exact_calibrated), also what
+// ctest -N and a failure print.
 std::string exitCaseName(const ExitCase& c) {
   return std::string(c.fresnel == FresnelModel::Exact ? "exact" : "schlick") +
-         (c.normalized ? "_normalized" : "_over_pi");
+         (c.calibrated   ? "_calibrated"
+          : c.normalized ? "_normalized"
+                         : "_over_pi");
 }
 
 void PrintTo(const ExitCase& c, std::ostream* out) {
@@ -115,7 +119,8 @@ void PrintTo(const ExitCase& c, std::ostream* out) {
 
 class ExitModelTest : public RenderTest, public ::testing::WithParamInterface<ExitCase> {};
 
-// L = B F_t(mu) s + F_r(mu) L_env for a sphere with constant B under a uniform environment.
+// L = B F_t(mu) w(mu) s + F_r(mu) L_env for a sphere with constant B under a uniform environment
+// (w = 1 but for the calibrated case).
 TEST_P(ExitModelTest, SphereWithConstantExitanceMatchesTheExitModel) {
   const float eta = 1.4f;
   const glm::vec3 exitance(2.0f, 1.0f, 0.5f), envRadiance(0.7f, 0.5f, 0.3f);
@@ -124,6 +129,11 @@ TEST_P(ExitModelTest, SphereWithConstantExitanceMatchesTheExitModel) {
   shading.eta = eta;
   shading.exitScale = GetParam().normalized ? static_cast<float>(exitRadianceScale(eta))
                                             : static_cast<float>(1.0 / M_PI);
+  const DirectionalAlbedoWeight weight(glm::dvec3(0.96, 0.84, 0.68), eta);
+  if (GetParam().calibrated) {
+    for (int k = 0; k < kExitWeightNodes; ++k)
+      shading.exitWeight[k] = weight.at(float(k) / (kExitWeightNodes - 1));
+  }
   shading.tonemap = Tonemap::None;
   shading.backgroundColor = glm::vec3(0.0f);
   const FrameOptions frame = linearFrame(128);
@@ -149,7 +159,8 @@ TEST_P(ExitModelTest, SphereWithConstantExitanceMatchesTheExitModel) {
       if (mu < 0.3f) continue;  // silhouette: the polyhedron and the sphere differ
       const float fr = GetParam().fresnel == FresnelModel::Exact ? fresnelDielectric(mu, eta)
                                                                  : fresnelSchlick(mu, eta);
-      const glm::vec3 expected = exitance * (1.0f - fr) * shading.exitScale + fr * envRadiance;
+      const glm::vec3 w = GetParam().calibrated ? weight.at(mu) : glm::vec3(1.0f);
+      const glm::vec3 expected = exitance * w * (1.0f - fr) * shading.exitScale + fr * envRadiance;
       for (int c = 0; c < 3; ++c) {
         EXPECT_NEAR(got[c], expected[c], 0.01f * expected[c]) << "pixel " << x << "," << y;
       }
@@ -160,8 +171,9 @@ TEST_P(ExitModelTest, SphereWithConstantExitanceMatchesTheExitModel) {
 }
 
 INSTANTIATE_TEST_SUITE_P(FresnelAndExit, ExitModelTest,
-                         ::testing::Values(ExitCase{FresnelModel::Exact, true},
-                                           ExitCase{FresnelModel::Schlick, false}),
+                         ::testing::Values(ExitCase{FresnelModel::Exact, true, false},
+                                           ExitCase{FresnelModel::Schlick, false, false},
+                                           ExitCase{FresnelModel::Exact, true, true}),
                          [](const auto& info) { return exitCaseName(info.param); });
 
 // The paper's constant mix with factor 1 is a perfect mirror: each pixel shows the environment

@@ -18,4 +18,7 @@ bash tests/sanitizers/build.sh "$build"
 # each program, so nothing has to come before it.)
 driver=$(ls /usr/lib/*/dri/swrast_dri.so 2>/dev/null | head -1 || true)
 [[ -n $driver ]] && export LD_PRELOAD="$driver"
-ctest --test-dir "$build" --output-on-failure --no-tests=error -j "$(nproc)"
+# workflow_test drives the tools through Snakemake (the orchestration: rules, reruns, the
+# contact sheet); every tool it calls is run under the sanitizers by the tools' own tests, and
+# under ASan it alone took 149 of the suite's 581 s. It runs in the Release suite.
+ctest --test-dir "$build" --output-on-failure --no-tests=error -j "$(nproc)" -E '^workflow_test$'

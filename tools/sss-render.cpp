@@ -401,8 +401,8 @@ void addShadingOptions(CLI::App& app, Arguments& a) {
                      "baked irradiance or normals");
   cli::addEnumOption(app, "--fresnel", a.fresnel, kFresnelModelNames, "Fresnel terms");
   cli::addEnumOption(app, "--exit-model", a.request.exitModel, kExitModelNames,
-                     "calibrated: B F_t w / (pi (1 - 2 C_1)), w the half-space Monte Carlo's "
-                     "angular shape for the material; normalized: w = 1; jensen: B F_t / pi");
+                     "normalized: B F_t / (pi (1 - 2 C_1)), flux = B; calibrated: times w, the "
+                     "half-space Monte Carlo's angular shape for the material; jensen: B F_t / pi");
   app.add_option("--reflect-factor", a.reflectFactor,
                  "The paper's constant mix(base, reflection, F) instead of Fresnel weights")
       ->check(cli::finiteIn(0.0, 1.0));

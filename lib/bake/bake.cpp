@@ -8,6 +8,7 @@
 #include "core/timer.h"
 #include "envmap/environment.h"
 #include "material/directional_albedo_weight.h"
+#include "optics/fresnel.h"
 
 namespace sss {
 
@@ -65,8 +66,7 @@ void addInterreflection(const BakeSettings& s, const PreparedMesh& mesh, const C
   const Stopwatch clock;
   InterreflectionOptions options;
   options.rays = s.interreflectionRays;
-  options.weight = &weight;
-  options.weightEntry = !lighting.entryWeighted.empty();
+  if (!lighting.entryWeighted.empty()) options.entry = &weight;
   options.seed = s.seed;
   options.threads = s.threads;
   const TriangleMesh& m = mesh.meshMm;
@@ -107,10 +107,11 @@ BakedMesh assembleBakedMesh(TriangleMesh mesh, VertexLighting& lighting, VertexE
   baked.irradiance = std::move(lighting.irradiance);
   baked.exitance = std::move(exitance.exitance);
   // The radiance leaving along the normal under the exit model sss-render uses by default (the
-  // calibrated one, material/directional_albedo_weight.h): L = B F_t(1, eta) w(1) / (pi (1 -
-  // 2 C_1(eta))); for the path tracer too, whose B it converts.
-  const glm::vec3 exitScale =
-      calibratedExitRadiance(DirectionalAlbedoWeight(s.material), 1.0f, float(s.material.eta));
+  // normalized one, optics/fresnel.h): L = B F_t(1, eta) / (pi (1 - 2 C_1(eta))); for the path
+  // tracer too, whose B it converts. (The calibrated model is closer on a half-space under even
+  // light, further on the study's objects: README, "Under a sun".)
+  const float eta = float(s.material.eta);
+  const float exitScale = float(fresnelTransmittance(1.0f, eta) * exitRadianceScale(eta));
   for (const glm::vec3& b : baked.exitance) baked.radianceNormal.push_back(b * exitScale);
   baked.materialName = s.material.name;
   baked.sigmaA = s.material.sigmaA;

@@ -27,8 +27,9 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
   if (options.rays < 1) fail("", "interreflection: at least one ray per vertex");
   const TriangleScene scene(positions, triangles);
   const float extent = boundsOf(positions).longestSide();
-  const DirectionalAlbedoWeight flat;
-  const DirectionalAlbedoWeight& weight = options.weight ? *options.weight : flat;
+  const float exitScale = float(exitRadianceScale(eta));
+  const DirectionalAlbedoWeight diffuse;
+  const DirectionalAlbedoWeight& weight = options.entry ? *options.entry : diffuse;
   const uint32_t rays = uint32_t(options.rays);
   const float perRay = float(M_PI / options.rays);
   std::vector<std::vector<Hit>> perVertex(n);
@@ -64,10 +65,9 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
         float muH = -glm::dot(w, nh);
         if (!(muH > 0.0f)) muH = -glm::dot(w, hit.faceNormal);
         if (!(muH > 0.0f)) continue;  // the back of a surface: no light leaves towards v
-        const glm::vec3 entry = perRay * fresnelTransmittance(local.z, eta) *
-                                (options.weightEntry ? weight.at(local.z) : glm::vec3(1.0f));
+        const glm::vec3 entry = perRay * fresnelTransmittance(local.z, eta) * weight.at(local.z);
         const glm::vec3 mirror = w + 2.0f * muH * nh;
-        perVertex[v].push_back({tri, bary, entry * calibratedExitRadiance(weight, muH, eta),
+        perVertex[v].push_back({tri, bary, entry * fresnelTransmittance(muH, eta) * exitScale,
                                 entry * fresnelDielectric(muH, eta) * radiance.sample(mirror)});
       }
     }

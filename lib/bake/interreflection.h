@@ -32,12 +32,9 @@ namespace sss {
 
 struct InterreflectionOptions {
   int rays = 64;  // cosine-distributed rays per vertex (>= 1)
-  // The material's directional albedo weight (material/directional_albedo_weight.h): the light
-  // leaving the hit point follows the calibrated exit model, and with weightEntry the light
-  // arriving is weighted as the transport's direct light is (directional entry). Null: w = 1
-  // (the normalized exit model, diffuse entry). Not kept.
-  const DirectionalAlbedoWeight* weight = nullptr;
-  bool weightEntry = false;
+  // The directional entry (material/directional_albedo_weight.h): the light arriving at a vertex
+  // is weighted as the transport's direct light is. Null: diffuse entry. Not kept.
+  const DirectionalAlbedoWeight* entry = nullptr;
   uint64_t seed = 1;
   int threads = 0;  // <= 0: all cores
 };
@@ -58,7 +55,7 @@ class InterreflectionGather {
   struct Hit {
     glm::uvec3 vertices;
     glm::vec3 barycentric;
-    glm::vec3 exitWeight;  // pi / N F_t(mu) w(mu) F_t(mu_h) w(mu_h) / (pi (1 - 2 C_1))
+    glm::vec3 exitWeight;  // pi / N F_t(mu) w(mu) F_t(mu_h) / (pi (1 - 2 C_1))
     glm::vec3 reflection;  // pi / N F_t(mu) w(mu) F_r(mu_h) L_env(r)
   };
   std::vector<uint32_t> offsets_;  // hits of vertex v: [offsets_[v], offsets_[v + 1])

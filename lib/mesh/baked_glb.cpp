@@ -15,7 +15,7 @@
 #include "core/atomic_output.h"
 #include "core/error.h"
 #include "core/tool.h"
-#include "material/directional_albedo_weight.h"
+#include "optics/fresnel.h"
 
 namespace sss {
 namespace {
@@ -96,16 +96,13 @@ struct DisplayColors {
   Json description;
 };
 
-// scale * B per channel, with scale = exposure * F_t(1, eta) w(1) / (pi (1 - 2 C_1(eta))):
-// sss-render's exit term along the normal (shaders/surface.vert, calibrated exit model,
-// material/directional_albedo_weight.h) under the bake's exposure.
+// scale * B, with scale = exposure * F_t(1, eta) / (pi (1 - 2 C_1(eta))): sss-render's exit term
+// along the normal (shaders/surface.vert, normalized exit model) under the bake's exposure.
 DisplayColors displayColors(const std::string& path, const BakedMesh& baked) {
   const float eta = static_cast<float>(baked.eta);
-  const glm::dvec3 albedo = baked.sigmaSPrime / (baked.sigmaA + baked.sigmaSPrime);
-  const glm::dvec3 radiancePerExitance(
-      calibratedExitRadiance(DirectionalAlbedoWeight(albedo, eta), 1.0f, eta));
+  const double radiancePerExitance = fresnelTransmittance(1.0f, eta) * exitRadianceScale(eta);
   const double exposure = previewScaleFor(baked);
-  const glm::dvec3 scale = exposure * radiancePerExitance;
+  const double scale = exposure * radiancePerExitance;
   DisplayColors out;
   std::size_t clamped = 0;
   float peak = 0.0f;
@@ -123,10 +120,9 @@ DisplayColors displayColors(const std::string& path, const BakedMesh& baked) {
          " under the exposure " + std::to_string(exposure) + "); _EXITANCE holds them unclamped");
   }
   out.description = {{"exposure", exposure},
-                     {"exit_model", "calibrated"},
-                     {"radiance_per_exitance",
-                      {radiancePerExitance.x, radiancePerExitance.y, radiancePerExitance.z}},
-                     {"scale", {scale.x, scale.y, scale.z}},
+                     {"exit_model", "normalized"},
+                     {"radiance_per_exitance", radiancePerExitance},
+                     {"scale", scale},
                      {"clamped_vertices", clamped}};
   return out;
 }

@@ -17,9 +17,8 @@
 //   {"format": 1, "position_unit": "m", "mm_per_unit": 0.3,
 //    "material": {"name": "marble", "sigma_a_per_mm": [..], "sigma_s_prime_per_mm": [..],
 //                 "eta": 1.3},
-//    "color": {"exposure": 0.8, "exit_model": "calibrated",
-//              "radiance_per_exitance": [0.61, 0.60, 0.60], "scale": [0.49, 0.48, 0.48],
-//              "clamped_vertices": 0},                (COLOR_0 = min(1, scale * B) per channel)
+//    "color": {"exposure": 0.8, "exit_model": "normalized", "radiance_per_exitance": 0.61,
+//              "scale": 0.49, "clamped_vertices": 0},          (COLOR_0 = min(1, scale * B))
 //    "checked": true, "comments": ["bake method=..."], "report": {...}}
 // The layout follows the glTF 2.0 specification, section 4.4 (GLB): a 12-byte header, a JSON
 // chunk padded with spaces and a BIN chunk padded with zeros, both 4-byte aligned.

@@ -15,15 +15,16 @@
 namespace sss {
 
 // How exitance B leaves the surface as radiance (ShadingOptions::exitScale, exitWeight):
-// calibrated, L = B F_t w(mu) / (pi (1 - 2 C_1)) with w the material's directional albedo weight
-// (material/directional_albedo_weight.h: the half-space Monte Carlo's angular distribution,
-// across albedo; its flux is still B); normalized, the same with w = 1, the diffusion
-// approximation's shape (d'Eon 2012, optics/fresnel.h; ~7 % high along the normal at alpha' 0.7);
-// jensen, L = B F_t / pi (Jensen et al. 2001).
-enum class ExitModel { Calibrated, Normalized, Jensen };
+// normalized (default), L = B F_t / (pi (1 - 2 C_1)), whose flux is B (d'Eon 2012,
+// optics/fresnel.h); calibrated, the same times w(mu), the material's directional albedo weight
+// (material/directional_albedo_weight.h: the half-space Monte Carlo's angular shape across
+// albedo, flux-preserving), exact for a half-space under even light where normalized is 5-12 %
+// high along the normal at alpha' <= 0.75, but further from the reference on the study's finite
+// objects (README, "Under a sun"); jensen, L = B F_t / pi (Jensen et al. 2001).
+enum class ExitModel { Normalized, Calibrated, Jensen };
 inline constexpr EnumNames<ExitModel, 3> kExitModelNames{"exit model",
-                                                         {{{ExitModel::Calibrated, "calibrated"},
-                                                           {ExitModel::Normalized, "normalized"},
+                                                         {{{ExitModel::Normalized, "normalized"},
+                                                           {ExitModel::Calibrated, "calibrated"},
                                                            {ExitModel::Jensen, "jensen"}}}};
 
 // Back-face culling. Auto culls only closed, consistently wound meshes: culling would punch holes
@@ -39,7 +40,7 @@ inline constexpr float kFallbackAlbedo = 0.8f;
 // What the caller asks for; an unset value comes from the bake.
 struct ShadingRequest {
   ShadingMode mode = ShadingMode::Sss;
-  ExitModel exitModel = ExitModel::Calibrated;
+  ExitModel exitModel = ExitModel::Normalized;
   CullMode cull = CullMode::Auto;
   std::optional<float> eta;         // default: the material's, else kFallbackEta
   std::optional<glm::vec3> albedo;  // brdf; default: the material's half-space albedo

@@ -18,8 +18,6 @@
 
 #include "box_with_pit.h"
 #include "envmap/cubemap_io.h"
-#include "material/directional_albedo_weight.h"
-#include "material/material.h"
 #include "mesh/baked_mesh.h"
 #include "mesh/baked_ply.h"
 #include "mesh/primitives.h"
@@ -153,21 +151,13 @@ TEST_F(BakeTool, BakesASphereUnderUniformLight) {
   for (const glm::vec3& b : baked.baked.exitance) {
     ASSERT_TRUE(b.r > 0.0f && b.r < expected);  // total reflectance < 1
   }
-  // Radiance along the normal: the calibrated exit model of B,
-  // L = B F_t(1) w(1) / (pi (1 - 2 C_1)), w the material's directional albedo weight (marble's
-  // albedo is near 1: w(1) is 1-3 % below 1).
+  // Radiance along the normal: the normalized exit model of B, L = B F_t(1) / (pi (1 - 2 C_1)).
   ASSERT_TRUE(baked.hasRadianceNormal);
-  const glm::vec3 w = DirectionalAlbedoWeight(findMaterialPreset("marble")).at(1.0f);
-  for (int c = 0; c < 3; ++c) {
-    EXPECT_LT(w[c], 1.0f);
-    EXPECT_GT(w[c], 0.97f);
-  }
+  const double exitScale = fresnelTransmittance(1.0f, 1.3f) / expected;
   for (std::size_t v = 0; v < baked.baked.exitance.size(); ++v)
-    for (int c = 0; c < 3; ++c) {
-      const double exitScale = fresnelTransmittance(1.0f, 1.3f) * w[c] / expected;
+    for (int c = 0; c < 3; ++c)
       ASSERT_NEAR(baked.baked.radianceNormal[v][c], baked.baked.exitance[v][c] * exitScale,
                   1e-5 * baked.baked.exitance[v][c]);
-    }
   const auto report = nlohmann::json::parse(readFile(dir_ / "r.json"));
   EXPECT_EQ(report["mesh"]["vertices"], sphere_.vertexCount());
   EXPECT_EQ(report["material"]["name"], "marble");

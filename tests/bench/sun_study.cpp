@@ -5,9 +5,9 @@
 // tests/bench/accuracy_study.cpp does (visibility rays, the energy plan, the auto profile and
 // diffusion method at 1 %) in four configurations (the `energy` column: energy/entry/exit):
 // today's defaults (the escape energy model that `auto` picks, the directional entry, the
-// calibrated exit model; material/directional_albedo_weight.h), the same with the normalized exit
-// model, the defaults before issue 11's parts 2 and 4 (diffuse entry, normalized exit), and the
-// half-space energy with those.
+// normalized exit model), the same with the calibrated exit model (sss-render --exit-model
+// calibrated; material/directional_albedo_weight.h), the defaults before issue 11's part 2
+// (diffuse entry), and the half-space energy with the diffuse entry.
 //
 //   sun_study OUT_DIR [--paths N] [--only NAME] [--cache DIR]
 //
@@ -260,21 +260,21 @@ void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstre
               s.name.c_str(), (unsigned long long)paths, ref.seconds, ref.meanScatteringEvents,
               (unsigned long long)ref.reentries);
   std::fflush(stdout);
-  // Radiance along the normal per unit B: the calibrated exit model (today's default) or the
-  // normalized one (w = 1).
+  // Radiance along the normal per unit B: the normalized exit model (today's default) or the
+  // calibrated one.
   const float eta = float(s.material.eta);
   const glm::vec3 calibrated =
       calibratedExitRadiance(DirectionalAlbedoWeight(s.material), 1.0f, eta);
   const glm::vec3 normalized(float(fresnelTransmittance(1.0f, eta) * exitRadianceScale(eta)));
-  // Today's defaults; the directional entry with the normalized exit; the defaults before issue
-  // 11's parts 2 and 4 (diffuse entry, normalized exit); the half-space energy with those.
+  // Today's defaults; the calibrated exit instead; the defaults before issue 11's part 2 (diffuse
+  // entry); the half-space energy with those.
   struct Config {
     EnergyModel energy;
     EntryModel entry;
     bool calibratedExit;
   };
-  const Config configs[] = {{EnergyModel::Auto, EntryModel::Directional, true},
-                            {EnergyModel::Auto, EntryModel::Directional, false},
+  const Config configs[] = {{EnergyModel::Auto, EntryModel::Directional, false},
+                            {EnergyModel::Auto, EntryModel::Directional, true},
                             {EnergyModel::Auto, EntryModel::Diffuse, false},
                             {EnergyModel::HalfSpace, EntryModel::Diffuse, false}};
   for (const Config& config : configs) {

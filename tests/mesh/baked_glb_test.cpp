@@ -4,7 +4,6 @@
 // naming the file, and a checked mesh does not repeat its topology warnings.
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -12,7 +11,6 @@
 
 #include "core/random.h"
 #include "core/tool.h"
-#include "material/directional_albedo_weight.h"
 #include "mesh/baked_glb.h"
 #include "mesh/baked_mesh.h"
 #include "mesh/primitives.h"
@@ -113,23 +111,17 @@ TEST(MeshBakedGlb, Color0IsTheExposedRadianceAlongTheNormal) {
   writeBakedGlb(path, b, R"({"tolerance": 0.01, "method": "gauss"})");
   const GlbFile glb(path);
   const auto& color = glb.sssExtras()["color"];
-  // The calibrated exit model along the normal: F_t(1) w(1) / (pi (1 - 2 C_1)) per channel.
-  const glm::dvec3 albedo = b.sigmaSPrime / (b.sigmaA + b.sigmaSPrime);
-  const glm::vec3 w = DirectionalAlbedoWeight(albedo, 1.5).at(1.0f);
-  glm::dvec3 perExitance(0.0);
-  for (int k = 0; k < 3; ++k) {
-    perExitance[k] =
-        w[k] * (1.0 - (0.5 / 2.5) * (0.5 / 2.5)) / (M_PI * (1.0 - diffuseFresnelReflectance(1.5f)));
-    EXPECT_NEAR(color["radiance_per_exitance"][k].get<double>(), perExitance[k], 1e-6);
-  }
+  const double perExitance =
+      (1.0 - (0.5 / 2.5) * (0.5 / 2.5)) / (M_PI * (1.0 - diffuseFresnelReflectance(1.5f)));
+  EXPECT_NEAR(color["radiance_per_exitance"].get<double>(), perExitance, 1e-6);
   EXPECT_EQ(color["exposure"].get<double>(), previewScaleFor(b));
-  EXPECT_EQ(color["exit_model"], "calibrated");
+  EXPECT_EQ(color["exit_model"], "normalized");
   EXPECT_EQ(color["clamped_vertices"], 0);
   const std::vector<glm::vec3> colors = glb.vec3("COLOR_0");
   ASSERT_EQ(colors.size(), b.exitance.size());
   for (std::size_t i = 0; i < colors.size(); ++i) {
     for (int k = 0; k < 3; ++k) {
-      const double expected = previewScaleFor(b) * perExitance[k] * b.exitance[i][k];
+      const double expected = previewScaleFor(b) * perExitance * b.exitance[i][k];
       ASSERT_NEAR(colors[i][k], expected, 1e-6 * expected + 1e-30) << i;
     }
   }
@@ -152,14 +144,9 @@ TEST(MeshBakedGlb, ValuesAboveOneAreClampedWithAWarningNamingHowMany) {
   ScratchDir dir;
   BakedMesh b = sampleBake(1.0);
   b.previewScale = 40.0;  // B up to 0.1: radiance * 40 up to ~1.3
-  const glm::dvec3 albedo = b.sigmaSPrime / (b.sigmaA + b.sigmaSPrime);
-  const glm::vec3 perExitance =
-      calibratedExitRadiance(DirectionalAlbedoWeight(albedo, b.eta), 1.0f, float(b.eta));
+  const double perExitance = fresnelTransmittance(1.0f, 1.3f) * exitRadianceScale(1.3f);
   std::size_t over = 0;
-  for (const glm::vec3& e : b.exitance) {
-    const glm::vec3 c = 40.0f * perExitance * e;
-    over += std::max({c.x, c.y, c.z}) > 1.0f;
-  }
+  for (const glm::vec3& e : b.exitance) over += 40.0 * perExitance * e.x > 1.0;
   ASSERT_GT(over, 0u);
   ASSERT_LT(over, b.exitance.size());
   const std::string path = dir.path("hot.glb");

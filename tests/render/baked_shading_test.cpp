@@ -37,9 +37,11 @@ TEST(BakedShading, EtaComesFromTheMaterialUnlessAsked) {
   p = shadingFor(c, request);
   EXPECT_EQ(p.eta, 1.2f);
   EXPECT_EQ(p.exitScale, static_cast<float>(1.0 / M_PI));
-  // The calibrated exit model (the default) carries the material's angular weights; marble's
-  // albedo is near 1, so they are near 1, a little below along the normal.
+  // The calibrated exit model carries the material's angular weights; marble's albedo is near
+  // 1, so they are near 1, a little below along the normal.
   request = {};
+  EXPECT_EQ(shadingFor(c, request).exitWeight[16].x, 1.0f);  // normalized by default
+  request.exitModel = ExitModel::Calibrated;
   p = shadingFor(c, request);
   const DirectionalAlbedoWeight w(c.baked.sigmaSPrime / (c.baked.sigmaA + c.baked.sigmaSPrime),
                                   1.4);

@@ -6,7 +6,7 @@
 // per transmitted flux, tabulated over the reduced albedo a', eta and the outside cosine mu).
 // Light arriving at grazing angles is refracted towards the critical angle, scatters shallower
 // and comes back more than light at normal incidence, the more so the lower the albedo (skin1 at
-// eta 1.3: w(0) / w(1) = 1.11 / 1.17 / 1.19 in R / G / B; marble 1.02). The diffusion profiles
+// eta 1.3: w(0) / w(1) = 1.09 / 1.16 / 1.18 in R / G / B; marble 1.02-1.03). The diffusion profiles
 // (Jensen et al. 2001; Christensen & Burley 2015) take every entering photon as diffuse, which
 // holds under an even sky but not under a sun: the lit pole comes out too bright and the band
 // near the terminator too dark (README, "Under a sun"). The directional dipole (Frisvad et al.

@@ -116,10 +116,8 @@ std::vector<glm::vec3> transmittedIrradianceWithVisibility(std::span<const glm::
   const double buildSeconds = buildClock.seconds();
 
   const float extent = boundsOf(positions).longestSide();
-  const DirectionalAlbedoWeight diffuseEntry;
-  const DirectionalAlbedoWeight& entry = options.entry ? *options.entry : diffuseEntry;
   const auto makeEstimator = [&]() {
-    return VertexEstimator(positions, normals, sampler, scene, eta, extent, entry);
+    return VertexEstimator(positions, normals, sampler, scene, eta, extent, options.entry);
   };
 
   VisibilityPilot pilot;

@@ -33,7 +33,7 @@ void VertexEstimator::traceCandidates(std::size_t v, uint32_t envCount, uint32_t
     const glm::vec3 f = fresnelTransmittance(cosine, eta_) * cosine * l;
     if (f.r <= 0.0f && f.g <= 0.0f && f.b <= 0.0f) return;
     rays_.push_back({origin, w, offset, std::numeric_limits<float>::infinity()});
-    candidates_.push_back({f / (nEnv * pdfEnv + nCos * cosine * invPi), entry_.at(cosine), tech});
+    candidates_.push_back({f / (nEnv * pdfEnv + nCos * cosine * invPi), cosine, tech});
   };
   for (uint32_t j = 0; j < envCount; ++j) {
     float u1, u2;
@@ -69,7 +69,7 @@ VertexEstimate VertexEstimator::estimate(std::size_t v, int samples, Pcg32& rng)
     }
     const glm::vec3 c = candidates_[k].contribution;
     result.irradiance += c;
-    result.entryWeighted += c * candidates_[k].entryWeight;
+    if (entry_) result.entryWeighted += c * entry_->at(candidates_[k].cosine);
     const double y = luminance(c);
     sum[candidates_[k].technique] += y;
     sumSq[candidates_[k].technique] += y * y;

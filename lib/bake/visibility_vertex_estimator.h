@@ -19,7 +19,7 @@ namespace sss {
 
 struct VertexEstimate {
   glm::vec3 irradiance;
-  glm::vec3 entryWeighted;  // the same samples weighted by the directional entry (E_w)
+  glm::vec3 entryWeighted;  // the same samples weighted by the directional entry (E_w), if any
   float relativeVariance;   // per-technique estimate of the luminance's; < 0: unlit
   uint32_t rays, occluded;
 };
@@ -30,7 +30,7 @@ class VertexEstimator {
   // `extent`: the mesh's longest bounding-box side, a floor for the ray offset's scale.
   VertexEstimator(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
                   const EnvironmentSampler& sampler, const TriangleScene& scene, float eta,
-                  float extent, const DirectionalAlbedoWeight& entry)
+                  float extent, const DirectionalAlbedoWeight* entry)
       : positions_(positions),
         normals_(normals),
         sampler_(sampler),
@@ -46,7 +46,7 @@ class VertexEstimator {
  private:
   struct Candidate {
     glm::vec3 contribution;  // if unoccluded
-    glm::vec3 entryWeight;   // w(cosine) of the directional entry
+    float cosine;            // at the vertex, for the directional entry's w
     int technique;           // 0: environment, 1: cosine
   };
   // Fills rays_ and candidates_ with the samples that can contribute, and traces them.
@@ -55,7 +55,7 @@ class VertexEstimator {
   std::span<const glm::vec3> positions_, normals_;
   const EnvironmentSampler& sampler_;
   const TriangleScene& scene_;
-  const DirectionalAlbedoWeight& entry_;
+  const DirectionalAlbedoWeight* entry_;  // null: no E_w
   float eta_, extent_;
   std::vector<OcclusionRay> rays_;
   std::vector<Candidate> candidates_;

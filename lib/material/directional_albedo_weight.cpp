@@ -43,11 +43,5 @@ glm::vec3 calibratedExitRadiance(const DirectionalAlbedoWeight& weight, float mu
   return weight.at(mu) * static_cast<float>(fresnelTransmittance(mu, eta) * exitRadianceScale(eta));
 }
 
-glm::vec3 DirectionalAlbedoWeight::at(float mu) const {
-  const float t = std::clamp(mu, 0.0f, 1.0f) * (kNodes - 1);
-  const int k = std::min(static_cast<int>(t), kNodes - 2);
-  const float f = t - static_cast<float>(k);
-  return (1.0f - f) * weight_[k] + f * weight_[k + 1];
-}
 
 }  // namespace sss

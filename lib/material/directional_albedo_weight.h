@@ -21,6 +21,7 @@
 // Parameters: the reduced scattering albedo a' per channel and the relative index eta.
 #pragma once
 
+#include <algorithm>
 #include <array>
 
 #include <glm/vec3.hpp>
@@ -39,8 +40,13 @@ class DirectionalAlbedoWeight {
   explicit DirectionalAlbedoWeight(const Material& material);
 
   // w_c at the outside direction cosine mu (clamped to [0, 1]); linear between the nodes, which
-  // reproduces the table's own interpolation in mu.
-  glm::vec3 at(float mu) const;
+  // reproduces the table's own interpolation in mu. Inline: the visibility rays call it per ray.
+  glm::vec3 at(float mu) const {
+    const float t = std::clamp(mu, 0.0f, 1.0f) * (kNodes - 1);
+    const int k = std::min(static_cast<int>(t), kNodes - 2);
+    const float f = t - static_cast<float>(k);
+    return weight_[k] + f * (weight_[k + 1] - weight_[k]);
+  }
   const std::array<glm::vec3, kNodes>& nodes() const { return weight_; }
 
  private:

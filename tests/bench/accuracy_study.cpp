@@ -32,6 +32,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -193,6 +194,31 @@ void halfSpaceStudy(const std::string& outDir, int walks) {
   }
 }
 
+// The bake's own choice at a tolerance (lib/bake/bake.cpp): the energy plan, the profile auto
+// takes for it, and the diffusion sum's share of the tolerance (the visibility stage is fixed
+// here, so its share goes to the diffusion sum).
+struct AutoChoice {
+  EnergyPlan plan;
+  std::string profileName;
+  std::unique_ptr<DiffusionProfile> profile;
+  double diffusionTolerance = 0.0;
+};
+
+AutoChoice autoChoice(const TriangleMesh& mesh, const std::vector<float>& areas,
+                      const Material& material, double tolerance) {
+  AutoChoice c;
+  const ErrorBudget budget(tolerance);
+  EnergyOptions energyOptions;
+  energyOptions.noiseBudget = budget.walkBudget();
+  c.plan = planFiniteObjectEnergy(mesh, areas, material, energyOptions);
+  c.profileName = autoProfileName(c.plan.model);
+  c.profile = makeProfile(c.profileName, material);
+  const bool escape = c.plan.model == EnergyModel::Escape;
+  c.diffusionTolerance = budget.diffusionTolerance(
+      escape, escape ? c.plan.escape.relativeStdError : 0.0, std::nullopt);
+  return c;
+}
+
 void sceneStudy(const Scene& scene, int walks, int visibilitySamples, WalkEntry entry,
                 std::ofstream& csv) {
   const TriangleMesh& mesh = scene.mesh;
@@ -333,25 +359,18 @@ void sceneStudy(const Scene& scene, int walks, int visibilitySamples, WalkEntry 
   // The bake's own choice (lib/bake/bake.cpp): energy model, then profile, then method, from the
   // tolerance (the visibility stage is fixed here, so its share goes to the diffusion sum).
   for (double tol : {0.1, 0.03, 0.01}) {
-    EnergyOptions energyOptions;
-    const ErrorBudget budget(tol);
-    energyOptions.noiseBudget = budget.walkBudget();
-    const EnergyPlan plan = planFiniteObjectEnergy(mesh, areas, scene.material, energyOptions);
-    const std::string profileName = autoProfileName(plan.model);
-    const auto profile = makeProfile(profileName, scene.material);
+    const AutoChoice choice = autoChoice(mesh, areas, scene.material, tol);
+    const EnergyPlan& plan = choice.plan;
     DiffusionOptions dopt;
     dopt.quiet = true;
-    const double energyError =
-        plan.model == EnergyModel::Escape ? plan.escape.relativeStdError : 0.0;
-    dopt.tolerance =
-        budget.diffusionTolerance(plan.model == EnergyModel::Escape, energyError, std::nullopt);
+    dopt.tolerance = choice.diffusionTolerance;
     const Stopwatch clock;
-    const DiffusionResult r = diffuseWithEnergy(input, *profile, dopt, plan, scene.material);
+    const DiffusionResult r = diffuseWithEnergy(input, *choice.profile, dopt, plan, scene.material);
     const double seconds = plan.seconds + clock.seconds();
-    const std::vector<glm::vec3>& b = r.exitance;
-    record("auto", "bake-auto", profileName + "/" + kDiffusionMethodNames.name(r.report.method),
-           tol, r.report.gaussians, seconds, b,
-           &exactSums.at(profileName + "/" + kEnergyModelNames.name(plan.model)), 0.0,
+    record("auto", "bake-auto",
+           choice.profileName + "/" + kDiffusionMethodNames.name(r.report.method), tol,
+           r.report.gaussians, seconds, r.exitance,
+           &exactSums.at(choice.profileName + "/" + kEnergyModelNames.name(plan.model)), 0.0,
            kEnergyModelNames.name(plan.model));
   }
 
@@ -360,23 +379,19 @@ void sceneStudy(const Scene& scene, int walks, int visibilitySamples, WalkEntry 
   // ("bake-calibrated", part 4). err_vs_exact against the exact sum of the model chosen on E_w.
   {
     const double tol = 0.01;
-    EnergyOptions energyOptions;
-    const ErrorBudget budget(tol);
-    energyOptions.noiseBudget = budget.walkBudget();
-    const EnergyPlan plan = planFiniteObjectEnergy(mesh, areas, scene.material, energyOptions);
-    const std::string profileName = autoProfileName(plan.model);
-    const auto profile = makeProfile(profileName, scene.material);
+    const AutoChoice choice = autoChoice(mesh, areas, scene.material, tol);
+    const EnergyPlan& plan = choice.plan;
+    const DiffusionProfile& profile = *choice.profile;
+    const std::string& profileName = choice.profileName;
     const DiffusionInput weighted{mesh.positions, mesh.normals, areas, visReport.entryWeighted};
     DiffusionOptions dopt;
     dopt.quiet = true;
     dopt.method = DiffusionMethod::Exact;
-    const DiffusionResult exact = diffuseWithEnergy(weighted, *profile, dopt, plan, scene.material);
+    const DiffusionResult exact = diffuseWithEnergy(weighted, profile, dopt, plan, scene.material);
     dopt.method = DiffusionMethod::Auto;
-    dopt.tolerance = budget.diffusionTolerance(
-        plan.model == EnergyModel::Escape,
-        plan.model == EnergyModel::Escape ? plan.escape.relativeStdError : 0.0, std::nullopt);
+    dopt.tolerance = choice.diffusionTolerance;
     const Stopwatch clock;
-    const DiffusionResult r = diffuseWithEnergy(weighted, *profile, dopt, plan, scene.material);
+    const DiffusionResult r = diffuseWithEnergy(weighted, profile, dopt, plan, scene.material);
     const double seconds = plan.seconds + clock.seconds();
     const std::string chosen = profileName + "/" + kDiffusionMethodNames.name(r.report.method);
     const std::string energy = kEnergyModelNames.name(plan.model);

@@ -51,10 +51,12 @@
 #include "mesh/primitives.h"
 #include "optics/fresnel.h"
 #include "pathtrace/light_tracer.h"
+#include "study_support.h"
 
 namespace {
 
 using namespace sss;
+using namespace sss::study;
 
 constexpr int kBands = 8;
 constexpr double kTolerance = 0.01;  // the bake's default
@@ -67,18 +69,6 @@ struct Scene {
   glm::vec3 sun;  // towards the sun, unit
   bool slab;
 };
-
-// A black environment with a sun of angular radius `radiusDeg` (texel centres within it).
-Cubemap sunEnvironment(const glm::vec3& towardsSun, double radiusDeg, int faceSize) {
-  Cubemap env(faceSize, glm::vec3(0.0f));
-  const float cosRadius = float(std::cos(radiusDeg * M_PI / 180.0));
-  for (int f = 0; f < 6; ++f)
-    for (int y = 0; y < faceSize; ++y)
-      for (int x = 0; x < faceSize; ++x)
-        if (glm::dot(env.direction(f, x, y), towardsSun) >= cosRadius)
-          env.at(f, x, y) = glm::vec3(1000.0f);
-  return env;
-}
 
 // Which vertices a metric sums over, with their weights (areas); band b of vertex v, or -1.
 struct Selection {
@@ -186,41 +176,6 @@ std::vector<glm::vec3> bakeExitance(const Scene& s, const Cubemap& env,
            kDiffusionMethodNames.name(r.report.method);
   seconds = clock.seconds();
   return r.exitance;
-}
-
-// The reference's per-vertex arrays, kept in `cache` (if not empty) as raw floats.
-LightTraceResult cachedReference(const std::string& cache, const std::string& key,
-                                 const std::function<LightTraceResult()>& trace) {
-  const std::string path = cache.empty() ? "" : cache + "/" + key + ".bin";
-  LightTraceResult r;
-  if (!path.empty()) {
-    std::ifstream in(path, std::ios::binary);
-    uint64_t n = 0;
-    if (in.read(reinterpret_cast<char*>(&n), sizeof n)) {
-      for (auto* v : {&r.exitance, &r.exitanceStdErr, &r.radiance, &r.radianceStdErr}) {
-        v->resize(n);
-        in.read(reinterpret_cast<char*>(v->data()), std::streamsize(n * sizeof(glm::vec3)));
-      }
-      in.read(reinterpret_cast<char*>(&r.seconds), sizeof r.seconds);
-      in.read(reinterpret_cast<char*>(&r.meanScatteringEvents), sizeof r.meanScatteringEvents);
-      in.read(reinterpret_cast<char*>(&r.reentries), sizeof r.reentries);
-      if (in) return r;
-    }
-  }
-  r = trace();
-  if (!path.empty()) {
-    std::filesystem::create_directories(cache);
-    std::ofstream out(path, std::ios::binary);
-    const uint64_t n = r.exitance.size();
-    out.write(reinterpret_cast<const char*>(&n), sizeof n);
-    for (auto* v : {&r.exitance, &r.exitanceStdErr, &r.radiance, &r.radianceStdErr})
-      out.write(reinterpret_cast<const char*>(v->data()), std::streamsize(n * sizeof(glm::vec3)));
-    out.write(reinterpret_cast<const char*>(&r.seconds), sizeof r.seconds);
-    out.write(reinterpret_cast<const char*>(&r.meanScatteringEvents),
-              sizeof r.meanScatteringEvents);
-    out.write(reinterpret_cast<const char*>(&r.reentries), sizeof r.reentries);
-  }
-  return r;
 }
 
 void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstream& csv,

@@ -1,0 +1,196 @@
+// Issue 11's concavity rows: the light an object sends to itself (sss-bake --bounces,
+// lib/bake/interreflection.h) against the forward light tracer (lib/pathtrace/light_tracer.h),
+// which follows light that leaves the object and meets it again.
+//
+//   concavity_study OUT_DIR [--paths N] [--cache DIR] [--only NAME]
+//
+// Scenes: the closed 20 mm box with a pit 6 mm deep (tests/bake/box_with_pit.h; its floor sees
+// about 70 % of the sky) in marble and in skim milk, under uniform radiance 1 and under a sun of
+// 1 degree angular radius 30 degrees from the pit's axis. The bake is sss-bake's own pipeline
+// (lib/bake/bake.h) with its defaults at 1 % (escape energy, dipole, directional entry, normalized
+// exit) and 256 visibility rays, with --bounces 0 and --bounces auto.
+// Metrics, on the radiance along the normal (all channels; the reference's noise removed):
+//   rms_all      sqrt(max(0, sum (L - L_ref)^2 - sum se^2) / sum L_ref^2) over every vertex,
+//   rms_concave  the same over the concave vertices (those that see < 80 % of the sky: E under
+//                uniform light below 0.8 of a convex vertex's),
+//   ratio_concave  sum L / sum L_ref over the concave vertices.
+// Writes OUT_DIR/concavity.csv.
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "../bake/box_with_pit.h"
+#include "bake/bake.h"
+#include "bake/visibility.h"
+#include "core/error.h"
+#include "material/material.h"
+#include "mesh/triangle_mesh.h"
+#include "optics/fresnel.h"
+#include "pathtrace/light_tracer.h"
+#include "study_support.h"
+
+namespace {
+
+using namespace sss;
+using namespace sss::study;
+
+constexpr int kVisibilityRays = 256;
+
+struct Scene {
+  std::string name;
+  Material material;
+  bool sun;  // else uniform radiance 1
+};
+
+void writeAsciiPly(const std::string& path, const TriangleMesh& mesh) {
+  std::ofstream out(path);
+  out << "ply\nformat ascii 1.0\nelement vertex " << mesh.positions.size()
+      << "\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty "
+         "float ny\nproperty float nz\nelement face "
+      << mesh.triangles.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
+  for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+    const glm::vec3 p = mesh.positions[v], n = mesh.normals[v];
+    out << p.x << ' ' << p.y << ' ' << p.z << ' ' << n.x << ' ' << n.y << ' ' << n.z << '\n';
+  }
+  for (const glm::uvec3& t : mesh.triangles) out << "3 " << t.x << ' ' << t.y << ' ' << t.z << '\n';
+}
+
+// The concave vertices: E under uniform light below 0.8 of the unoccluded value.
+std::vector<char> concaveVertices(const TriangleMesh& mesh, float eta) {
+  VisibilityOptions options;
+  options.samples = 1024;
+  const Cubemap uniform(16, glm::vec3(1.0f));
+  const std::vector<glm::vec3> e = transmittedIrradianceWithVisibility(
+      mesh.positions, mesh.normals, mesh.triangles, uniform, eta, options);
+  const double open = M_PI * (1.0 - diffuseFresnelReflectance(eta));
+  std::vector<char> concave(e.size());
+  for (std::size_t v = 0; v < e.size(); ++v) concave[v] = e[v].y < 0.8 * open;
+  return concave;
+}
+
+struct Metrics {
+  double rmsAll = 0.0, rmsConcave = 0.0, ratioConcave = 0.0;
+};
+
+Metrics compare(const std::vector<glm::vec3>& l, const LightTraceResult& ref,
+                const std::vector<char>& concave) {
+  double num[2] = {0, 0}, den[2] = {0, 0}, noise[2] = {0, 0}, sum = 0, sumRef = 0;
+  for (std::size_t v = 0; v < l.size(); ++v)
+    for (int c = 0; c < 3; ++c) {
+      const double d = double(l[v][c]) - ref.radiance[v][c];
+      const double se = ref.radianceStdErr[v][c];
+      for (int k = 0; k < 2; ++k) {
+        if (k == 1 && !concave[v]) continue;
+        num[k] += d * d;
+        den[k] += double(ref.radiance[v][c]) * ref.radiance[v][c];
+        noise[k] += se * se;
+      }
+      if (concave[v]) {
+        sum += l[v][c];
+        sumRef += ref.radiance[v][c];
+      }
+    }
+  Metrics m;
+  m.rmsAll = den[0] > 0 ? std::sqrt(std::max(0.0, num[0] - noise[0]) / den[0]) : 0.0;
+  m.rmsConcave = den[1] > 0 ? std::sqrt(std::max(0.0, num[1] - noise[1]) / den[1]) : 0.0;
+  m.ratioConcave = sumRef > 0 ? sum / sumRef : 0.0;
+  return m;
+}
+
+void study(const Scene& s, const std::string& meshPath, const TriangleMesh& mesh,
+           const std::vector<char>& concave, uint64_t paths, const std::string& cache,
+           std::ofstream& csv) {
+  const glm::vec3 sun = glm::normalize(glm::vec3(0.5f, 0.0f, 0.866f));
+  BakeEnvironment env{s.sun ? sunEnvironment(sun, 1.0, 256) : Cubemap(16, glm::vec3(1.0f)), {}};
+  HomogeneousMedium medium;
+  medium.sigmaA = s.material.sigmaA;
+  medium.sigmaS = s.material.sigmaS();
+  medium.eta = s.material.eta;
+  medium.g = s.material.g;
+  LightTraceOptions lo;
+  lo.paths = paths;
+  const LightTraceResult ref = cachedReference(cache, s.name + "-" + std::to_string(paths), [&] {
+    return lightTraceSubsurface(mesh.positions, mesh.normals, mesh.triangles,
+                                DistantLight::environment(env.radiance), medium, lo);
+  });
+  std::printf("%s: reference %llu paths, %.1f s, %llu re-entries\n", s.name.c_str(),
+              (unsigned long long)paths, ref.seconds, (unsigned long long)ref.reentries);
+  for (int bounces : {0, kAutoBounces}) {
+    BakeSettings settings;
+    settings.meshPath = meshPath;
+    settings.material = s.material;
+    settings.mmPerUnit = 1.0;
+    settings.samples = kVisibilityRays;
+    settings.bounces = bounces;
+    settings.quiet = true;
+    const BakeOutput out = bake(settings, env);
+    const Metrics m = compare(out.baked.radianceNormal, ref, concave);
+    const InterreflectionReport& ir = out.report.interreflection;
+    char line[256];
+    std::snprintf(line, sizeof line, "%s,%s,%s,%s,%d,%.5f,%.5f,%.4f,%.3f,%llu\n", s.name.c_str(),
+                  s.material.name.c_str(), s.sun ? "sun" : "uniform", bounces == 0 ? "0" : "auto",
+                  ir.bounces, m.rmsAll, m.rmsConcave, m.ratioConcave, out.report.totalSeconds,
+                  (unsigned long long)paths);
+    csv << line;
+    csv.flush();
+    std::printf(
+        "  bounces %-4s (%d done): rms all %.4f, concave %.4f, concave ratio %.3f, %.2f s\n",
+        bounces == 0 ? "0" : "auto", ir.bounces, m.rmsAll, m.rmsConcave, m.ratioConcave,
+        out.report.totalSeconds);
+    std::fflush(stdout);
+  }
+}
+
+int run(int argc, char** argv) {
+  if (argc < 2) {
+    std::fprintf(stderr,
+                 "usage: concavity_study OUT_DIR [--paths N] [--cache DIR] [--only NAME]\n");
+    return 2;
+  }
+  const std::string outDir = argv[1];
+  uint64_t paths = 4000000;
+  std::string cache, only;
+  for (int i = 2; i < argc; ++i) {
+    if (std::string(argv[i]) == "--paths" && i + 1 < argc) paths = std::strtoull(argv[++i], 0, 10);
+    if (std::string(argv[i]) == "--cache" && i + 1 < argc) cache = argv[++i];
+    if (std::string(argv[i]) == "--only" && i + 1 < argc) only = argv[++i];
+  }
+  std::filesystem::create_directories(outDir);
+  const TriangleMesh mesh = boxWithPit();
+  const std::string meshPath = outDir + "/box_with_pit.ply";
+  writeAsciiPly(meshPath, mesh);
+  const std::vector<char> concave = concaveVertices(mesh, 1.3f);
+  std::size_t count = 0;
+  for (char c : concave) count += c;
+  std::printf("box with pit: %zu vertices, %zu see < 80 %% of the sky\n", mesh.positions.size(),
+              count);
+  std::ofstream csv(outDir + "/concavity.csv");
+  csv << "scene,material,light,bounces_asked,bounces_done,rms_all,rms_concave,ratio_concave,"
+         "bake_s,ref_paths\n";
+  for (const char* m : {"marble", "skimmilk"})
+    for (bool sun : {false, true}) {
+      const Scene s{std::string("pit-") + (sun ? "sun-" : "uniform-") + m, findMaterialPreset(m),
+                    sun};
+      if (only.empty() || s.name.find(only) != std::string::npos)
+        study(s, meshPath, mesh, concave, paths, cache, csv);
+    }
+  std::filesystem::remove(meshPath);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "concavity_study: error: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,66 @@
+// What the light-tracer studies share (sun_study.cpp, concavity_study.cpp): a sun-only
+// environment and a cache for the references, so that a model change is re-measured in seconds.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <string>
+
+#include <glm/geometric.hpp>
+
+#include "envmap/cubemap.h"
+#include "pathtrace/light_tracer.h"
+
+namespace sss::study {
+
+// A black environment with a sun of angular radius `radiusDeg` (texel centres within it).
+inline Cubemap sunEnvironment(const glm::vec3& towardsSun, double radiusDeg, int faceSize) {
+  Cubemap env(faceSize, glm::vec3(0.0f));
+  const float cosRadius = float(std::cos(radiusDeg * M_PI / 180.0));
+  for (int f = 0; f < 6; ++f)
+    for (int y = 0; y < faceSize; ++y)
+      for (int x = 0; x < faceSize; ++x)
+        if (glm::dot(env.direction(f, x, y), towardsSun) >= cosRadius)
+          env.at(f, x, y) = glm::vec3(1000.0f);
+  return env;
+}
+
+// The reference's per-vertex arrays, kept in `cache` (if not empty) as raw floats.
+inline LightTraceResult cachedReference(const std::string& cache, const std::string& key,
+                                        const std::function<LightTraceResult()>& trace) {
+  const std::string path = cache.empty() ? "" : cache + "/" + key + ".bin";
+  LightTraceResult r;
+  if (!path.empty()) {
+    std::ifstream in(path, std::ios::binary);
+    uint64_t n = 0;
+    if (in.read(reinterpret_cast<char*>(&n), sizeof n)) {
+      for (auto* v : {&r.exitance, &r.exitanceStdErr, &r.radiance, &r.radianceStdErr}) {
+        v->resize(n);
+        in.read(reinterpret_cast<char*>(v->data()), std::streamsize(n * sizeof(glm::vec3)));
+      }
+      in.read(reinterpret_cast<char*>(&r.seconds), sizeof r.seconds);
+      in.read(reinterpret_cast<char*>(&r.meanScatteringEvents), sizeof r.meanScatteringEvents);
+      in.read(reinterpret_cast<char*>(&r.reentries), sizeof r.reentries);
+      if (in) return r;
+    }
+  }
+  r = trace();
+  if (!path.empty()) {
+    std::filesystem::create_directories(cache);
+    std::ofstream out(path, std::ios::binary);
+    const uint64_t n = r.exitance.size();
+    out.write(reinterpret_cast<const char*>(&n), sizeof n);
+    for (auto* v : {&r.exitance, &r.exitanceStdErr, &r.radiance, &r.radianceStdErr})
+      out.write(reinterpret_cast<const char*>(v->data()), std::streamsize(n * sizeof(glm::vec3)));
+    out.write(reinterpret_cast<const char*>(&r.seconds), sizeof r.seconds);
+    out.write(reinterpret_cast<const char*>(&r.meanScatteringEvents),
+              sizeof r.meanScatteringEvents);
+    out.write(reinterpret_cast<const char*>(&r.reentries), sizeof r.reentries);
+  }
+  return r;
+}
+
+}  // namespace sss::study

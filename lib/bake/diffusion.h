@@ -88,6 +88,9 @@ struct DiffusionReport {
 struct DiffusionResult {
   std::vector<glm::vec3> exitance;    // B per vertex, same units as E
   std::vector<glm::vec3> weightSums;  // rho per vertex when DiffusionOptions::weightSums
+  // The escape energy model's excess term per vertex, max(0, P - R) Ebar (finite_object_energy.h):
+  // the part of B that diffused beyond what a half-space returns. Empty for other models.
+  std::vector<glm::vec3> escapeExcess;
   DiffusionReport report;
 };
 

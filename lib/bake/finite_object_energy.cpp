@@ -52,21 +52,24 @@ std::vector<glm::vec3> gaussianAverageIrradiance(const DiffusionInput& input, do
 }
 
 // exitance: the profile's sum B_i; rho: the same sum with E = 1; then B_i becomes
-// min(P_i, R) B_i / rho_i + max(0, P_i - R) Ebar_i per channel (rho_i = 0: only the second term).
+// min(P_i, R) B_i / rho_i + max(0, P_i - R) Ebar_i per channel (rho_i = 0: only the second term);
+// excess gets the second term alone.
 void applyEscapeEnergy(std::span<glm::vec3> exitance, std::span<const glm::vec3> rho,
                        std::span<const glm::vec3> escapeProbability,
                        const glm::dvec3& halfSpaceAlbedo,
-                       std::span<const glm::vec3> averageIrradiance) {
+                       std::span<const glm::vec3> averageIrradiance,
+                       std::vector<glm::vec3>& excess) {
   const std::size_t n = exitance.size();
   if (rho.size() != n || escapeProbability.size() != n || averageIrradiance.size() != n)
     fail("", "energy: one rho, escape probability and average irradiance per vertex needed");
+  excess.assign(n, glm::vec3(0.0f));
   for (std::size_t i = 0; i < n; ++i)
     for (int c = 0; c < 3; ++c) {
       const double p = escapeProbability[i][c], r = halfSpaceAlbedo[c];
       const double profilePart =
           rho[i][c] > 0.0f ? exitance[i][c] * std::min(p, r) / rho[i][c] : 0.0;
-      exitance[i][c] =
-          static_cast<float>(profilePart + std::max(0.0, p - r) * averageIrradiance[i][c]);
+      excess[i][c] = static_cast<float>(std::max(0.0, p - r) * averageIrradiance[i][c]);
+      exitance[i][c] = static_cast<float>(profilePart + excess[i][c]);
     }
 }
 
@@ -182,7 +185,8 @@ DiffusionResult diffuseWithEnergy(const DiffusionInput& input, const DiffusionPr
     options.method = result.report.method;
     applyEscapeEnergy(result.exitance, result.weightSums, plan.escape.probability,
                       plan.halfSpaceAlbedo,
-                      gaussianAverageIrradiance(input, escapeExcessSigmaMm(material), options));
+                      gaussianAverageIrradiance(input, escapeExcessSigmaMm(material), options),
+                      result.escapeExcess);
   }
   return result;
 }

@@ -280,11 +280,15 @@ void sceneStudy(const Scene& scene, int walks, int visibilitySamples, WalkEntry 
                     const std::string& chosen, double tolerance, int gaussians, double seconds,
                     const std::vector<glm::vec3>& b, const std::vector<glm::vec3>* exact,
                     double droppedFraction = 0.0, const std::string& energy = "halfspace",
-                    bool calibrated = false) {
+                    bool calibrated = false, const std::vector<glm::vec3>* hybridExcess = nullptr) {
+    // hybridExcess: the calibrated exit for the profile's part of B, the normalized one for the
+    // escape model's excess (a candidate, not in the tools).
     std::vector<glm::vec3> bEval, lEval;
     for (uint32_t v : ref.vertices) {
       bEval.push_back(b[v]);
-      lEval.push_back(b[v] * (calibrated ? calibratedExit : normalizedExit));
+      const glm::vec3 x = hybridExcess ? (*hybridExcess)[v] : glm::vec3(0.0f);
+      lEval.push_back(calibrated ? (b[v] - x) * calibratedExit + x * normalizedExit
+                                 : b[v] * normalizedExit);
     }
     const ErrorPair errL = relativeRms(lEval, ref, ref.radiance, ref.radianceSe);
     const ErrorPair errB = relativeRms(bEval, ref, ref.exitance, ref.exitanceSe);
@@ -399,6 +403,9 @@ void sceneStudy(const Scene& scene, int walks, int visibilitySamples, WalkEntry 
            &exact.exitance, 0.0, energy + "/directional/normalized", false);
     record("auto", "bake-calibrated", chosen, tol, r.report.gaussians, seconds, r.exitance,
            &exact.exitance, 0.0, energy + "/directional/calibrated", true);
+    if (!r.escapeExcess.empty())
+      record("auto", "bake-hybrid", chosen, tol, r.report.gaussians, seconds, r.exitance,
+             &exact.exitance, 0.0, energy + "/directional/hybrid", true, &r.escapeExcess);
   }
 }
 

@@ -144,9 +144,9 @@ Metrics compare(const std::vector<glm::vec3>& bake, const std::vector<glm::vec3>
 }
 
 // The bake with the given energy and entry models: B per vertex and the seconds it took.
-std::vector<glm::vec3> bakeExitance(const Scene& s, const Cubemap& env,
-                                    const std::vector<float>& areas, EnergyModel model,
-                                    EntryModel entryModel, std::string& chosen, double& seconds) {
+DiffusionResult bakeExitance(const Scene& s, const Cubemap& env, const std::vector<float>& areas,
+                             EnergyModel model, EntryModel entryModel, std::string& chosen,
+                             double& seconds) {
   const Stopwatch clock;
   const DirectionalAlbedoWeight entry(s.material);
   VisibilityOptions vis;
@@ -175,7 +175,7 @@ std::vector<glm::vec3> bakeExitance(const Scene& s, const Cubemap& env,
            kEntryModelNames.name(entryModel) + "/" + profileName + "/" +
            kDiffusionMethodNames.name(r.report.method);
   seconds = clock.seconds();
-  return r.exitance;
+  return r;
 }
 
 void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstream& csv,
@@ -215,39 +215,48 @@ void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstre
               s.name.c_str(), (unsigned long long)paths, ref.seconds, ref.meanScatteringEvents,
               (unsigned long long)ref.reentries);
   std::fflush(stdout);
-  // Radiance along the normal per unit B: the normalized exit model (today's default) or the
-  // calibrated one.
+  // Radiance along the normal per unit B: the normalized exit model (today's default), the
+  // calibrated one, or "hybrid": calibrated for the profile's part of B, normalized for the escape
+  // model's excess (light that diffused deep; a candidate, not in the tools).
   const float eta = float(s.material.eta);
   const glm::vec3 calibrated =
       calibratedExitRadiance(DirectionalAlbedoWeight(s.material), 1.0f, eta);
   const glm::vec3 normalized(float(fresnelTransmittance(1.0f, eta) * exitRadianceScale(eta)));
   // Today's defaults; the calibrated exit instead; the defaults before issue 11's part 2 (diffuse
   // entry); the half-space energy with those.
+  enum class Exit { Normalized, Calibrated, Hybrid };
   struct Config {
     EnergyModel energy;
     EntryModel entry;
-    bool calibratedExit;
+    Exit exit;
   };
-  const Config configs[] = {{EnergyModel::Auto, EntryModel::Directional, false},
-                            {EnergyModel::Auto, EntryModel::Directional, true},
-                            {EnergyModel::Auto, EntryModel::Diffuse, false},
-                            {EnergyModel::HalfSpace, EntryModel::Diffuse, false}};
+  const Config configs[] = {{EnergyModel::Auto, EntryModel::Directional, Exit::Normalized},
+                            {EnergyModel::Auto, EntryModel::Directional, Exit::Calibrated},
+                            {EnergyModel::Auto, EntryModel::Directional, Exit::Hybrid},
+                            {EnergyModel::Auto, EntryModel::Diffuse, Exit::Normalized},
+                            {EnergyModel::HalfSpace, EntryModel::Diffuse, Exit::Normalized}};
   for (const Config& config : configs) {
     const EnergyModel model = config.energy;
     std::string chosen;
     double seconds = 0.0;
-    const std::vector<glm::vec3> b =
-        bakeExitance(s, env, areas, model, config.entry, chosen, seconds);
+    const DiffusionResult r = bakeExitance(s, env, areas, model, config.entry, chosen, seconds);
+    const std::vector<glm::vec3>& b = r.exitance;
     std::vector<glm::vec3> l(b.size());
-    const glm::vec3 exitScale = config.calibratedExit ? calibrated : normalized;
-    for (std::size_t v = 0; v < b.size(); ++v) l[v] = b[v] * exitScale;
+    for (std::size_t v = 0; v < b.size(); ++v) {
+      const glm::vec3 excess =
+          config.exit == Exit::Hybrid && !r.escapeExcess.empty() ? r.escapeExcess[v] : glm::vec3(0);
+      l[v] = config.exit == Exit::Normalized ? b[v] * normalized
+                                             : (b[v] - excess) * calibrated + excess * normalized;
+    }
     const Metrics mL = compare(l, ref.radiance, ref.radianceStdErr, areas, sel);
     const Metrics mB = compare(b, ref.exitance, ref.exitanceStdErr, areas, sel);
     const Metrics mS = compare(l, scattered.radiance, scattered.radianceStdErr, areas, sel);
     const Metrics mSB = compare(b, scattered.exitance, scattered.exitanceStdErr, areas, sel);
     const std::string energy = std::string(model == EnergyModel::Auto ? "auto" : "halfspace") +
                                "/" + kEntryModelNames.name(config.entry) + "/" +
-                               (config.calibratedExit ? "calibrated" : "normalized");
+                               (config.exit == Exit::Normalized   ? "normalized"
+                                : config.exit == Exit::Calibrated ? "calibrated"
+                                                                  : "hybrid");
     char line[512];
     std::snprintf(line, sizeof line,
                   "%s,%s,%s,%s,%zu,%.5f,%.5f,%.4f,%.5f,%.4f,%.4f,%.5f,%.4f,%.4f,%.3f,%llu,%.1f\n",

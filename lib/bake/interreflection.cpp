@@ -17,6 +17,49 @@
 
 namespace sss {
 
+namespace {
+
+// Where a ray meets the mesh, as the gather needs it: the hit triangle's vertices and barycentric
+// weights, the smooth normal there and the cosine between it and the way back along the ray.
+struct SurfaceHit {
+  bool hit = false;    // met the mesh
+  bool valid = false;  // met the front of a surface
+  glm::uvec3 vertices{0};
+  glm::vec3 barycentric{0.0f}, point{0.0f}, normal{0.0f}, faceNormal{0.0f};
+  float mu = 0.0f;  // cosine between the normal and -direction
+};
+
+SurfaceHit traceSurface(const TriangleScene& scene, std::span<const glm::vec3> positions,
+                        std::span<const glm::vec3> normals, std::span<const glm::uvec3> triangles,
+                        const glm::vec3& origin, const glm::vec3& direction, float offset) {
+  SurfaceHit s;
+  const SceneHit hit = scene.intersect(origin, direction, offset);
+  if (!hit.hit) return s;
+  s.hit = true;
+  s.vertices = triangles[hit.triangle];
+  s.point = origin + hit.t * direction;
+  s.barycentric = glm::vec3(barycentricWeights(s.point, positions[s.vertices.x],
+                                               positions[s.vertices.y], positions[s.vertices.z]));
+  s.normal = glm::normalize(s.barycentric.x * normals[s.vertices.x] +
+                            s.barycentric.y * normals[s.vertices.y] +
+                            s.barycentric.z * normals[s.vertices.z]);
+  s.faceNormal = hit.faceNormal;
+  // The cosine by the smooth normal, as B's exit model is; where a facet seen from its front has
+  // a smooth normal turned away (the rim of a concavity), by the facet's.
+  s.mu = -glm::dot(direction, s.normal);
+  if (!(s.mu > 0.0f)) s.mu = -glm::dot(direction, hit.faceNormal);
+  s.valid = s.mu > 0.0f;  // else the back of a surface: no light leaves towards the origin
+  return s;
+}
+
+// The offset of a ray leaving p (visibility_vertex_estimator.cpp's rule), so that the stages
+// call the same directions blocked.
+float rayOffset(const glm::vec3& p, float extent) {
+  return 2e-5f * std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z), extent});
+}
+
+}  // namespace
+
 InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> positions,
                                              std::span<const glm::vec3> normals,
                                              std::span<const glm::uvec3> triangles,
@@ -34,6 +77,25 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
   const float perRay = float(M_PI / options.rays);
   std::vector<std::vector<Hit>> perVertex(n);
   std::atomic<uint64_t> blocked{0};
+  // The light leaving a hit towards where the ray came from: its exit radiance from B, and the
+  // sky it mirrors; where the mirror direction meets the object again, the light leaving that
+  // second hit instead (its exit radiance and its mirrored sky: one specular bounce more, which
+  // keeps a white furnace at 1 up to third-order mirror paths).
+  const auto addHit = [&](std::vector<Hit>& hits, const SurfaceHit& h, const glm::vec3& incoming,
+                          const glm::vec3& throughput, bool followMirror) {
+    const glm::vec3 mirror = incoming + 2.0f * h.mu * h.normal;
+    const float fr = fresnelDielectric(h.mu, eta);
+    const float offset = rayOffset(h.point, extent);
+    const SurfaceHit second = followMirror
+                                  ? traceSurface(scene, positions, normals, triangles,
+                                                 h.point + offset * h.faceNormal, mirror, offset)
+                                  : SurfaceHit{};
+    const bool open = !followMirror || (!second.hit && glm::dot(mirror, h.faceNormal) > 0.0f);
+    hits.push_back({h.vertices, h.barycentric,
+                    throughput * fresnelTransmittance(h.mu, eta) * exitScale,
+                    open ? throughput * fr * radiance.sample(mirror) : glm::vec3(0.0f)});
+    return std::make_pair(second, mirror);
+  };
   parallelFor(n, options.threads, 64, [&](std::size_t begin, std::size_t end) {
     uint64_t count = 0;
     for (std::size_t v = begin; v < end; ++v) {
@@ -42,33 +104,22 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
       const glm::vec3 nv = normals[v], p = positions[v];
       glm::vec3 tangent, bitangent;
       orthonormalBasis(nv, tangent, bitangent);
-      // The visibility stage's offset (visibility_vertex_estimator.cpp), so that both call the
-      // same directions blocked.
-      const float offset = 2e-5f * std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z), extent});
+      const float offset = rayOffset(p, extent);
       for (uint32_t j = 0; j < rays; ++j) {
         float u1, u2;
         hammersley(j, rays, r0, r1, u1, u2);
         const glm::vec3 local = sampleCosineHemisphereConcentric(u1, u2);
         if (local.z <= 0.0f) continue;
         const glm::vec3 w = glm::normalize(local.x * tangent + local.y * bitangent + local.z * nv);
-        const SceneHit hit = scene.intersect(p + offset * nv, w, offset);
-        if (!hit.hit) continue;
+        const SurfaceHit first =
+            traceSurface(scene, positions, normals, triangles, p + offset * nv, w, offset);
+        if (!first.hit) continue;
         ++count;
-        const glm::uvec3 tri = triangles[hit.triangle];
-        const glm::vec3 at = p + offset * nv + hit.t * w;
-        const glm::vec3 bary(
-            barycentricWeights(at, positions[tri.x], positions[tri.y], positions[tri.z]));
-        const glm::vec3 nh = glm::normalize(bary.x * normals[tri.x] + bary.y * normals[tri.y] +
-                                            bary.z * normals[tri.z]);
-        // The cosine at the hit by its smooth normal, as B's exit model is; where a facet seen
-        // from its front has a smooth normal turned away (the rim of a concavity), by the facet's.
-        float muH = -glm::dot(w, nh);
-        if (!(muH > 0.0f)) muH = -glm::dot(w, hit.faceNormal);
-        if (!(muH > 0.0f)) continue;  // the back of a surface: no light leaves towards v
+        if (!first.valid) continue;
         const glm::vec3 entry = perRay * fresnelTransmittance(local.z, eta) * weight.at(local.z);
-        const glm::vec3 mirror = w + 2.0f * muH * nh;
-        perVertex[v].push_back({tri, bary, entry * fresnelTransmittance(muH, eta) * exitScale,
-                                entry * fresnelDielectric(muH, eta) * radiance.sample(mirror)});
+        const auto [second, mirror] = addHit(perVertex[v], first, w, entry, true);
+        if (second.valid)
+          addHit(perVertex[v], second, mirror, entry * fresnelDielectric(first.mu, eta), false);
       }
     }
     blocked += count;

@@ -2,7 +2,7 @@
 // lib/bake/interreflection.h) against the forward light tracer (lib/pathtrace/light_tracer.h),
 // which follows light that leaves the object and meets it again.
 //
-//   concavity_study OUT_DIR [--paths N] [--cache DIR] [--only NAME]
+//   concavity_study OUT_DIR [--paths N] [--only NAME] [--cache DIR]
 //
 // Scenes: the closed 20 mm box with a pit 6 mm deep (tests/bake/box_with_pit.h; its floor sees
 // about 70 % of the sky) in marble and in skim milk, under uniform radiance 1 and under a sun of
@@ -148,19 +148,15 @@ void study(const Scene& s, const std::string& meshPath, const TriangleMesh& mesh
 }
 
 int run(int argc, char** argv) {
-  if (argc < 2) {
+  const StudyArguments args = parseStudyArguments(argc, argv, 4000000);
+  if (args.outDir.empty()) {
     std::fprintf(stderr,
-                 "usage: concavity_study OUT_DIR [--paths N] [--cache DIR] [--only NAME]\n");
+                 "usage: concavity_study OUT_DIR [--paths N] [--only NAME] [--cache DIR]\n");
     return 2;
   }
-  const std::string outDir = argv[1];
-  uint64_t paths = 4000000;
-  std::string cache, only;
-  for (int i = 2; i < argc; ++i) {
-    if (std::string(argv[i]) == "--paths" && i + 1 < argc) paths = std::strtoull(argv[++i], 0, 10);
-    if (std::string(argv[i]) == "--cache" && i + 1 < argc) cache = argv[++i];
-    if (std::string(argv[i]) == "--only" && i + 1 < argc) only = argv[++i];
-  }
+  const std::string& outDir = args.outDir;
+  const std::string &only = args.only, &cache = args.cache;
+  const uint64_t paths = args.paths;
   std::filesystem::create_directories(outDir);
   const TriangleMesh mesh = boxWithPit();
   const std::string meshPath = outDir + "/box_with_pit.ply";

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -61,6 +62,30 @@ inline LightTraceResult cachedReference(const std::string& cache, const std::str
     out.write(reinterpret_cast<const char*>(&r.reentries), sizeof r.reentries);
   }
   return r;
+}
+
+// The studies' command line: OUT_DIR [--paths N] [--only NAME] [--cache DIR].
+struct StudyArguments {
+  std::string outDir, only, cache;
+  uint64_t paths = 0;
+};
+
+// Empty outDir: no arguments (print the usage and exit 2).
+inline StudyArguments parseStudyArguments(int argc, char** argv, uint64_t defaultPaths) {
+  StudyArguments a;
+  a.paths = defaultPaths;
+  if (argc < 2) return a;
+  a.outDir = argv[1];
+  for (int i = 2; i + 1 < argc; ++i) {
+    const std::string flag = argv[i];
+    if (flag == "--paths")
+      a.paths = std::strtoull(argv[++i], nullptr, 10);
+    else if (flag == "--only")
+      a.only = argv[++i];
+    else if (flag == "--cache")
+      a.cache = argv[++i];
+  }
+  return a;
 }
 
 }  // namespace sss::study

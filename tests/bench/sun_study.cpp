@@ -287,18 +287,14 @@ void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstre
 }
 
 int run(int argc, char** argv) {
-  if (argc < 2) {
+  const StudyArguments args = parseStudyArguments(argc, argv, 500000);
+  if (args.outDir.empty()) {
     std::fprintf(stderr, "usage: sun_study OUT_DIR [--paths N] [--only NAME] [--cache DIR]\n");
     return 2;
   }
-  const std::string outDir = argv[1];
-  uint64_t paths = 500000;
-  std::string only, cache;
-  for (int i = 2; i < argc; ++i) {
-    if (std::string(argv[i]) == "--paths" && i + 1 < argc) paths = std::strtoull(argv[++i], 0, 10);
-    if (std::string(argv[i]) == "--only" && i + 1 < argc) only = argv[++i];
-    if (std::string(argv[i]) == "--cache" && i + 1 < argc) cache = argv[++i];
-  }
+  const std::string& outDir = args.outDir;
+  const std::string &only = args.only, &cache = args.cache;
+  const uint64_t paths = args.paths;
   std::filesystem::create_directories(outDir);
   const glm::vec3 sun = glm::normalize(glm::vec3(0.3f, 0.8f, 0.5f));
   // 30 degrees from the slab's normal: the light crossing unscattered leaves along it, outside

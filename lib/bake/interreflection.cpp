@@ -52,12 +52,6 @@ SurfaceHit traceSurface(const TriangleScene& scene, std::span<const glm::vec3> p
   return s;
 }
 
-// The offset of a ray leaving p (visibility_vertex_estimator.cpp's rule), so that the stages
-// call the same directions blocked.
-float rayOffset(const glm::vec3& p, float extent) {
-  return 2e-5f * std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z), extent});
-}
-
 }  // namespace
 
 InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> positions,
@@ -85,7 +79,7 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
                           const glm::vec3& throughput, bool followMirror) {
     const glm::vec3 mirror = incoming + 2.0f * h.mu * h.normal;
     const float fr = fresnelDielectric(h.mu, eta);
-    const float offset = rayOffset(h.point, extent);
+    const float offset = surfaceRayOffset(h.point, extent);
     const SurfaceHit second = followMirror
                                   ? traceSurface(scene, positions, normals, triangles,
                                                  h.point + offset * h.faceNormal, mirror, offset)
@@ -104,7 +98,7 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
       const glm::vec3 nv = normals[v], p = positions[v];
       glm::vec3 tangent, bitangent;
       orthonormalBasis(nv, tangent, bitangent);
-      const float offset = rayOffset(p, extent);
+      const float offset = surfaceRayOffset(p, extent);
       for (uint32_t j = 0; j < rays; ++j) {
         float u1, u2;
         hammersley(j, rays, r0, r1, u1, u2);

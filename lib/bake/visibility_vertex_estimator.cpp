@@ -22,8 +22,7 @@ void VertexEstimator::traceCandidates(std::size_t v, uint32_t envCount, uint32_t
   const float r0 = rng.uniform(), r1 = rng.uniform(), r2 = rng.uniform(), r3 = rng.uniform();
   glm::vec3 tangent, bitangent;
   orthonormalBasis(n, tangent, bitangent);
-  const float scale = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z), extent_});
-  const float offset = 2e-5f * scale;
+  const float offset = surfaceRayOffset(p, extent_);
   const glm::vec3 origin = p + offset * n;
 
   // Candidate rays: direction and unoccluded contribution f / (n_env p_env + n_cos p_cos).

@@ -84,12 +84,31 @@ HalfSpaceAlbedoEstimate simulateHalfSpaceDirectionalAlbedo(double a, double eta,
   return estimate(exited, photons);
 }
 
+namespace {
+
+// Node index and weight of x in [0, 1] on n evenly spaced nodes.
+std::pair<int, double> evenNode(double x, int n) {
+  const double t = std::clamp(x, 0.0, 1.0) * (n - 1);
+  const int k = std::min(static_cast<int>(t), n - 2);
+  return {k, t - k};
+}
+
+// The eta node below eta (clamped to the nodes' range) and the weight of the one above.
+std::pair<int, double> etaNode(double eta) {
+  eta = std::clamp(eta, kHalfSpaceEtas[0], kHalfSpaceEtas[kHalfSpaceEtaNodes - 1]);
+  int e = 0;
+  while (e + 2 < kHalfSpaceEtaNodes && kHalfSpaceEtas[e + 1] < eta) ++e;
+  return {e, (eta - kHalfSpaceEtas[e]) / (kHalfSpaceEtas[e + 1] - kHalfSpaceEtas[e])};
+}
+
+}  // namespace
+
 double halfSpaceDiffuseAlbedo(double a, double eta) {
   a = std::clamp(a, 0.0, 1.0);
-  eta = std::clamp(eta, kHalfSpaceEtas[0], kHalfSpaceEtas[kHalfSpaceEtaNodes - 1]);
-  const double u = std::sqrt(1.0 - a) * (kHalfSpaceAlbedoNodes - 1);
-  const int k = std::min(static_cast<int>(u), kHalfSpaceAlbedoNodes - 2);
-  const double t = u - k;
+  // Plain names, not structured bindings: clang 14 cannot capture those in the lambda below.
+  const std::pair<int, double> node = evenNode(std::sqrt(1.0 - a), kHalfSpaceAlbedoNodes);
+  const int k = node.first;
+  const double t = node.second;
   auto row = [&](int e) {
     // Catmull-Rom through nodes k-1..k+2 (ends extrapolated linearly).
     auto node = [&](int j) {
@@ -104,28 +123,12 @@ double halfSpaceDiffuseAlbedo(double a, double eta) {
                     (p2 - p0 +
                      t * (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3 + t * (3.0 * (p1 - p2) + p3 - p0)));
   };
-  int e = 0;
-  while (e + 2 < kHalfSpaceEtaNodes && kHalfSpaceEtas[e + 1] < eta) ++e;
-  const double w = (eta - kHalfSpaceEtas[e]) / (kHalfSpaceEtas[e + 1] - kHalfSpaceEtas[e]);
+  const auto [e, w] = etaNode(eta);
   return std::clamp((1.0 - w) * row(e) + w * row(e + 1), 0.0, 1.0);
 }
 
-namespace {
-
-// Node index and weight of x in [0, 1] on n evenly spaced nodes.
-std::pair<int, double> evenNode(double x, int n) {
-  const double t = std::clamp(x, 0.0, 1.0) * (n - 1);
-  const int k = std::min(static_cast<int>(t), n - 2);
-  return {k, t - k};
-}
-
-}  // namespace
-
 double halfSpaceDirectionalAlbedo(double a, double eta, double muOutside) {
-  eta = std::clamp(eta, kHalfSpaceEtas[0], kHalfSpaceEtas[kHalfSpaceEtaNodes - 1]);
-  int e = 0;
-  while (e + 2 < kHalfSpaceEtaNodes && kHalfSpaceEtas[e + 1] < eta) ++e;
-  const double we = (eta - kHalfSpaceEtas[e]) / (kHalfSpaceEtas[e + 1] - kHalfSpaceEtas[e]);
+  const auto [e, we] = etaNode(eta);
   const auto [k, wu] = evenNode(std::sqrt(std::max(0.0, 1.0 - a)), kDirectionalAlbedoNodes);
   const auto [m, wm] = evenNode(muOutside, kDirectionalCosineNodes);
   double value = 0.0;

@@ -4,6 +4,8 @@
 // out of this header.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -20,6 +22,14 @@ struct SceneHit {
   uint32_t triangle = 0;       // index of the triangle hit
   bool hit = false;
 };
+
+// Offset (and tNear) of a ray leaving the surface at p, along the normal: 2e-5 of p's largest
+// coordinate magnitude, or of the mesh's extent if larger, so that float rounding never makes the
+// ray hit the triangles around its own start. One rule for the bake's visibility and
+// interreflection rays, so that both call the same directions blocked.
+inline float surfaceRayOffset(const glm::vec3& p, float extent) {
+  return 2e-5f * std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z), extent});
+}
 
 // One ray of an occlusion stream: blocked if the mesh meets it within (tNear, tFar).
 struct OcclusionRay {

@@ -149,6 +149,10 @@ void addBakeOptions(CLI::App& app, sss::BakeSettings& s) {
   cli::addEnumOption(app, "--entry", s.entry, sss::kEntryModelNames,
                      "directional weighs light by how much of it a half-space returns from its "
                      "angle (a sun); diffuse counts every angle alike, as the profiles assume");
+  cli::addEnumOption(app, "--far-field", s.farField, sss::kFarFieldModeNames,
+                     "Trace the light that leaves far from where it entered (through a small or "
+                     "thin object from a sun) from the environment; auto: escape energy and "
+                     "uneven light");
   app.add_option("--tolerance", s.tolerance, "Target relative RMS error of the exitance")
       ->check(cli::checkedBy<double>(sss::checkTolerance))
       ->capture_default_str();

@@ -1,11 +1,13 @@
 #include "bake/bake.h"
 
+#include <cmath>
 #include <optional>
 #include <utility>
 
 #include "bake/error_budget.h"
 #include "bake/interreflection.h"
 #include "core/timer.h"
+#include "core/tool.h"
 #include "envmap/environment.h"
 #include "material/directional_albedo_weight.h"
 #include "optics/fresnel.h"
@@ -30,6 +32,26 @@ LightingInput lightingInput(const BakeSettings& s, const PreparedMesh& mesh,
   in.threads = s.threads;
   in.quiet = s.quiet;
   return in;
+}
+
+// Stage 3b: the far field (far_field.h); with it, the walks' near share refined. The escape
+// model's Monte Carlo keeps its share of the budget: half its variance each.
+FarField farFieldStage(const BakeSettings& s, const PreparedMesh& mesh, const Cubemap& radiance,
+                       const EnergyStageInput& energyIn, EnergyStage& energy,
+                       const VertexLighting& lighting, const ErrorBudget& budget) {
+  FarFieldOptions options;
+  options.mode = s.farField;
+  options.noiseBudget = budget.walkBudget() / std::sqrt(2.0);
+  options.seed = s.seed;
+  options.threads = s.threads;
+  options.quiet = s.quiet;
+  FarField far = traceFarField({mesh.meshMm, mesh.areasMm2, radiance, s.material,
+                                energy.report.plan, lighting.transportIrradiance(), options});
+  info("far field: " + std::string(far.traced() ? "traced" : "not traced") + " (" +
+           far.report.reason + ")",
+       s.quiet);
+  if (far.traced()) useFarField(energy, energyIn, options.noiseBudget, far.report.relativeStdError);
+  return far;
 }
 
 // What the diffusion sum may spend: only auto samples budget the rays (forced rays and the
@@ -125,6 +147,7 @@ BakedMesh assembleBakedMesh(TriangleMesh mesh, VertexLighting& lighting, VertexE
       (r.transport.pathTrace ? ""
                              : " profile=" + r.energy.profileName +
                                    " energy=" + kEnergyModelNames.name(r.energy.plan.model) +
+                                   " far_field=" + (r.farField.traced ? "traced" : "off") +
                                    " entry=" + kEntryModelNames.name(r.lighting.entry)) +
       " visibility=" + kVisibilityModeNames.name(s.visibility) + " samples=" +
       std::to_string(rays ? r.lighting.rays.samples : 0) + " seed=" + std::to_string(s.seed));
@@ -142,14 +165,21 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
   report.mesh = mesh.report;
   report.environment = env.report;
   const Cubemap& radiance = env.radiance;
-  EnergyStage energy =
-      planEnergy({mesh.meshMm, mesh.areasMm2, s.material, s.energy, s.profile, budget.walkBudget(),
-                  s.method != BakeMethod::PathTrace, s.seed, s.threads, s.quiet});
+  const bool diffusion = s.method != BakeMethod::PathTrace;
+  EnergyStageInput energyIn{mesh.meshMm,         mesh.areasMm2, s.material, s.energy,  s.profile,
+                            budget.walkBudget(), diffusion,     s.seed,     s.threads, s.quiet};
+  if (diffusion && s.farField != FarFieldMode::Off)
+    energyIn.nearWindowMm = farFieldWindowMm(s.material);
+  EnergyStage energy = planEnergy(energyIn);
   const DirectionalAlbedoWeight weight(s.material);
   VertexLighting lighting = lightVertices(lightingInput(s, mesh, radiance, energy, budget, weight));
+  FarField far;
+  if (diffusion) far = farFieldStage(s, mesh, radiance, energyIn, energy, lighting, budget);
+  report.farField = far.report;
   TransportInput transportIn{mesh.meshMm,        mesh.areasMm2, lighting.transportIrradiance(),
                              radiance,           s.material,    *energy.profile,
                              energy.report.plan, s.method};
+  transportIn.farExitance = far.exitance;
   transportIn.diffusionTolerance = diffusionTolerance(s, budget, energy.report, lighting.report);
   transportIn.walks = s.walks;
   transportIn.seed = s.seed;

@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "bake/far_field.h"
 #include "bake/light_vertices.h"
 #include "bake/plan_energy.h"
 #include "bake/prepare_mesh.h"
@@ -45,6 +46,7 @@ struct BakeReport {
   Material material;
   EnergyStageReport energy;  // also the profile; empty for the path tracer
   LightingReport lighting;
+  FarFieldReport farField;
   TransportReport transport;
   InterreflectionReport interreflection;
   BakeErrorReport errors;

@@ -72,6 +72,7 @@ Json toJson(const EnergyStageReport& r) {
     j["mean_scattering_events"] = plan.escape.meanScatteringEvents;
     j["smoothing_sigma_mm"] = toJson(plan.escape.smoothingSigmaMm);
     j["estimated_error"] = r.walkError();
+    if (r.farField) j["near_share_error"] = plan.escape.nearRelativeStdError;
   }
   return j;
 }
@@ -136,6 +137,21 @@ Json toJson(const TransportReport& r) {
   return j;
 }
 
+Json toJson(const FarFieldReport& r) {
+  Json j = {{"requested", kFarFieldModeNames.name(r.requested)},
+            {"traced", r.traced},
+            {"reason", r.reason},
+            {"seconds", r.seconds}};
+  if (r.requested == FarFieldMode::Off || r.windowMm == glm::dvec3(0.0)) return j;
+  j["sensitivity"] = r.sensitivity;
+  j["near_window_mm"] = toJson(r.windowMm);
+  if (!r.traced) return j;
+  j["smoothing_sigma_mm"] = r.smoothingMm;
+  j["paths"] = r.paths;
+  j["estimated_error"] = r.relativeStdError;
+  return j;
+}
+
 Json toJson(const BakeErrorReport& r) {
   return {{"visibility", r.visibility},
           {"exitance", r.exitance},
@@ -156,6 +172,7 @@ Json toJson(const BakeReport& r) {
   if (!r.transport.pathTrace) {
     j["profile"] = profileJson(r.energy);
     j["energy"] = toJson(r.energy);
+    j["far_field"] = toJson(r.farField);
   }
   j["visibility"] = toJson(r.lighting);
   j["exitance"] = toJson(r.transport);
@@ -169,7 +186,8 @@ Json toJson(const BakeReport& r) {
   j["threads"] = r.threads;
   j["stages"] = {{"load_mesh_s", r.mesh.seconds},     {"load_environment_s", r.environment.seconds},
                  {"energy_s", r.energy.seconds},      {"irradiance_s", r.lighting.seconds},
-                 {"exitance_s", r.transport.seconds}, {"total_s", r.totalSeconds}};
+                 {"far_field_s", r.farField.seconds}, {"exitance_s", r.transport.seconds},
+                 {"total_s", r.totalSeconds}};
   return j;
 }
 

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <string>
 
+#include "bake/far_field.h"
 #include "bake/finite_object_energy.h"
 #include "core/enum_names.h"
 #include "envmap/orientation.h"
@@ -65,6 +66,7 @@ struct BakeSettings {
   ProfileChoice profile = ProfileChoice::Auto;  // unused by PathTrace
   EnergyModel energy = EnergyModel::Auto;       // unused by PathTrace
   EntryModel entry = EntryModel::Directional;   // unused by PathTrace
+  FarFieldMode farField = FarFieldMode::Auto;   // far_field.h; unused by PathTrace
   // Relative RMS of B; ErrorBudget (error_budget.h) splits it between the estimates.
   double tolerance = 0.01;
   int walks = 256;  // PathTrace: random walks per vertex (>= 1)

@@ -5,12 +5,14 @@
 #include <string>
 #include <utility>
 
+#include "bake/far_field.h"
 #include "core/error.h"
 #include "core/format.h"
 #include "core/timer.h"
 #include "material/gaussian_profile.h"
 #include "material/halfspace_albedo.h"
 #include "material/material.h"
+#include "material/windowed_profile.h"
 #include "mesh/triangle_mesh.h"
 
 namespace sss {
@@ -95,6 +97,22 @@ double deviationFromHalfSpace(const EnergyPlan& plan, double& raw) {
   return std::sqrt(std::max(0.0, raw * raw - noise * noise));
 }
 
+// Walks per probe for a noise `ratio` times the budget at `walks` (noise ~ walks^-1/2), capped;
+// in double up to the cap, so that a tiny budget cannot overflow the count.
+int walksFor(int walks, double ratio, int maxWalks) {
+  return static_cast<int>(std::min(double(maxWalks), std::ceil(1.05 * walks * ratio * ratio)));
+}
+
+EscapeOptions escapeOptionsOf(const EnergyOptions& options) {
+  EscapeOptions escape;
+  escape.maxProbes = options.maxProbes;
+  escape.seed = options.seed;
+  escape.threads = options.threads;
+  escape.quiet = options.quiet;
+  escape.nearWindowMm = options.nearWindowMm;
+  return escape;
+}
+
 // More walks until their noise meets the budget (noise ~ walks^-1/2): needed to apply the model,
 // and to tell a real deviation from noise. The noise estimate is itself noisy: a few rounds at
 // most.
@@ -105,8 +123,7 @@ void refineWalks(EscapeWalks& walks, EnergyPlan& plan, const EnergyOptions& opti
        plan.walks < options.maxWalks;
        ++round) {
     const double ratio = plan.escape.relativeStdError / options.noiseBudget;
-    const int needed = static_cast<int>(std::ceil(1.05 * plan.walks * ratio * ratio));
-    walks.add(std::max(1, std::min(options.maxWalks, needed) - plan.walks));
+    walks.add(std::max(1, walksFor(plan.walks, ratio, options.maxWalks) - plan.walks));
     plan.escape = walks.result();
     plan.walks = walks.walksPerProbe();
     plan.halfSpaceDeviation = deviationFromHalfSpace(plan, raw);
@@ -152,12 +169,7 @@ EnergyPlan planFiniteObjectEnergy(const TriangleMesh& meshMm, std::span<const fl
   }
   if (!(options.noiseBudget > 0.0)) fail("", "energy: the noise budget must be positive");
 
-  EscapeOptions escape;
-  escape.maxProbes = options.maxProbes;
-  escape.seed = options.seed;
-  escape.threads = options.threads;
-  escape.quiet = options.quiet;
-  EscapeWalks walks(meshMm, areas, material, escape);
+  EscapeWalks walks(meshMm, areas, material, escapeOptionsOf(options));
   walks.add(std::min(options.firstWalks, options.maxWalks));
   plan.escape = walks.result();
   plan.walks = walks.walksPerProbe();
@@ -175,10 +187,52 @@ EnergyPlan planFiniteObjectEnergy(const TriangleMesh& meshMm, std::span<const fl
   return plan;
 }
 
+void refineNearShare(EnergyPlan& plan, const TriangleMesh& meshMm, std::span<const float> areas,
+                     const Material& material, const EnergyOptions& options) {
+  const double error = plan.escape.nearRelativeStdError;
+  if (plan.model != EnergyModel::Escape || plan.walks >= options.maxWalks ||
+      !(error > options.noiseBudget))
+    return;
+  const Stopwatch clock;
+  EscapeWalks walks(meshMm, areas, material, escapeOptionsOf(options));
+  walks.add(std::max(plan.walks + 1,
+                     walksFor(plan.walks, error / options.noiseBudget, options.maxWalks)));
+  const double seconds = plan.seconds;
+  plan.escape = walks.result();
+  plan.walks = walks.walksPerProbe();
+  plan.reason += "; " + std::to_string(plan.walks) + " walks per probe for the near share";
+  plan.seconds = seconds + clock.seconds();
+}
+
+// The far field's B: P_near / rho_near times the windowed profile's sum, plus the traced far field.
+DiffusionResult diffuseNearAndFar(const DiffusionInput& input, const DiffusionProfile& profile,
+                                  DiffusionOptions options, const EnergyPlan& plan,
+                                  const Material& material,
+                                  std::span<const glm::vec3> farExitance) {
+  const std::size_t n = input.positions.size();
+  if (farExitance.size() != n || plan.escape.nearProbability.size() != n)
+    fail("", "energy: one far-field exitance and near share per vertex needed");
+  options.weightSums = true;
+  DiffusionResult result =
+      diffuse(input, WindowedProfile(profile, farFieldWindowMm(material)), options);
+  result.escapeExcess.assign(farExitance.begin(), farExitance.end());
+  for (std::size_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) {
+      const double rho = result.weightSums[i][c];
+      const double near =
+          rho > 0.0 ? result.exitance[i][c] * plan.escape.nearProbability[i][c] / rho : 0.0;
+      result.exitance[i][c] = static_cast<float>(near + farExitance[i][c]);
+    }
+  return result;
+}
+
 DiffusionResult diffuseWithEnergy(const DiffusionInput& input, const DiffusionProfile& profile,
                                   DiffusionOptions options, const EnergyPlan& plan,
-                                  const Material& material) {
+                                  const Material& material,
+                                  std::span<const glm::vec3> farExitance) {
   const bool escape = plan.model == EnergyModel::Escape;
+  if (escape && !farExitance.empty())
+    return diffuseNearAndFar(input, profile, options, plan, material, farExitance);
   options.weightSums = escape;
   DiffusionResult result = diffuse(input, profile, options);
   if (escape) {

@@ -60,6 +60,9 @@ struct EnergyOptions {
   double noiseBudget = 0.005;
   int firstWalks = 2, maxWalks = 128;
   std::size_t maxProbes = 256;
+  // The far field's near window (far_field.h, farFieldWindowMm): the walks also measure P's near
+  // share with it (EscapeResult::nearProbability). 0: they do not.
+  glm::dvec3 nearWindowMm{0.0};
   uint64_t seed = 1;
   int threads = 0;
   bool quiet = true;  // no progress bar on stderr
@@ -82,13 +85,22 @@ struct EnergyPlan {
 EnergyPlan planFiniteObjectEnergy(const TriangleMesh& meshMm, std::span<const float> areas,
                                   const Material& material, const EnergyOptions& options);
 
+// More walks for an escape plan until the noise of P's near share meets options.noiseBudget
+// (the far field, far_field.h, spreads P_near with the profile; it needs more walks than P).
+// The walks repeat the plan's (each walk has its own random stream) and add to them.
+void refineNearShare(EnergyPlan& plan, const TriangleMesh& meshMm, std::span<const float> areas,
+                     const Material& material, const EnergyOptions& options);
+
 // The diffusion sum (diffusion.h) with the plan's energy model: diffuse() as it is for halfspace;
 // for escape B_i = min(P_i, R) / rho_i * B_i + max(0, P_i - R) * Ebar_i, with rho from the same
 // method (DiffusionOptions::weightSums) and Ebar, the irradiance averaged by a Gaussian of 4 of
-// the material's longest diffusion lengths, by the method diffuse() chose.
+// the material's longest diffusion lengths, by the method diffuse() chose. With a traced far field
+// (farExitance per vertex, far_field.h): B_i = P_near,i / rho_near,i sum_j R_d W E_j A_j + B_far,i,
+// the profile windowed (material/windowed_profile.h); escapeExcess is then B_far.
 DiffusionResult diffuseWithEnergy(const DiffusionInput& input, const DiffusionProfile& profile,
                                   DiffusionOptions options, const EnergyPlan& plan,
-                                  const Material& material);
+                                  const Material& material,
+                                  std::span<const glm::vec3> farExitance = {});
 
 // The profile `--profile auto` takes for the energy model in use: dipole with escape (its shape is
 // the closest to the Monte Carlo reference once the energy is right), burley with halfspace (its

@@ -5,6 +5,21 @@
 
 namespace sss {
 
+namespace {
+
+EnergyOptions energyOptionsOf(const EnergyStageInput& in) {
+  EnergyOptions options;
+  options.model = in.energy;
+  options.noiseBudget = in.walkBudget;
+  options.nearWindowMm = in.nearWindowMm;
+  options.seed = in.seed;
+  options.threads = in.threads;
+  options.quiet = in.quiet;
+  return options;
+}
+
+}  // namespace
+
 EnergyStage planEnergy(const EnergyStageInput& in) {
   const Stopwatch clock;
   EnergyStage out;
@@ -13,13 +28,7 @@ EnergyStage planEnergy(const EnergyStageInput& in) {
   report.walkBudget = in.walkBudget;
   report.profileRequested = in.profile;
   if (in.runWalks) {
-    EnergyOptions options;
-    options.model = in.energy;
-    options.noiseBudget = in.walkBudget;
-    options.seed = in.seed;
-    options.threads = in.threads;
-    options.quiet = in.quiet;
-    report.plan = planFiniteObjectEnergy(in.meshMm, in.areasMm2, in.material, options);
+    report.plan = planFiniteObjectEnergy(in.meshMm, in.areasMm2, in.material, energyOptionsOf(in));
     info("energy: " + std::string(kEnergyModelNames.name(report.plan.model)) + " (" +
              report.plan.reason + ")",
          in.quiet);
@@ -32,6 +41,17 @@ EnergyStage planEnergy(const EnergyStageInput& in) {
   report.profileTotalReflectance = out.profile->totalReflectance();
   report.seconds = clock.seconds();
   return out;
+}
+
+void useFarField(EnergyStage& stage, const EnergyStageInput& in, double budget,
+                 double farFieldError) {
+  const Stopwatch clock;
+  EnergyOptions options = energyOptionsOf(in);
+  options.noiseBudget = budget;
+  refineNearShare(stage.report.plan, in.meshMm, in.areasMm2, in.material, options);
+  stage.report.farField = true;
+  stage.report.farFieldError = farFieldError;
+  stage.report.seconds += clock.seconds();
 }
 
 }  // namespace sss

@@ -2,6 +2,7 @@
 // that decide "auto" and measure the escape probability) and the profile that suits it.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -26,6 +27,8 @@ struct EnergyStageInput {
   uint64_t seed = 1;
   int threads = 0;
   bool quiet = false;
+  // The far field's near window (far_field.h): the walks also measure P's near share; 0: not.
+  glm::dvec3 nearWindowMm{0.0};
 };
 
 struct EnergyStageReport {
@@ -37,8 +40,16 @@ struct EnergyStageReport {
   glm::dvec3 profileTotalReflectance{0.0};
   double seconds = 0.0;
   bool escape() const { return plan.model == EnergyModel::Escape; }
-  // The relative noise the escape walks leave in B (0 without them).
-  double walkError() const { return escape() ? plan.escape.relativeStdError : 0.0; }
+  // With a traced far field (far_field.h) the profile spreads P's near share, not P, and the far
+  // field's own noise adds to the walks'.
+  bool farField = false;
+  double farFieldError = 0.0;
+  // The relative noise the escape model's Monte Carlo leaves in B (0 without it).
+  double walkError() const {
+    if (!escape()) return 0.0;
+    return farField ? std::hypot(plan.escape.nearRelativeStdError, farFieldError)
+                    : plan.escape.relativeStdError;
+  }
 };
 
 struct EnergyStage {
@@ -47,5 +58,10 @@ struct EnergyStage {
 };
 
 EnergyStage planEnergy(const EnergyStageInput& in);
+
+// With a traced far field: more walks until the near share's noise meets `budget`
+// (finite_object_energy.h, refineNearShare), and the far field's noise in the report.
+void useFarField(EnergyStage& stage, const EnergyStageInput& in, double budget,
+                 double farFieldError);
 
 }  // namespace sss

@@ -34,6 +34,7 @@ struct TransportInput {
   uint64_t seed = 1;
   int threads = 0;
   bool quiet = false;
+  std::span<const glm::vec3> farExitance{};  // the traced far field (far_field.h), or empty
 };
 
 struct PathTraceStageReport {

@@ -30,7 +30,8 @@ constexpr int kMaxEvents = 1 << 20;  // safety cap: such walks count as lost
 struct WalkOutcome {
   double weight = 0.0;
   uint64_t events = 0;
-  bool lost = false;  // left through a hole, or hit the cap
+  bool lost = false;          // left through a hole, or hit the cap
+  glm::vec3 exitPoint{0.0f};  // where it left (weight > 0)
 };
 
 class EscapeWalker {
@@ -116,6 +117,7 @@ class EscapeWalker {
         continue;
       }
       out.weight = forced * std::exp(-sigmaA * length);
+      out.exitPoint = hitPoint;
       return out;
     }
   }
@@ -129,6 +131,18 @@ class EscapeWalker {
 // Mean and variance of the mean per probe and channel, over the walks that were not lost.
 struct ProbeEstimates {
   std::vector<glm::dvec3> mean, variance;
+};
+
+// Per probe and channel, over the walks so far that did not get lost: the sums of a score and of
+// its square.
+struct ProbeSums {
+  explicit ProbeSums(std::size_t probes)
+      : sum(probes, glm::dvec3(0.0)), sumSq(probes, glm::dvec3(0.0)) {}
+  void add(std::size_t k, int c, double score) {
+    sum[k][c] += score;
+    sumSq[k][c] += score * score;
+  }
+  std::vector<glm::dvec3> sum, sumSq;
 };
 
 // The Gaussian that spreads the probes over the surface: its width and the squared reach.
@@ -150,8 +164,8 @@ struct EscapeWalks::State {
         walker(scene, material),
         entries(m.positions, m.triangles),
         probes(std::min(m.positions.size(), std::max<std::size_t>(o.maxProbes, 1))),
-        sum(probes, glm::dvec3(0.0)),
-        sumSq(probes, glm::dvec3(0.0)),
+        escaped(probes),
+        near(probes),
         kept(probes, glm::dvec3(0.0)) {
     const glm::dvec3 albedo = material.reducedAlbedo();
     for (int c = 0; c < 3; ++c) halfSpace[c] = halfSpaceDiffuseAlbedo(albedo[c], material.eta);
@@ -159,10 +173,20 @@ struct EscapeWalks::State {
   uint32_t probeVertex(std::size_t k) const {
     return static_cast<uint32_t>(k * mesh.positions.size() / probes);
   }
-  ProbeEstimates probeEstimates() const;
+  bool hasNearWindow() const { return options.nearWindowMm.x > 0.0; }
+  // W(d) of channel c for a walk that entered at `entry` and left at o.exitPoint.
+  double nearWeight(const WalkOutcome& o, const glm::vec3& entry, int c) const {
+    const glm::vec3 d = o.exitPoint - entry;
+    const double w = options.nearWindowMm[c];
+    return std::exp(-0.5 * double(glm::dot(d, d)) / (w * w));
+  }
+  ProbeEstimates probeEstimates(const ProbeSums& sums) const;
   Smoothing smoothing(double totalArea) const;
   void smoothAt(std::size_t i, const ProbeEstimates& probe, const Smoothing& smooth,
                 glm::vec3& probability, glm::dvec3& variance) const;
+  // Smoothed per vertex from the probes' estimates, and its relative standard error.
+  double smoothed(const ProbeEstimates& probe, const Smoothing& smooth,
+                  std::vector<glm::vec3>& probability) const;
 
   const TriangleMesh& mesh;
   std::span<const float> areas;
@@ -172,8 +196,10 @@ struct EscapeWalks::State {
   EscapeWalker walker;
   OneRingSampler entries;
   std::size_t probes;
-  // Per probe and channel, over the walks so far that did not get lost.
-  std::vector<glm::dvec3> sum, sumSq, kept;
+  // Per probe and channel, over the walks so far that did not get lost: their weights, the same
+  // times the near window (with one), and their count.
+  ProbeSums escaped, near;
+  std::vector<glm::dvec3> kept;
   glm::dvec3 halfSpace{0.0};  // the albedo where no walk tells anything (halfspace_albedo.h)
   int walks = 0;              // per probe and channel so far
   uint64_t events = 0, lost = 0;
@@ -188,6 +214,12 @@ EscapeWalks::EscapeWalks(const TriangleMesh& meshMm, std::span<const float> area
   if (areas.size() != n) fail("", "escape probability: one area per vertex needed");
   validateMaterial(material);
   if (!(std::abs(material.g) < 1.0)) fail("", "escape probability: |g| must be below 1");
+  const glm::dvec3 window = options.nearWindowMm;
+  if (!(window.x >= 0.0 && window.y >= 0.0 && window.z >= 0.0) ||
+      !std::isfinite(window.x + window.y + window.z) ||
+      ((window.x > 0.0) != (window.y > 0.0) || (window.x > 0.0) != (window.z > 0.0)))
+    fail("",
+         "escape probability: the near window must be 0 or finite and positive in every channel");
   state_ = std::make_unique<State>(meshMm, areas, material, options);
   state_->seconds = clock.seconds();
 }
@@ -222,8 +254,9 @@ void EscapeWalks::add(int walksPerProbe) {
             ++lost;
             continue;
           }
-          st.sum[k][c] += o.weight;
-          st.sumSq[k][c] += o.weight * o.weight;
+          st.escaped.add(k, c, o.weight);
+          if (st.hasNearWindow() && o.weight > 0.0)
+            st.near.add(k, c, o.weight * st.nearWeight(o, entry.position, c));
           st.kept[k][c] += 1.0;
         }
       }
@@ -240,15 +273,15 @@ void EscapeWalks::add(int walksPerProbe) {
 }
 
 // A probe without any kept walk carries no weight.
-ProbeEstimates EscapeWalks::State::probeEstimates() const {
+ProbeEstimates EscapeWalks::State::probeEstimates(const ProbeSums& sums) const {
   ProbeEstimates probe{std::vector<glm::dvec3>(probes), std::vector<glm::dvec3>(probes)};
   for (std::size_t k = 0; k < probes; ++k)
     for (int c = 0; c < 3; ++c) {
       const double w = kept[k][c];
-      const double mean = w > 0.0 ? sum[k][c] / w : 0.0;
+      const double mean = w > 0.0 ? sums.sum[k][c] / w : 0.0;
       probe.mean[k][c] = mean;
       probe.variance[k][c] =
-          w > 1.0 ? std::max(0.0, sumSq[k][c] / w - mean * mean) / (w - 1.0) : mean * mean;
+          w > 1.0 ? std::max(0.0, sums.sumSq[k][c] / w - mean * mean) / (w - 1.0) : mean * mean;
     }
   return probe;
 }
@@ -305,33 +338,39 @@ void EscapeWalks::State::smoothAt(std::size_t i, const ProbeEstimates& probe,
   }
 }
 
+double EscapeWalks::State::smoothed(const ProbeEstimates& probe, const Smoothing& smooth,
+                                    std::vector<glm::vec3>& probability) const {
+  const std::size_t n = mesh.positions.size();
+  probability.assign(n, glm::vec3(0.0f));
+  std::vector<glm::dvec3> variance(n);
+  parallelFor(n, options.threads, 64, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+      smoothAt(i, probe, smooth, probability[i], variance[i]);
+  });
+  double errorSq = 0.0, valueSq = 0.0;
+  for (std::size_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) {
+      errorSq += variance[i][c];
+      valueSq += double(probability[i][c]) * probability[i][c];
+    }
+  return valueSq > 0.0 ? std::sqrt(errorSq / valueSq) : 0.0;
+}
+
 EscapeResult EscapeWalks::result() const {
   const Stopwatch clock;
   const State& st = *state_;
-  const std::size_t n = st.mesh.positions.size();
-  const ProbeEstimates probe = st.probeEstimates();
   double totalArea = 0.0;
   for (float a : st.areas) totalArea += a;
   const Smoothing smooth = st.smoothing(totalArea);
   EscapeResult result;
-  result.probability.assign(n, glm::vec3(0.0f));
-  std::vector<glm::dvec3> variance(n);
-  parallelFor(n, st.options.threads, 64, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i)
-      st.smoothAt(i, probe, smooth, result.probability[i], variance[i]);
-  });
-
-  double errorSq = 0.0, valueSq = 0.0;
+  result.relativeStdError = st.smoothed(st.probeEstimates(st.escaped), smooth, result.probability);
+  if (st.hasNearWindow())
+    result.nearRelativeStdError =
+        st.smoothed(st.probeEstimates(st.near), smooth, result.nearProbability);
   glm::dvec3 weighted(0.0);
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < result.probability.size(); ++i)
     weighted += glm::dvec3(result.probability[i]) * double(st.areas[i]);
-    for (int c = 0; c < 3; ++c) {
-      errorSq += variance[i][c];
-      valueSq += double(result.probability[i][c]) * result.probability[i][c];
-    }
-  }
   result.mean = totalArea > 0.0 ? weighted / totalArea : glm::dvec3(0.0);
-  result.relativeStdError = valueSq > 0.0 ? std::sqrt(errorSq / valueSq) : 0.0;
   result.probes = st.probes;
   result.walks = uint64_t(st.probes) * 3u * uint64_t(st.walks);
   result.lostWalks = st.lost;

@@ -48,6 +48,9 @@ struct EscapeOptions {
   int walks = 16;                // per probe vertex and channel
   std::size_t maxProbes = 2048;  // probe vertices (an even stride when the mesh has more)
   double smoothing = 2.0;        // Gaussian sigma in the longest diffusion length 1/sigma_tr
+  // When > 0 (mm, per channel): also the near share of P, the walks' weights times
+  // W(d) = exp(-d^2 / (2 w^2)) of their exit's distance d from the entry (lib/bake/far_field.h).
+  glm::dvec3 nearWindowMm{0.0};
   uint64_t seed = 1;
   int threads = 0;    // <= 0: all cores
   bool quiet = true;  // no progress bar on stderr
@@ -65,6 +68,10 @@ struct EscapeResult {
   double meanScatteringEvents = 0.0;
   glm::dvec3 smoothingSigmaMm{0.0};
   double seconds = 0.0;
+  // With a near window: P's near share per vertex (smoothed as P) and its relative standard
+  // error (as relativeStdError); empty and 0 without.
+  std::vector<glm::vec3> nearProbability;
+  double nearRelativeStdError = 0.0;
 };
 
 // Walks added in rounds: walk s of vertex v in channel c always draws from its own stream, so a

@@ -99,7 +99,8 @@ class LightTracer {
 
  private:
   void tracePath(uint64_t index, BatchTally& tally) const;
-  void tallyExit(const MediumExit& exit, const glm::dvec3& power, BatchTally& tally) const;
+  void tallyExit(const MediumExit& exit, const glm::vec3& entry, glm::dvec3 power,
+                 BatchTally& tally) const;
 
   const std::vector<glm::vec3>& positions_;
   const std::vector<glm::vec3>& normals_;
@@ -114,8 +115,13 @@ class LightTracer {
   double radius_ = 0.0;
 };
 
-void LightTracer::tallyExit(const MediumExit& exit, const glm::dvec3& power,
+void LightTracer::tallyExit(const MediumExit& exit, const glm::vec3& entry, glm::dvec3 power,
                             BatchTally& tally) const {
+  const glm::vec3 d = exit.point - entry;
+  for (int c = 0; c < 3; ++c) {
+    const double w = options_.nearWindowMm[c];
+    if (w > 0.0) power[c] *= -std::expm1(-0.5 * double(glm::dot(d, d)) / (w * w));
+  }
   const glm::uvec3 tri = triangles_[exit.triangle];
   const glm::dvec3 l =
       barycentricWeights(exit.point, positions_[tri.x], positions_[tri.y], positions_[tri.z]);
@@ -174,7 +180,8 @@ void LightTracer::tracePath(uint64_t index, BatchTally& tally) const {
     power *= exit.weight;
     order += stats.events;
     tally.exited += power;
-    if (order >= uint64_t(options_.minScatteringOrder)) tallyExit(exit, power, tally);
+    if (order >= uint64_t(options_.minScatteringOrder)) tallyExit(exit, hitPoint, power, tally);
+    if (options_.stopAtFirstExit) return;
     exitedBefore = true;
     d = exit.direction;
     p = exit.point + eps * exit.normal;
@@ -192,6 +199,9 @@ void validateOptions(const std::vector<glm::vec3>& positions, const std::vector<
   validateHomogeneousMedium(medium);
   if (options.paths < 2 || options.batches < 2 || uint64_t(options.batches) > options.paths)
     fail("", "light tracer: at least 2 batches of at least one path each needed");
+  const glm::dvec3 w = options.nearWindowMm;
+  if (!(w.x >= 0.0 && w.y >= 0.0 && w.z >= 0.0 && std::isfinite(w.x + w.y + w.z)))
+    fail("", "light tracer: the near window must be finite and not negative");
   if (!(options.coneHalfAngleDeg > 0.0 && options.coneHalfAngleDeg <= 90.0))
     fail("", "light tracer: the radiance cone must be in (0, 90] degrees");
 }
@@ -270,7 +280,7 @@ LightTraceResult lightTraceSubsurface(const std::vector<glm::vec3>& positions,
       BatchTally& tally = batches[b];
       tally.exitance.assign(positions.size(), glm::dvec3(0.0));
       tally.radiance.assign(positions.size(), glm::dvec3(0.0));
-      tracer.trace(first, last, tally);
+      tracer.trace(options.firstPath + first, options.firstPath + last, tally);
       sizes[b] = last - first;
       progress.advance();
     }

@@ -94,6 +94,14 @@ struct LightTraceOptions {
   // Count light scattered at least this often in all: 0 (default) counts everything, 1 leaves
   // out unscattered transmission (the backward tracer's default).
   int minScatteringOrder = 0;
+  // The far field beside a windowed profile (lib/bake/far_field.h): when > 0 (mm, per channel),
+  // an exit at distance d from where its path last entered counts with the weight
+  // 1 - exp(-d^2 / (2 w^2)).
+  glm::dvec3 nearWindowMm{0.0};
+  // Stop a path at its first exit (the far field leaves the light the object sends to itself to
+  // the interreflection stage); false follows it, as the reference does.
+  bool stopAtFirstExit = false;
+  uint64_t firstPath = 0;             // paths [firstPath, firstPath + paths): rounds that add up
   int maxSurfaceInteractions = 64;    // reflections and refractions at the surface, per path
   int maxScatteringEvents = 1 << 20;  // per medium walk (safety cap; counted)
 };

@@ -162,6 +162,11 @@ TEST_F(BakeTool, BakesASphereUnderUniformLight) {
   EXPECT_EQ(report["mesh"]["vertices"], sphere_.vertexCount());
   EXPECT_EQ(report["material"]["name"], "marble");
   EXPECT_EQ(report["visibility"]["mode"], "rays");
+  // Uniform light: the far field has nothing to move (far_field.h), so auto does not trace it.
+  if (report["energy"]["model"] == "escape") {
+    EXPECT_FALSE(report["far_field"]["traced"].get<bool>()) << report["far_field"].dump();
+    EXPECT_LT(report["far_field"]["sensitivity"].get<double>(), 0.005);
+  }
   EXPECT_EQ(report["visibility"]["occluded_fraction"], 0.0);
   EXPECT_TRUE(report["exitance"].contains("profile_fit"));
   // Auto picks exact for so few vertices; every other method reports its fit.
@@ -562,6 +567,7 @@ TEST_F(BakeTool, BadChoicesAreErrors) {
   expectUsageError(run(args("sphere.ply", "-m marble --unit mm --visibility some")), "some");
   expectUsageError(run(args("sphere.ply", "-m marble --unit mm --energy lots")), "lots");
   expectUsageError(run(args("sphere.ply", "-m marble --unit mm --entry sideways")), "sideways");
+  expectUsageError(run(args("sphere.ply", "-m marble --unit mm --far-field maybe")), "maybe");
   expectUsageError(run(args("sphere.ply", "-m marble --unit mm --profile gaussian")), "gaussian");
   expectUsageError(run(args("sphere.ply", "-m marble --unit mm", 1)), "--samples");
   expectUsageError(run(path("sphere.ply") + " -e " + path("white.exr") + " -o " + path("out.ply") +

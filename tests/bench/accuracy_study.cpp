@@ -40,6 +40,7 @@
 
 #include "bake/diffusion.h"
 #include "bake/error_budget.h"
+#include "bake/far_field.h"
 #include "bake/finite_object_energy.h"
 #include "bake/visibility.h"
 #include "bench/interior_segment_guard.h"
@@ -205,11 +206,12 @@ struct AutoChoice {
 };
 
 AutoChoice autoChoice(const TriangleMesh& mesh, const std::vector<float>& areas,
-                      const Material& material, double tolerance) {
+                      const Material& material, double tolerance, bool nearShare = false) {
   AutoChoice c;
   const ErrorBudget budget(tolerance);
   EnergyOptions energyOptions;
   energyOptions.noiseBudget = budget.walkBudget();
+  if (nearShare) energyOptions.nearWindowMm = farFieldWindowMm(material);
   c.plan = planFiniteObjectEnergy(mesh, areas, material, energyOptions);
   c.profileName = autoProfileName(c.plan.model);
   c.profile = makeProfile(c.profileName, material);
@@ -381,30 +383,50 @@ void sceneStudy(const Scene& scene, int walks, int visibilitySamples, WalkEntry 
   // sss-bake's defaults since issue 11's part 2: the same choices on E_w (directional entry),
   // radiance through the normalized exit model ("bake-defaults") and through the calibrated one
   // ("bake-calibrated", part 4). err_vs_exact against the exact sum of the model chosen on E_w.
-  {
+  // "bake-defaults-far": with the far field (far_field.h) as sss-bake's auto decides it.
+  for (const FarFieldMode farMode : {FarFieldMode::Off, FarFieldMode::Auto}) {
     const double tol = 0.01;
-    const AutoChoice choice = autoChoice(mesh, areas, scene.material, tol);
-    const EnergyPlan& plan = choice.plan;
+    AutoChoice choice = autoChoice(mesh, areas, scene.material, tol, farMode != FarFieldMode::Off);
+    EnergyPlan& plan = choice.plan;
     const DiffusionProfile& profile = *choice.profile;
     const std::string& profileName = choice.profileName;
     const DiffusionInput weighted{mesh.positions, mesh.normals, areas, visReport.entryWeighted};
+    const Stopwatch farClock;
+    FarFieldOptions farOptions;
+    farOptions.mode = farMode;
+    farOptions.noiseBudget = ErrorBudget(tol).walkBudget() / std::sqrt(2.0);
+    const FarField far = traceFarField(
+        {mesh, areas, *scene.env, scene.material, plan, visReport.entryWeighted, farOptions});
+    if (far.traced()) {
+      EnergyOptions energyOptions;
+      energyOptions.noiseBudget = farOptions.noiseBudget;
+      energyOptions.nearWindowMm = farFieldWindowMm(scene.material);
+      refineNearShare(plan, mesh, areas, scene.material, energyOptions);
+    }
+    const double farSeconds = farClock.seconds();
+    std::printf("%s: far field %s (%s)\n", scene.name.c_str(), far.traced() ? "traced" : "off",
+                far.report.reason.c_str());
+    if (farMode != FarFieldMode::Off && !far.traced()) continue;  // the same as the row before
+    const std::string suffix = far.traced() ? "-far" : "";
     DiffusionOptions dopt;
     dopt.quiet = true;
     dopt.method = DiffusionMethod::Exact;
-    const DiffusionResult exact = diffuseWithEnergy(weighted, profile, dopt, plan, scene.material);
+    const DiffusionResult exact =
+        diffuseWithEnergy(weighted, profile, dopt, plan, scene.material, far.exitance);
     dopt.method = DiffusionMethod::Auto;
     dopt.tolerance = choice.diffusionTolerance;
     const Stopwatch clock;
-    const DiffusionResult r = diffuseWithEnergy(weighted, profile, dopt, plan, scene.material);
-    const double seconds = plan.seconds + clock.seconds();
+    const DiffusionResult r =
+        diffuseWithEnergy(weighted, profile, dopt, plan, scene.material, far.exitance);
+    const double seconds = plan.seconds + farSeconds + clock.seconds();
     const std::string chosen = profileName + "/" + kDiffusionMethodNames.name(r.report.method);
-    const std::string energy = kEnergyModelNames.name(plan.model);
-    record("auto", "bake-defaults", chosen, tol, r.report.gaussians, seconds, r.exitance,
+    const std::string energy = std::string(kEnergyModelNames.name(plan.model)) + suffix;
+    record("auto", "bake-defaults" + suffix, chosen, tol, r.report.gaussians, seconds, r.exitance,
            &exact.exitance, 0.0, energy + "/directional/normalized", false);
-    record("auto", "bake-calibrated", chosen, tol, r.report.gaussians, seconds, r.exitance,
+    record("auto", "bake-calibrated" + suffix, chosen, tol, r.report.gaussians, seconds, r.exitance,
            &exact.exitance, 0.0, energy + "/directional/calibrated", true);
     if (!r.escapeExcess.empty())
-      record("auto", "bake-hybrid", chosen, tol, r.report.gaussians, seconds, r.exitance,
+      record("auto", "bake-hybrid" + suffix, chosen, tol, r.report.gaussians, seconds, r.exitance,
              &exact.exitance, 0.0, energy + "/directional/hybrid", true, &r.escapeExcess);
   }
 }

@@ -41,6 +41,7 @@
 #include "bake/bake_settings.h"
 #include "bake/diffusion.h"
 #include "bake/error_budget.h"
+#include "bake/far_field.h"
 #include "bake/finite_object_energy.h"
 #include "bake/visibility.h"
 #include "core/error.h"
@@ -145,8 +146,8 @@ Metrics compare(const std::vector<glm::vec3>& bake, const std::vector<glm::vec3>
 
 // The bake with the given energy and entry models: B per vertex and the seconds it took.
 DiffusionResult bakeExitance(const Scene& s, const Cubemap& env, const std::vector<float>& areas,
-                             EnergyModel model, EntryModel entryModel, std::string& chosen,
-                             double& seconds) {
+                             EnergyModel model, EntryModel entryModel, FarFieldMode farMode,
+                             std::string& chosen, double& seconds) {
   const Stopwatch clock;
   const DirectionalAlbedoWeight entry(s.material);
   VisibilityOptions vis;
@@ -161,17 +162,32 @@ DiffusionResult bakeExitance(const Scene& s, const Cubemap& env, const std::vect
   EnergyOptions energyOptions;
   energyOptions.model = model;
   energyOptions.noiseBudget = budget.walkBudget();
-  const EnergyPlan plan = planFiniteObjectEnergy(s.mesh, areas, s.material, energyOptions);
+  if (farMode != FarFieldMode::Off) energyOptions.nearWindowMm = farFieldWindowMm(s.material);
+  EnergyPlan plan = planFiniteObjectEnergy(s.mesh, areas, s.material, energyOptions);
+  // The far field as sss-bake runs it (bake.cpp, farFieldStage).
+  FarFieldOptions farOptions;
+  farOptions.mode = farMode;
+  farOptions.noiseBudget = budget.walkBudget() / std::sqrt(2.0);
+  const FarField far = traceFarField({s.mesh, areas, env, s.material, plan, e, farOptions});
+  if (far.traced()) {
+    energyOptions.noiseBudget = farOptions.noiseBudget;
+    refineNearShare(plan, s.mesh, areas, s.material, energyOptions);
+  }
   const std::string profileName = autoProfileName(plan.model);
   const auto profile = makeProfile(profileName, s.material);
   DiffusionOptions dopt;
   dopt.quiet = true;
-  const double energyError = plan.model == EnergyModel::Escape ? plan.escape.relativeStdError : 0.0;
+  const double energyError =
+      plan.model != EnergyModel::Escape ? 0.0
+      : far.traced() ? std::hypot(plan.escape.nearRelativeStdError, far.report.relativeStdError)
+                     : plan.escape.relativeStdError;
   dopt.tolerance =
       budget.diffusionTolerance(plan.model == EnergyModel::Escape, energyError, std::nullopt);
   const DiffusionInput input{s.mesh.positions, s.mesh.normals, areas, e};
-  const DiffusionResult r = diffuseWithEnergy(input, *profile, dopt, plan, s.material);
+  const DiffusionResult r =
+      diffuseWithEnergy(input, *profile, dopt, plan, s.material, far.exitance);
   chosen = std::string(kEnergyModelNames.name(plan.model)) + "/" +
+           (far.traced() ? "far-" + std::to_string(far.report.paths) + "/" : std::string()) +
            kEntryModelNames.name(entryModel) + "/" + profileName + "/" +
            kDiffusionMethodNames.name(r.report.method);
   seconds = clock.seconds();
@@ -229,17 +245,22 @@ void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstre
     EnergyModel energy;
     EntryModel entry;
     Exit exit;
+    FarFieldMode far;
   };
-  const Config configs[] = {{EnergyModel::Auto, EntryModel::Directional, Exit::Normalized},
-                            {EnergyModel::Auto, EntryModel::Directional, Exit::Calibrated},
-                            {EnergyModel::Auto, EntryModel::Directional, Exit::Hybrid},
-                            {EnergyModel::Auto, EntryModel::Diffuse, Exit::Normalized},
-                            {EnergyModel::HalfSpace, EntryModel::Diffuse, Exit::Normalized}};
+  constexpr FarFieldMode kAuto = FarFieldMode::Auto, kOff = FarFieldMode::Off;
+  const Config configs[] = {{EnergyModel::Auto, EntryModel::Directional, Exit::Normalized, kAuto},
+                            {EnergyModel::Auto, EntryModel::Directional, Exit::Normalized, kOff},
+                            {EnergyModel::Auto, EntryModel::Directional, Exit::Calibrated, kAuto},
+                            {EnergyModel::Auto, EntryModel::Directional, Exit::Calibrated, kOff},
+                            {EnergyModel::Auto, EntryModel::Directional, Exit::Hybrid, kOff},
+                            {EnergyModel::Auto, EntryModel::Diffuse, Exit::Normalized, kOff},
+                            {EnergyModel::HalfSpace, EntryModel::Diffuse, Exit::Normalized, kOff}};
   for (const Config& config : configs) {
     const EnergyModel model = config.energy;
     std::string chosen;
     double seconds = 0.0;
-    const DiffusionResult r = bakeExitance(s, env, areas, model, config.entry, chosen, seconds);
+    const DiffusionResult r =
+        bakeExitance(s, env, areas, model, config.entry, config.far, chosen, seconds);
     const std::vector<glm::vec3>& b = r.exitance;
     std::vector<glm::vec3> l(b.size());
     for (std::size_t v = 0; v < b.size(); ++v) {
@@ -256,7 +277,8 @@ void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstre
                                "/" + kEntryModelNames.name(config.entry) + "/" +
                                (config.exit == Exit::Normalized   ? "normalized"
                                 : config.exit == Exit::Calibrated ? "calibrated"
-                                                                  : "hybrid");
+                                                                  : "hybrid") +
+                               (config.far == kOff ? "/far-off" : "");
     char line[512];
     std::snprintf(line, sizeof line,
                   "%s,%s,%s,%s,%zu,%.5f,%.5f,%.4f,%.5f,%.4f,%.4f,%.5f,%.4f,%.4f,%.3f,%llu,%.1f\n",

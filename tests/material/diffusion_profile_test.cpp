@@ -13,6 +13,7 @@
 #include "material/directional_albedo_weight.h"
 #include "material/halfspace_albedo.h"
 #include "material/material.h"
+#include "material/windowed_profile.h"
 #include "optics/fresnel.h"
 
 namespace sss {
@@ -66,6 +67,36 @@ TEST(DiffusionProfile, DiscIntegralsMatchQuadrature) {
 }
 
 // Jensen 2001: total R_d = alpha'/2 (1 + e^{-4/3 A sqrt(3(1-alpha'))}) e^{-sqrt(3(1-alpha'))}.
+// The far field's near profile: R_d W pointwise, its disc integrals and total against quadrature,
+// a wide window gives the base back, and the windowed total is what the base holds inside it.
+TEST(WindowedProfile, MatchesQuadratureAndItsLimits) {
+  const Material skin = findMaterialPreset("skin1");
+  const auto dipole = makeProfile("dipole", skin);
+  const glm::dvec3 window(0.9, 0.4, 0.2);
+  const WindowedProfile near(*dipole, window);
+  for (double r : {0.0, 0.1, 0.5, 1.5})
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(near.evaluate(r)[c],
+                  dipole->evaluate(r)[c] * std::exp(-0.5 * r * r / (window[c] * window[c])),
+                  1e-12 * dipole->evaluate(r)[c]);
+  const glm::dvec3 total = integrateProfileNumerically(near, 0.0, 10.0);
+  for (double rho : {0.05, 0.3, 1.0}) {
+    const glm::dvec3 disc = integrateProfileNumerically(near, 0.0, rho);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(near.integrateDisc(rho)[c], disc[c], 2e-3 * disc[c]);
+  }
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(near.totalReflectance()[c], total[c], 2e-3 * total[c]);
+    EXPECT_LT(total[c], dipole->totalReflectance()[c]);
+    EXPECT_GT(total[c], dipole->integrateDisc(window[c])[c]);  // W > 0.6 inside one width
+  }
+  const WindowedProfile wide(*dipole, glm::dvec3(1e4));
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(wide.totalReflectance()[c], dipole->totalReflectance()[c],
+                1e-3 * dipole->totalReflectance()[c]);
+  EXPECT_THROW(WindowedProfile(*dipole, glm::dvec3(1.0, 0.0, 1.0)), Error);
+  EXPECT_THROW(WindowedProfile(*dipole, glm::dvec3(1.0, NAN, 1.0)), Error);
+}
+
 TEST(DipoleProfile, TotalIsJensenClosedForm) {
   for (const Material& m : materialPresets()) {
     const DipoleProfile dipole(m);

@@ -355,6 +355,40 @@ TEST(EscapeProbability, RoundsOfWalksAddUp) {
   EXPECT_THROW(rounds.add(0), Error);
 }
 
+// The near share (the far field's window, lib/bake/far_field.h) from the same walks: all of P for a
+// window much wider than the object, none for a window far below a mean free path, in between
+// and growing with the window otherwise; a bad window is refused.
+TEST(EscapeProbability, NearShareLimits) {
+  const TriangleMesh sphere = makeIcosphere(2, 6.0f);
+  const std::vector<float> areas = vertexAreas(sphere);
+  const Material skin = findMaterialPreset("skin1");
+  EscapeOptions options;
+  options.walks = 8;
+  const auto nearShare = [&](double window) {
+    options.nearWindowMm = glm::dvec3(window);
+    return estimateEscapeProbability(sphere, areas, skin, options);
+  };
+  const EscapeResult plain = estimateEscapeProbability(sphere, areas, skin, options);
+  EXPECT_TRUE(plain.nearProbability.empty());
+  const EscapeResult wide = nearShare(1e5), narrow = nearShare(1e-5), mid = nearShare(1.0),
+                     wider = nearShare(2.0);
+  EXPECT_EQ(wide.probability, plain.probability);  // the same walks
+  for (std::size_t v = 0; v < sphere.positions.size(); ++v)
+    for (int c = 0; c < 3; ++c) {
+      const float p = plain.probability[v][c];
+      EXPECT_NEAR(wide.nearProbability[v][c], p, 1e-6f * p);
+      EXPECT_LT(narrow.nearProbability[v][c], 1e-6f * p);
+      EXPECT_GT(mid.nearProbability[v][c], 0.0f);
+      EXPECT_LT(mid.nearProbability[v][c], p);
+      EXPECT_LE(mid.nearProbability[v][c], wider.nearProbability[v][c]);
+    }
+  EXPECT_GT(mid.nearRelativeStdError, 0.0);
+  options.nearWindowMm = glm::dvec3(1.0, 0.0, 1.0);
+  EXPECT_THROW(estimateEscapeProbability(sphere, areas, skin, options), Error);
+  options.nearWindowMm = glm::dvec3(-1.0);
+  EXPECT_THROW(estimateEscapeProbability(sphere, areas, skin, options), Error);
+}
+
 TEST(EscapeProbability, SameResultForAnyThreadCount) {
   const TriangleMesh sphere = makeIcosphere(2, 6.0f);
   Material material = findMaterialPreset("skin1");

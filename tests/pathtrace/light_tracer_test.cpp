@@ -8,6 +8,7 @@
 #include <cmath>
 #include <vector>
 
+#include "core/error.h"
 #include "envmap/cubemap.h"
 #include "mesh/primitives.h"
 #include "mesh/triangle_mesh.h"
@@ -234,6 +235,41 @@ TEST(LightTracer, SameResultForAnyThreadCount) {
   EXPECT_EQ(one.exitance, three.exitance);
   EXPECT_EQ(one.radiance, three.radiance);
   EXPECT_EQ(one.exitanceStdErr, three.exitanceStdErr);
+}
+
+// The far field's options (lib/bake/far_field.h): rounds of paths add up to one run; a window far
+// below any exit distance leaves the tallies as they are, one far above every distance empties
+// them; stopping at the first exit drops only light that entered again.
+TEST(LightTracer, RoundsWindowsAndFirstExits) {
+  const TriangleMesh sphere = makeIcosphere(1, 3.0f);
+  const HomogeneousMedium medium = makeMedium({1.0, 2.0, 3.0}, {0.1, 0.05, 0.2}, 1.3);
+  const DistantLight light = DistantLight::disc({0.0f, 0.0f, 1.0f}, 0.1, glm::vec3(1.0f));
+  LightTraceOptions lo;
+  lo.paths = 4000;
+  lo.batches = 8;
+  const LightTraceResult all = lightTrace(sphere, light, medium, lo);
+  lo.paths = 2000;
+  const LightTraceResult first = lightTrace(sphere, light, medium, lo);
+  lo.firstPath = 2000;
+  const LightTraceResult second = lightTrace(sphere, light, medium, lo);
+  for (std::size_t v = 0; v < sphere.positions.size(); ++v)
+    for (int c = 0; c < 3; ++c) {
+      const float both = 0.5f * (first.exitance[v][c] + second.exitance[v][c]);
+      EXPECT_NEAR(all.exitance[v][c], both, 1e-5f * (all.exitance[v][c] + 1e-6f));
+    }
+  lo.paths = 4000;
+  lo.firstPath = 0;
+  lo.nearWindowMm = glm::dvec3(1e-9);
+  EXPECT_EQ(lightTrace(sphere, light, medium, lo).exitance, all.exitance);
+  lo.nearWindowMm = glm::dvec3(1e6);
+  for (const glm::vec3& b : lightTrace(sphere, light, medium, lo).exitance)
+    EXPECT_LT(b.x + b.y + b.z, 1e-9f);
+  lo.nearWindowMm = glm::dvec3(0.0);
+  lo.stopAtFirstExit = true;
+  const LightTraceResult once = lightTrace(sphere, light, medium, lo);
+  EXPECT_EQ(once.exitance, all.exitance);  // convex: nothing enters again
+  lo.nearWindowMm = glm::dvec3(-1.0);
+  EXPECT_THROW(lightTrace(sphere, light, medium, lo), Error);
 }
 
 TEST(LightTracer, RejectsBadInput) {

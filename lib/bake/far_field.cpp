@@ -1,0 +1,206 @@
+#include "bake/far_field.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include <glm/exponential.hpp>
+
+#include "bake/diffusion.h"
+#include "bake/finite_object_energy.h"
+#include "core/error.h"
+#include "core/format.h"
+#include "core/timer.h"
+#include "envmap/cubemap.h"
+#include "material/gaussian_profile.h"
+#include "material/material.h"
+#include "mesh/triangle_mesh.h"
+#include "pathtrace/light_tracer.h"
+
+namespace sss {
+namespace {
+
+// The smoothing is never narrower than a mean edge: a vertex needs its neighbours' exits (wider
+// spreads the lit side into the unlit one near the terminator: README, "Under a sun").
+constexpr double kSmoothingMinEdges = 1.0;
+
+// The traced far field before smoothing: per vertex mean and standard error over the paths.
+struct Tally {
+  std::vector<glm::vec3> mean, stdErr;
+  uint64_t paths = 0;
+};
+
+Tally trace(const FarFieldInput& in, uint64_t firstPath, uint64_t paths) {
+  const Material& m = in.material;
+  HomogeneousMedium medium;
+  medium.sigmaA = m.sigmaA;
+  medium.sigmaS = m.sigmaS();
+  medium.eta = m.eta;
+  medium.g = m.g;
+  LightTraceOptions o;
+  o.paths = paths;
+  o.firstPath = firstPath;
+  o.seed = in.options.seed;
+  o.threads = in.options.threads;
+  o.quiet = in.options.quiet;
+  o.nearWindowMm = farFieldWindowMm(m);
+  o.stopAtFirstExit = true;
+  o.minScatteringOrder = 1;  // what crosses unscattered leaves collimated: no exit model's light
+  const TriangleMesh& mesh = in.meshMm;
+  LightTraceResult r = lightTraceSubsurface(mesh.positions, mesh.normals, mesh.triangles,
+                                            DistantLight::environment(in.radiance), medium, o);
+  return {std::move(r.exitance), std::move(r.exitanceStdErr), paths};
+}
+
+// Two independent rounds as one: means weighted by their paths, variances accordingly.
+Tally combine(const Tally& a, const Tally& b) {
+  Tally out;
+  out.paths = a.paths + b.paths;
+  const double wa = double(a.paths) / double(out.paths), wb = 1.0 - wa;
+  out.mean.resize(a.mean.size());
+  out.stdErr.resize(a.mean.size());
+  for (std::size_t i = 0; i < a.mean.size(); ++i) {
+    out.mean[i] = float(wa) * a.mean[i] + float(wb) * b.mean[i];
+    const glm::vec3 sa = float(wa) * a.stdErr[i], sb = float(wb) * b.stdErr[i];
+    out.stdErr[i] = glm::sqrt(sa * sa + sb * sb);
+  }
+  return out;
+}
+
+// sum_j G(r_ij) v_j A_j per vertex, and (weights) sum_j G(r_ij) A_j, G a normalized Gaussian.
+DiffusionResult gaussianSum(const FarFieldInput& in, std::span<const glm::vec3> values,
+                            double variance, bool weights) {
+  DiffusionOptions o;
+  o.threads = in.options.threads;
+  o.quiet = true;
+  o.tolerance = 0.1 * in.options.noiseBudget;
+  o.weightSums = weights;
+  const DiffusionInput input{in.meshMm.positions, in.meshMm.normals, in.areasMm2, values};
+  return diffuse(input, GaussianProfile(variance), o);
+}
+
+// The tally smoothed by a Gaussian of sigma (normalized by its weights), and the relative noise
+// left in B: var_i = sum_j G_ij^2 A_j^2 s_j^2 / (sum_j G_ij A_j)^2, where G^2 is a Gaussian of half
+// the variance times 1 / (4 pi sigma^2); relative to B ~ P E + B_far, over vertices and channels,
+// area-weighted.
+double smoothTally(const FarFieldInput& in, const Tally& tally, double sigma,
+                   std::vector<glm::vec3>& smoothed) {
+  const std::size_t n = tally.mean.size();
+  const DiffusionResult s = gaussianSum(in, tally.mean, sigma * sigma, true);
+  std::vector<glm::vec3> weightedVariance(n);
+  for (std::size_t i = 0; i < n; ++i)
+    weightedVariance[i] = tally.stdErr[i] * tally.stdErr[i] * in.areasMm2[i];
+  const DiffusionResult v = gaussianSum(in, weightedVariance, 0.5 * sigma * sigma, false);
+  smoothed.assign(n, glm::vec3(0.0f));
+  const std::vector<glm::vec3>& p = in.energy.escape.probability;
+  double noise = 0.0, signal = 0.0;
+  for (std::size_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) {
+      const double w = s.weightSums[i][c];
+      if (!(w > 0.0)) continue;
+      smoothed[i][c] = float(s.exitance[i][c] / w);
+      const double var = v.exitance[i][c] / (4.0 * M_PI * sigma * sigma) / (w * w);
+      const double b = double(p[i][c]) * in.irradiance[i][c] + smoothed[i][c];
+      noise += in.areasMm2[i] * var;
+      signal += in.areasMm2[i] * b * b;
+    }
+  return signal > 0.0 ? std::sqrt(noise / signal) : 0.0;
+}
+
+// E averaged by a normalized Gaussian of sigma (E itself where the weights vanish).
+std::vector<glm::vec3> gaussianAverage(const FarFieldInput& in, double sigma) {
+  const DiffusionResult s = gaussianSum(in, in.irradiance, sigma * sigma, true);
+  std::vector<glm::vec3> avg(in.irradiance.begin(), in.irradiance.end());
+  for (std::size_t i = 0; i < avg.size(); ++i)
+    for (int c = 0; c < 3; ++c)
+      if (s.weightSums[i][c] > 0.0f) avg[i][c] = s.exitance[i][c] / s.weightSums[i][c];
+  return avg;
+}
+
+// Auto's test: the share of B the far field can move (far_field.h), with E averaged over the far
+// field's own smoothing first, so that the visibility rays' noise in E does not count as
+// variation (under uniform light it would, by its 0.3 % per vertex).
+double farFieldSensitivity(const FarFieldInput& in, double smoothingMm) {
+  const std::vector<glm::vec3>& p = in.energy.escape.probability;
+  const std::vector<glm::vec3>& near = in.energy.escape.nearProbability;
+  const glm::dvec3 tr = in.material.sigmaTr();
+  const double length = 1.0 / std::min({tr.x, tr.y, tr.z});
+  const std::vector<glm::vec3> local = gaussianAverage(in, smoothingMm);
+  const std::vector<glm::vec3> wide = gaussianAverage(in, length);
+  double moved = 0.0, total = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      const double far = std::max(0.0, double(p[i][c]) - near[i][c]);
+      const double d = far * (local[i][c] - wide[i][c]), b = p[i][c] * in.irradiance[i][c];
+      moved += in.areasMm2[i] * d * d;
+      total += in.areasMm2[i] * b * b;
+    }
+  return total > 0.0 ? std::sqrt(moved / total) : 0.0;
+}
+
+double smoothingSigmaMm(const FarFieldInput& in, const glm::dvec3& window) {
+  double area = 0.0;
+  for (float a : in.areasMm2) area += a;
+  const double edge = std::sqrt(area / double(std::max<std::size_t>(in.areasMm2.size(), 1)));
+  return std::max({window.x, window.y, window.z, kSmoothingMinEdges * edge});
+}
+
+FarField skip(FarField out, std::string reason, const Stopwatch& clock) {
+  out.exitance.clear();
+  out.report.traced = false;
+  out.report.reason = std::move(reason);
+  out.report.seconds = clock.seconds();
+  return out;
+}
+
+}  // namespace
+
+glm::dvec3 farFieldWindowMm(const Material& material) {
+  return kFarFieldWindowLengths / material.sigmaTr();
+}
+
+FarField traceFarField(const FarFieldInput& in) {
+  const Stopwatch clock;
+  const FarFieldOptions& o = in.options;
+  if (!(o.noiseBudget > 0.0) || o.pilotPaths < 64 || o.maxPaths < o.pilotPaths)
+    fail("", "far field: needs a positive noise budget and 64 <= pilot paths <= max paths");
+  FarField out;
+  FarFieldReport& r = out.report;
+  r.requested = o.mode;
+  if (o.mode == FarFieldMode::Off) return skip(std::move(out), "off", clock);
+  if (in.energy.model != EnergyModel::Escape || in.energy.escape.nearProbability.empty())
+    return skip(std::move(out), "half-space energy model", clock);
+  r.windowMm = farFieldWindowMm(in.material);
+  r.smoothingMm = smoothingSigmaMm(in, r.windowMm);
+  r.sensitivity = farFieldSensitivity(in, r.smoothingMm);
+  const bool automatic = o.mode == FarFieldMode::Auto;
+  if (automatic && r.sensitivity <= o.noiseBudget)
+    return skip(std::move(out),
+                "irradiance even on the diffusion length's scale (far field moves " +
+                    format("%.2g%%", 100.0 * r.sensitivity) + " of B)",
+                clock);
+  Tally tally = trace(in, 0, o.pilotPaths);
+  double noise = smoothTally(in, tally, r.smoothingMm, out.exitance);
+  const double ratio = noise / o.noiseBudget;
+  const double needed = std::ceil(1.1 * double(o.pilotPaths) * ratio * ratio);
+  if (automatic && needed > double(o.maxPaths))
+    return skip(std::move(out),
+                "would need " + format("%.3g", needed) + " light paths (cap " +
+                    std::to_string(o.maxPaths) + ")",
+                clock);
+  const uint64_t total = static_cast<uint64_t>(std::min(needed, double(o.maxPaths)));
+  if (total > tally.paths) {
+    tally = combine(tally, trace(in, tally.paths, total - tally.paths));
+    noise = smoothTally(in, tally, r.smoothingMm, out.exitance);
+  }
+  r.traced = true;
+  r.paths = tally.paths;
+  r.relativeStdError = noise;
+  r.reason =
+      std::string(automatic ? "irradiance varies on the diffusion length's scale" : "requested") +
+      " (far field moves " + format("%.2g%%", 100.0 * r.sensitivity) + " of B)";
+  r.seconds = clock.seconds();
+  return out;
+}
+
+}  // namespace sss

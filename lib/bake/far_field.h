@@ -1,0 +1,103 @@
+// Bake stage 3b: the far field of the escape energy model, traced from the environment
+// (`sss-bake --far-field`; issue 11, part 2).
+//
+// Why: the profiles are half-space models of light that enters diffusely. On a small object under
+// a sun the light that leaves far from where it entered (through a sphere to its unlit half,
+// through a thin part to the side away from the light) is neither: collimated light penetrates
+// deeper than diffuse light, and the object's shape, not a half-space, decides where it comes
+// out. No geometry-blind kernel gets it right on every material (README, "Under a sun"), and a
+// gather from the escape walks, which enter diffusely, misses the depth (measured: it is 13-16 %
+// bright where skin faces the sun and 30 % dark on the unlit half). Light paths from the
+// environment carry both.
+//
+// Model: B_i = P_near,i / rho_near,i sum_j R_d(r_ij) W(r_ij) E_j A_j + B_far,i, with
+//  - W(d) = exp(-d^2 / (2 w_c^2)) a window of w_c = windowLengths / sigma_tr,c per channel
+//    (material/windowed_profile.h): the profile keeps the light that leaves near where it
+//    entered, where it is accurate and noise-free;
+//  - P_near,i the escape walks' weights times W of their exit distance (escape_probability.h):
+//    what of P leaves near, so that under uniform light B = E P as before;
+//  - B_far the light tracer's exits weighted by 1 - W(d) (pathtrace/light_tracer.h: paths from
+//    the environment's importance distribution, refracted in, random walks, stopped at their first
+//    exit, light scattered at least once), smoothed by a Gaussian of sigma = the longest channel's
+//    window (at least one mean edge): what leaves far.
+// Cost and noise: a pilot round of paths estimates the smoothed far field's relative noise
+// (propagated from the tracer's batch standard errors through the smoothing weights); the paths
+// then grow as noise^-2 to the budget, capped.
+//
+// Auto: traced when the energy model is escape (a half-space does not need it) and the irradiance
+// varies on the diffusion length's scale: the share of B the far field can move,
+// s = |(P - P_near) (E - Ebar)| / |P E| over vertices and channels (Ebar: E averaged by a
+// Gaussian of the longest diffusion length), exceeds the noise budget; and the paths it needs
+// stay under the cap (a large object needs many: its far field stays the escape model's kernel,
+// finite_object_energy.h). Under uniform light s = 0.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "core/enum_names.h"
+
+namespace sss {
+
+class Cubemap;        // envmap/cubemap.h
+struct TriangleMesh;  // mesh/triangle_mesh.h
+struct Material;      // material/material.h
+struct EnergyPlan;    // bake/finite_object_energy.h
+
+enum class FarFieldMode { Auto, Off, On };
+
+inline constexpr EnumNames<FarFieldMode, 3> kFarFieldModeNames{
+    "far field",
+    {{{FarFieldMode::Auto, "auto"}, {FarFieldMode::Off, "off"}, {FarFieldMode::On, "on"}}}};
+
+struct FarFieldOptions {
+  FarFieldMode mode = FarFieldMode::Auto;
+  double noiseBudget = 0.005;  // relative RMS noise the traced far field may leave in B
+  uint64_t pilotPaths = 1 << 15;
+  uint64_t maxPaths = 1 << 22;
+  uint64_t seed = 1;
+  int threads = 0;
+  bool quiet = true;
+};
+
+// The near window w_c = kFarFieldWindowLengths / sigma_tr,c in mm (the escape walks measure the
+// near share with it).
+inline constexpr double kFarFieldWindowLengths = 0.25;
+glm::dvec3 farFieldWindowMm(const Material& material);
+
+struct FarFieldReport {
+  FarFieldMode requested = FarFieldMode::Auto;
+  bool traced = false;
+  std::string reason;
+  double sensitivity = 0.0;  // the share of B the far field can move (auto's test)
+  glm::dvec3 windowMm{0.0};
+  double smoothingMm = 0.0;
+  uint64_t paths = 0;
+  double relativeStdError = 0.0;  // of B, from the far field's noise
+  double seconds = 0.0;
+};
+
+struct FarField {
+  std::vector<glm::vec3> exitance;  // B_far per vertex; empty when not traced
+  FarFieldReport report;
+  bool traced() const { return report.traced; }
+};
+
+struct FarFieldInput {
+  const TriangleMesh& meshMm;
+  std::span<const float> areasMm2;
+  const Cubemap& radiance;
+  const Material& material;
+  const EnergyPlan& energy;
+  std::span<const glm::vec3> irradiance;  // E per vertex as the transport sums it (auto's test)
+  FarFieldOptions options;
+};
+
+// Throws Error on bad options; never traces for the half-space energy model.
+FarField traceFarField(const FarFieldInput& in);
+
+}  // namespace sss

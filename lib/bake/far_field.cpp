@@ -23,6 +23,11 @@ namespace {
 // The smoothing is never narrower than a mean edge: a vertex needs its neighbours' exits (wider
 // spreads the lit side into the unlit one near the terminator: README, "Under a sun").
 constexpr double kSmoothingMinEdges = 1.0;
+// Paths the far field needs per smoothing kernel at a 0.42 % budget, at the least (the study's
+// cheapest object needs this many; README, "Under a sun"): auto skips objects that would exceed
+// the cap before tracing a pilot.
+constexpr double kPathsPerKernel = 2000.0;
+constexpr double kRaysPerPath = 4.0;  // a path's work beside its scattering events
 
 // The traced far field before smoothing: per vertex mean and standard error over the paths.
 struct Tally {
@@ -45,7 +50,9 @@ Tally trace(const FarFieldInput& in, uint64_t firstPath, uint64_t paths) {
   o.quiet = in.options.quiet;
   o.nearWindowMm = farFieldWindowMm(m);
   o.stopAtFirstExit = true;
-  o.minScatteringOrder = 1;  // what crosses unscattered leaves collimated: no exit model's light
+  o.minScatteringOrder = 1;
+  o.batches = 16;           // enough for the noise estimate of the smoothed field
+  o.tallyRadiance = false;  // what crosses unscattered leaves collimated: no exit model's light
   const TriangleMesh& mesh = in.meshMm;
   LightTraceResult r = lightTraceSubsurface(mesh.positions, mesh.normals, mesh.triangles,
                                             DistantLight::environment(in.radiance), medium, o);
@@ -73,7 +80,7 @@ DiffusionResult gaussianSum(const FarFieldInput& in, std::span<const glm::vec3> 
   DiffusionOptions o;
   o.threads = in.options.threads;
   o.quiet = true;
-  o.tolerance = 0.1 * in.options.noiseBudget;
+  o.tolerance = 0.01;  // an average of noisy tallies, or a test against the noise budget
   o.weightSums = weights;
   const DiffusionInput input{in.meshMm.positions, in.meshMm.normals, in.areasMm2, values};
   return diffuse(input, GaussianProfile(variance), o);
@@ -138,6 +145,14 @@ double farFieldSensitivity(const FarFieldInput& in, double smoothingMm) {
   return total > 0.0 ? std::sqrt(moved / total) : 0.0;
 }
 
+// How many of the smoothing's Gaussians (effective area 4 pi sigma^2) the surface holds: the paths
+// grow with it, as each kernel needs its own exits.
+double smoothingKernels(const FarFieldInput& in, double sigmaMm) {
+  double area = 0.0;
+  for (float a : in.areasMm2) area += a;
+  return area / (4.0 * M_PI * sigmaMm * sigmaMm);
+}
+
 double smoothingSigmaMm(const FarFieldInput& in, const glm::dvec3& window) {
   double area = 0.0;
   for (float a : in.areasMm2) area += a;
@@ -162,8 +177,10 @@ glm::dvec3 farFieldWindowMm(const Material& material) {
 FarField traceFarField(const FarFieldInput& in) {
   const Stopwatch clock;
   const FarFieldOptions& o = in.options;
-  if (!(o.noiseBudget > 0.0) || o.pilotPaths < 64 || o.maxPaths < o.pilotPaths)
-    fail("", "far field: needs a positive noise budget and 64 <= pilot paths <= max paths");
+  if (!(o.noiseBudget > 0.0) || o.pilotPaths < 64 || o.maxPaths < o.pilotPaths ||
+      !(o.maxWork > 0.0))
+    fail("",
+         "far field: needs a positive noise budget and work cap, 64 <= pilot paths <= max paths");
   FarField out;
   FarFieldReport& r = out.report;
   r.requested = o.mode;
@@ -172,8 +189,19 @@ FarField traceFarField(const FarFieldInput& in) {
     return skip(std::move(out), "half-space energy model", clock);
   r.windowMm = farFieldWindowMm(in.material);
   r.smoothingMm = smoothingSigmaMm(in, r.windowMm);
-  r.sensitivity = farFieldSensitivity(in, r.smoothingMm);
   const bool automatic = o.mode == FarFieldMode::Auto;
+  // The paths affordable: the work cap over a path's work (its scattering events, as the escape
+  // walks counted them, and the rays at the surface), and the path cap.
+  const double pathWork = in.energy.escape.meanScatteringEvents + kRaysPerPath;
+  const double pathCap = std::min(double(o.maxPaths), o.maxWork / pathWork);
+  const double kernels = smoothingKernels(in, r.smoothingMm);
+  if (automatic && kPathsPerKernel * kernels > pathCap)
+    return skip(std::move(out),
+                "object large against the far field's smoothing (" + format("%.0f", kernels) +
+                    " kernels: more than " + format("%.3g", kPathsPerKernel * kernels) +
+                    " light paths, cap " + format("%.3g", pathCap) + ")",
+                clock);
+  r.sensitivity = farFieldSensitivity(in, r.smoothingMm);
   if (automatic && r.sensitivity <= o.noiseBudget)
     return skip(std::move(out),
                 "irradiance even on the diffusion length's scale (far field moves " +
@@ -183,12 +211,12 @@ FarField traceFarField(const FarFieldInput& in) {
   double noise = smoothTally(in, tally, r.smoothingMm, out.exitance);
   const double ratio = noise / o.noiseBudget;
   const double needed = std::ceil(1.1 * double(o.pilotPaths) * ratio * ratio);
-  if (automatic && needed > double(o.maxPaths))
+  if (automatic && needed > pathCap)
     return skip(std::move(out),
                 "would need " + format("%.3g", needed) + " light paths (cap " +
-                    std::to_string(o.maxPaths) + ")",
+                    format("%.3g", pathCap) + ")",
                 clock);
-  const uint64_t total = static_cast<uint64_t>(std::min(needed, double(o.maxPaths)));
+  const uint64_t total = static_cast<uint64_t>(std::min(needed, pathCap));
   if (total > tally.paths) {
     tally = combine(tally, trace(in, tally.paths, total - tally.paths));
     noise = smoothTally(in, tally, r.smoothingMm, out.exitance);

@@ -22,14 +22,16 @@
 //    window (at least one mean edge): what leaves far.
 // Cost and noise: a pilot round of paths estimates the smoothed far field's relative noise
 // (propagated from the tracer's batch standard errors through the smoothing weights); the paths
-// then grow as noise^-2 to the budget, capped.
+// then grow as noise^-2 to the budget, capped by a path count and by work (scattering events:
+// marble's light scatters ~30x more often than ketchup's, so it affords fewer paths).
 //
 // Auto: traced when the energy model is escape (a half-space does not need it) and the irradiance
 // varies on the diffusion length's scale: the share of B the far field can move,
 // s = |(P - P_near) (E - Ebar)| / |P E| over vertices and channels (Ebar: E averaged by a
 // Gaussian of the longest diffusion length), exceeds the noise budget; and the paths it needs
-// stay under the cap (a large object needs many: its far field stays the escape model's kernel,
-// finite_object_energy.h). Under uniform light s = 0.
+// stay under the caps (a large object needs many: its far field stays the escape model's kernel,
+// finite_object_energy.h; a first check from the surface's count of smoothing kernels skips it
+// before any tracing). Under uniform light s = 0.
 #pragma once
 
 #include <cstdint>
@@ -57,8 +59,11 @@ inline constexpr EnumNames<FarFieldMode, 3> kFarFieldModeNames{
 struct FarFieldOptions {
   FarFieldMode mode = FarFieldMode::Auto;
   double noiseBudget = 0.005;  // relative RMS noise the traced far field may leave in B
-  uint64_t pilotPaths = 1 << 15;
+  uint64_t pilotPaths = 1 << 13;
   uint64_t maxPaths = 1 << 22;
+  // Cap on the tracing's work, in scattering events plus a few rays per path (auto skips what
+  // would exceed it; on traces up to it).
+  double maxWork = 2e7;
   uint64_t seed = 1;
   int threads = 0;
   bool quiet = true;

@@ -145,6 +145,14 @@ struct ProbeSums {
   std::vector<glm::dvec3> sum, sumSq;
 };
 
+// An estimate smoothed per vertex, with its variance.
+struct SmoothedEstimate {
+  std::vector<glm::vec3> value;
+  std::vector<glm::dvec3> variance;
+  // RMS over vertices and channels of the standard error, relative to the RMS of the value.
+  double relativeStdError() const;
+};
+
 // The Gaussian that spreads the probes over the surface: its width and the squared reach.
 struct Smoothing {
   double sigma = 0.0;
@@ -182,11 +190,10 @@ struct EscapeWalks::State {
   }
   ProbeEstimates probeEstimates(const ProbeSums& sums) const;
   Smoothing smoothing(double totalArea) const;
-  void smoothAt(std::size_t i, const ProbeEstimates& probe, const Smoothing& smooth,
-                glm::vec3& probability, glm::dvec3& variance) const;
-  // Smoothed per vertex from the probes' estimates, and its relative standard error.
-  double smoothed(const ProbeEstimates& probe, const Smoothing& smooth,
-                  std::vector<glm::vec3>& probability) const;
+  void smoothAt(std::size_t i, std::span<const ProbeEstimates> estimates, const Smoothing& smooth,
+                std::span<SmoothedEstimate> out) const;
+  void smoothAll(std::span<const ProbeEstimates> estimates, const Smoothing& smooth,
+                 std::span<SmoothedEstimate> out) const;
 
   const TriangleMesh& mesh;
   std::span<const float> areas;
@@ -297,14 +304,14 @@ Smoothing EscapeWalks::State::smoothing(double totalArea) const {
   return Smoothing{sigma, 9.0 * sigma * sigma};
 }
 
-// P at vertex i: the area- and Gaussian-weighted mean of the probes within reach; else the nearest
-// probe; else (no walk nearby stayed in the mesh) the half-space albedo.
-void EscapeWalks::State::smoothAt(std::size_t i, const ProbeEstimates& probe,
-                                  const Smoothing& smooth, glm::vec3& probability,
-                                  glm::dvec3& variance) const {
+// P (and its near share) at vertex i: the area- and Gaussian-weighted mean of the probes within
+// reach; else the nearest probe; else (no walk nearby stayed in the mesh) the half-space albedo.
+void EscapeWalks::State::smoothAt(std::size_t i, std::span<const ProbeEstimates> estimates,
+                                  const Smoothing& smooth, std::span<SmoothedEstimate> out) const {
   const double sigma = smooth.sigma;
   const glm::vec3 x = mesh.positions[i];
-  glm::dvec3 num(0.0), den(0.0), var(0.0);
+  std::array<glm::dvec3, 2> num{}, var{};
+  glm::dvec3 den(0.0);
   std::size_t nearest = 0;
   float nearestD2 = std::numeric_limits<float>::infinity();
   for (std::size_t k = 0; k < probes; ++k) {
@@ -319,39 +326,48 @@ void EscapeWalks::State::smoothAt(std::size_t i, const ProbeEstimates& probe,
     const double weight = std::exp(-0.5 * d2 / (sigma * sigma)) * areas[v];
     for (int c = 0; c < 3; ++c) {
       if (kept[k][c] == 0.0) continue;
-      num[c] += weight * probe.mean[k][c];
       den[c] += weight;
-      var[c] += weight * weight * probe.variance[k][c];
+      for (std::size_t e = 0; e < estimates.size(); ++e) {
+        num[e][c] += weight * estimates[e].mean[k][c];
+        var[e][c] += weight * weight * estimates[e].variance[k][c];
+      }
     }
   }
-  for (int c = 0; c < 3; ++c) {
-    if (den[c] > 0.0) {
-      probability[c] = static_cast<float>(std::min(1.0, num[c] / den[c]));
-      variance[c] = var[c] / (den[c] * den[c]);
-    } else if (kept[nearest][c] > 0.0) {
-      probability[c] = static_cast<float>(std::min(1.0, probe.mean[nearest][c]));
-      variance[c] = probe.variance[nearest][c];
-    } else {
-      probability[c] = static_cast<float>(halfSpace[c]);
-      variance[c] = 0.0;
+  for (std::size_t e = 0; e < estimates.size(); ++e)
+    for (int c = 0; c < 3; ++c) {
+      float& value = out[e].value[i][c];
+      double& variance = out[e].variance[i][c];
+      if (den[c] > 0.0) {
+        value = static_cast<float>(std::min(1.0, num[e][c] / den[c]));
+        variance = var[e][c] / (den[c] * den[c]);
+      } else if (kept[nearest][c] > 0.0) {
+        value = static_cast<float>(std::min(1.0, estimates[e].mean[nearest][c]));
+        variance = estimates[e].variance[nearest][c];
+      } else {  // no walk nearby stayed in the mesh: all of it near, as in a half-space
+        value = static_cast<float>(halfSpace[c]);
+        variance = 0.0;
+      }
     }
-  }
 }
 
-double EscapeWalks::State::smoothed(const ProbeEstimates& probe, const Smoothing& smooth,
-                                    std::vector<glm::vec3>& probability) const {
+void EscapeWalks::State::smoothAll(std::span<const ProbeEstimates> estimates,
+                                   const Smoothing& smooth, std::span<SmoothedEstimate> out) const {
   const std::size_t n = mesh.positions.size();
-  probability.assign(n, glm::vec3(0.0f));
-  std::vector<glm::dvec3> variance(n);
+  for (SmoothedEstimate& o : out) {
+    o.value.assign(n, glm::vec3(0.0f));
+    o.variance.assign(n, glm::dvec3(0.0));
+  }
   parallelFor(n, options.threads, 64, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i)
-      smoothAt(i, probe, smooth, probability[i], variance[i]);
+    for (std::size_t i = begin; i < end; ++i) smoothAt(i, estimates, smooth, out);
   });
+}
+
+double SmoothedEstimate::relativeStdError() const {
   double errorSq = 0.0, valueSq = 0.0;
-  for (std::size_t i = 0; i < n; ++i)
+  for (std::size_t i = 0; i < value.size(); ++i)
     for (int c = 0; c < 3; ++c) {
       errorSq += variance[i][c];
-      valueSq += double(probability[i][c]) * probability[i][c];
+      valueSq += double(value[i][c]) * value[i][c];
     }
   return valueSq > 0.0 ? std::sqrt(errorSq / valueSq) : 0.0;
 }
@@ -362,11 +378,18 @@ EscapeResult EscapeWalks::result() const {
   double totalArea = 0.0;
   for (float a : st.areas) totalArea += a;
   const Smoothing smooth = st.smoothing(totalArea);
+  // P and (with a window) its near share, in one pass: they share the probes' weights.
+  std::vector<ProbeEstimates> estimates{st.probeEstimates(st.escaped)};
+  if (st.hasNearWindow()) estimates.push_back(st.probeEstimates(st.near));
+  std::vector<SmoothedEstimate> smoothed(estimates.size());
+  st.smoothAll(estimates, smooth, smoothed);
   EscapeResult result;
-  result.relativeStdError = st.smoothed(st.probeEstimates(st.escaped), smooth, result.probability);
-  if (st.hasNearWindow())
-    result.nearRelativeStdError =
-        st.smoothed(st.probeEstimates(st.near), smooth, result.nearProbability);
+  result.relativeStdError = smoothed[0].relativeStdError();
+  result.probability = std::move(smoothed[0].value);
+  if (st.hasNearWindow()) {
+    result.nearRelativeStdError = smoothed[1].relativeStdError();
+    result.nearProbability = std::move(smoothed[1].value);
+  }
   glm::dvec3 weighted(0.0);
   for (std::size_t i = 0; i < result.probability.size(); ++i)
     weighted += glm::dvec3(result.probability[i]) * double(st.areas[i]);

@@ -128,7 +128,8 @@ void LightTracer::tallyExit(const MediumExit& exit, const glm::vec3& entry, glm:
   for (int k = 0; k < 3; ++k) {
     const uint32_t v = tri[k];
     tally.exitance[v] += l[k] * power;
-    if (glm::dot(exit.direction, normals_[v]) >= cosCone_) tally.radiance[v] += l[k] * power;
+    if (!tally.radiance.empty() && glm::dot(exit.direction, normals_[v]) >= cosCone_)
+      tally.radiance[v] += l[k] * power;
   }
 }
 
@@ -222,9 +223,10 @@ void combineBatches(const std::vector<BatchTally>& batches, const std::vector<ui
     for (std::size_t b = 0; b < batches.size(); ++b) {
       const double scale = perArea / double(sizes[b]);
       const glm::dvec3 eb = batches[b].exitance[v] * scale;
-      const glm::dvec3 el = batches[b].radiance[v] * (scale / coneProjectedSolidAngle);
       sb += eb;
       sb2 += eb * eb;
+      if (batches[b].radiance.empty()) continue;
+      const glm::dvec3 el = batches[b].radiance[v] * (scale / coneProjectedSolidAngle);
       sl += el;
       sl2 += el * el;
     }
@@ -279,7 +281,7 @@ LightTraceResult lightTraceSubsurface(const std::vector<glm::vec3>& positions,
       const uint64_t last = options.paths * (b + 1) / batchCount;
       BatchTally& tally = batches[b];
       tally.exitance.assign(positions.size(), glm::dvec3(0.0));
-      tally.radiance.assign(positions.size(), glm::dvec3(0.0));
+      if (options.tallyRadiance) tally.radiance.assign(positions.size(), glm::dvec3(0.0));
       tracer.trace(options.firstPath + first, options.firstPath + last, tally);
       sizes[b] = last - first;
       progress.advance();

@@ -102,6 +102,7 @@ struct LightTraceOptions {
   // the interreflection stage); false follows it, as the reference does.
   bool stopAtFirstExit = false;
   uint64_t firstPath = 0;             // paths [firstPath, firstPath + paths): rounds that add up
+  bool tallyRadiance = true;          // false: B only (the radiance and its error stay 0)
   int maxSurfaceInteractions = 64;    // reflections and refractions at the surface, per path
   int maxScatteringEvents = 1 << 20;  // per medium walk (safety cap; counted)
 };

@@ -5,16 +5,19 @@
 #include <utility>
 
 #include <glm/exponential.hpp>
+#include <glm/geometric.hpp>
 
 #include "bake/diffusion.h"
 #include "bake/finite_object_energy.h"
 #include "core/error.h"
 #include "core/format.h"
+#include "core/parallel.h"
 #include "core/timer.h"
 #include "envmap/cubemap.h"
 #include "material/gaussian_profile.h"
 #include "material/material.h"
 #include "mesh/triangle_mesh.h"
+#include "mesh/vertex_grid.h"
 #include "pathtrace/light_tracer.h"
 
 namespace sss {
@@ -74,49 +77,71 @@ Tally combine(const Tally& a, const Tally& b) {
   return out;
 }
 
-// sum_j G(r_ij) v_j A_j per vertex, and (weights) sum_j G(r_ij) A_j, G a normalized Gaussian.
-DiffusionResult gaussianSum(const FarFieldInput& in, std::span<const glm::vec3> values,
-                            double variance, bool weights) {
-  DiffusionOptions o;
-  o.threads = in.options.threads;
-  o.quiet = true;
-  o.tolerance = 0.01;  // an average of noisy tallies, or a test against the noise budget
-  o.weightSums = weights;
-  const DiffusionInput input{in.meshMm.positions, in.meshMm.normals, in.areasMm2, values};
-  return diffuse(input, GaussianProfile(variance), o);
+// Per-vertex values averaged over the surface around each vertex i, sum_j w_ij v_j / sum_j w_ij
+// with w_ij = G(r_ij) A_j max(0, n_i . n_j): a Gaussian of sigma cut at 3 sigma, the normals
+// keeping the two faces of a thin part apart (light that crosses it is the tracer's to carry, not
+// the smoothing's). With standard errors s_j, also the variance of the mean,
+// sum_j w_ij^2 s_j^2 / (sum_j w_ij)^2.
+struct SurfaceAverage {
+  std::vector<glm::vec3> mean;
+  std::vector<glm::dvec3> variance;
+};
+SurfaceAverage surfaceAverage(const FarFieldInput& in, std::span<const glm::vec3> values,
+                              std::span<const glm::vec3> stdErr, double sigma) {
+  const TriangleMesh& mesh = in.meshMm;
+  const std::size_t n = values.size();
+  const double reach2 = 9.0 * sigma * sigma;
+  const VertexGrid grid(mesh.positions, 3.0 * sigma);
+  SurfaceAverage out{std::vector<glm::vec3>(values.begin(), values.end()),
+                     std::vector<glm::dvec3>(n, glm::dvec3(0.0))};
+  parallelFor(n, in.options.threads, 64, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      glm::dvec3 sum(0.0), var(0.0);
+      double weights = 0.0;
+      grid.forEachNear(mesh.positions[i], [&](uint32_t j) {
+        const glm::vec3 d = mesh.positions[j] - mesh.positions[i];
+        const double d2 = glm::dot(d, d), facing = glm::dot(mesh.normals[i], mesh.normals[j]);
+        if (d2 > reach2 || !(facing > 0.0)) return;
+        const double w = std::exp(-0.5 * d2 / (sigma * sigma)) * in.areasMm2[j] * facing;
+        sum += w * glm::dvec3(values[j]);
+        if (!stdErr.empty()) var += w * w * glm::dvec3(stdErr[j]) * glm::dvec3(stdErr[j]);
+        weights += w;
+      });
+      if (!(weights > 0.0)) continue;
+      out.mean[i] = glm::vec3(sum / weights);
+      out.variance[i] = var / (weights * weights);
+    }
+  });
+  return out;
 }
 
-// The tally smoothed by a Gaussian of sigma (normalized by its weights), and the relative noise
-// left in B: var_i = sum_j G_ij^2 A_j^2 s_j^2 / (sum_j G_ij A_j)^2, where G^2 is a Gaussian of half
-// the variance times 1 / (4 pi sigma^2); relative to B ~ P E + B_far, over vertices and channels,
-// area-weighted.
+// The tally averaged over the surface (surfaceAverage), and the relative noise it leaves in B:
+// relative to B ~ P E + B_far over vertices and channels, area-weighted.
 double smoothTally(const FarFieldInput& in, const Tally& tally, double sigma,
                    std::vector<glm::vec3>& smoothed) {
-  const std::size_t n = tally.mean.size();
-  const DiffusionResult s = gaussianSum(in, tally.mean, sigma * sigma, true);
-  std::vector<glm::vec3> weightedVariance(n);
-  for (std::size_t i = 0; i < n; ++i)
-    weightedVariance[i] = tally.stdErr[i] * tally.stdErr[i] * in.areasMm2[i];
-  const DiffusionResult v = gaussianSum(in, weightedVariance, 0.5 * sigma * sigma, false);
-  smoothed.assign(n, glm::vec3(0.0f));
+  SurfaceAverage s = surfaceAverage(in, tally.mean, tally.stdErr, sigma);
   const std::vector<glm::vec3>& p = in.energy.escape.probability;
   double noise = 0.0, signal = 0.0;
-  for (std::size_t i = 0; i < n; ++i)
+  for (std::size_t i = 0; i < s.mean.size(); ++i)
     for (int c = 0; c < 3; ++c) {
-      const double w = s.weightSums[i][c];
-      if (!(w > 0.0)) continue;
-      smoothed[i][c] = float(s.exitance[i][c] / w);
-      const double var = v.exitance[i][c] / (4.0 * M_PI * sigma * sigma) / (w * w);
-      const double b = double(p[i][c]) * in.irradiance[i][c] + smoothed[i][c];
-      noise += in.areasMm2[i] * var;
+      const double b = double(p[i][c]) * in.irradiance[i][c] + s.mean[i][c];
+      noise += in.areasMm2[i] * s.variance[i][c];
       signal += in.areasMm2[i] * b * b;
     }
+  smoothed = std::move(s.mean);
   return signal > 0.0 ? std::sqrt(noise / signal) : 0.0;
 }
 
-// E averaged by a normalized Gaussian of sigma (E itself where the weights vanish).
+// E averaged by a normalized Gaussian of sigma in space (E itself where the weights vanish): the
+// diffusion sums' fast methods, for a wide sigma.
 std::vector<glm::vec3> gaussianAverage(const FarFieldInput& in, double sigma) {
-  const DiffusionResult s = gaussianSum(in, in.irradiance, sigma * sigma, true);
+  DiffusionOptions o;
+  o.threads = in.options.threads;
+  o.quiet = true;
+  o.tolerance = 0.01;  // a test against the noise budget, not a result
+  o.weightSums = true;
+  const DiffusionInput input{in.meshMm.positions, in.meshMm.normals, in.areasMm2, in.irradiance};
+  const DiffusionResult s = diffuse(input, GaussianProfile(sigma * sigma), o);
   std::vector<glm::vec3> avg(in.irradiance.begin(), in.irradiance.end());
   for (std::size_t i = 0; i < avg.size(); ++i)
     for (int c = 0; c < 3; ++c)
@@ -132,7 +157,7 @@ double farFieldSensitivity(const FarFieldInput& in, double smoothingMm) {
   const std::vector<glm::vec3>& near = in.energy.escape.nearProbability;
   const glm::dvec3 tr = in.material.sigmaTr();
   const double length = 1.0 / std::min({tr.x, tr.y, tr.z});
-  const std::vector<glm::vec3> local = gaussianAverage(in, smoothingMm);
+  const std::vector<glm::vec3> local = surfaceAverage(in, in.irradiance, {}, smoothingMm).mean;
   const std::vector<glm::vec3> wide = gaussianAverage(in, length);
   double moved = 0.0, total = 0.0;
   for (std::size_t i = 0; i < p.size(); ++i)

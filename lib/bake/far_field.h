@@ -71,7 +71,7 @@ struct FarFieldOptions {
 
 // The near window w_c = kFarFieldWindowLengths / sigma_tr,c in mm (the escape walks measure the
 // near share with it).
-inline constexpr double kFarFieldWindowLengths = 0.25;
+inline constexpr double kFarFieldWindowLengths = 0.125;
 glm::dvec3 farFieldWindowMm(const Material& material);
 
 struct FarFieldReport {

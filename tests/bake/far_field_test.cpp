@@ -120,9 +120,10 @@ TEST(FarField, UniformLightKeepsBEqualToEP) {
   const Material marble = findMaterialPreset("marble");
   const Cubemap uniform(16, glm::vec3(1.0f));
   const Baked automatic = bakeWith(sphere, uniform, marble, FarFieldMode::Auto);
-  // Nothing for it to move (E's ray noise aside: 0.3 % per vertex before auto's smoothing).
+  // Nothing for it to move: what auto measures is E's ray noise (0.3 % per vertex) left after its
+  // smoothing, below the noise budget it is compared with.
   EXPECT_FALSE(automatic.far.traced) << automatic.far.reason;
-  EXPECT_LT(automatic.far.sensitivity, 1e-3);
+  EXPECT_LT(automatic.far.sensitivity, 0.5 * 0.006 / std::sqrt(2.0));
   const Baked forced = bakeWith(sphere, uniform, marble, FarFieldMode::On);
   ASSERT_TRUE(forced.far.traced) << forced.far.reason;
   double sq = 0.0, ref = 0.0;

@@ -5,25 +5,27 @@
 // a sun the light that leaves far from where it entered (through a sphere to its unlit half,
 // through a thin part to the side away from the light) is neither: collimated light penetrates
 // deeper than diffuse light, and the object's shape, not a half-space, decides where it comes
-// out. No geometry-blind kernel gets it right on every material (README, "Under a sun"), and a
-// gather from the escape walks, which enter diffusely, misses the depth (measured: it is 13-16 %
-// bright where skin faces the sun and 30 % dark on the unlit half). Light paths from the
-// environment carry both.
+// out. No geometry-blind kernel gets it right on every material, and a gather from the escape
+// walks (their exits weighted by E there, by reciprocity), which enter diffusely, misses the depth
+// on skin and ketchup (README, "Under a sun", has both measured). Light paths from the environment
+// carry both.
 //
 // Model: B_i = P_near,i / rho_near,i sum_j R_d(r_ij) W(r_ij) E_j A_j + B_far,i, with
-//  - W(d) = exp(-d^2 / (2 w_c^2)) a window of w_c = windowLengths / sigma_tr,c per channel
+//  - W(d) = exp(-d^2 / (2 w_c^2)) a window of w_c = kFarFieldWindowLengths / sigma_tr,c
 //    (material/windowed_profile.h): the profile keeps the light that leaves near where it
 //    entered, where it is accurate and noise-free;
 //  - P_near,i the escape walks' weights times W of their exit distance (escape_probability.h):
 //    what of P leaves near, so that under uniform light B = E P as before;
 //  - B_far the light tracer's exits weighted by 1 - W(d) (pathtrace/light_tracer.h: paths from
 //    the environment's importance distribution, refracted in, random walks, stopped at their first
-//    exit, light scattered at least once), smoothed by a Gaussian of sigma = the longest channel's
-//    window (at least one mean edge): what leaves far.
+//    exit, light scattered at least once), averaged over the surface by a Gaussian of sigma = the
+//    longest channel's window (at least one mean edge) among vertices that face the same way:
+//    what leaves far. Light that crosses unscattered leaves collimated, which no exit model of B
+//    describes; it stays out (issue 11, part 5).
 // Cost and noise: a pilot round of paths estimates the smoothed far field's relative noise
 // (propagated from the tracer's batch standard errors through the smoothing weights); the paths
-// then grow as noise^-2 to the budget, capped by a path count and by work (scattering events:
-// marble's light scatters ~30x more often than ketchup's, so it affords fewer paths).
+// then grow as noise^-2 to the budget, capped by a path count and by work (scattering events, as
+// the escape walks counted them: a high-albedo material affords fewer paths).
 //
 // Auto: traced when the energy model is escape (a half-space does not need it) and the irradiance
 // varies on the diffusion length's scale: the share of B the far field can move,

@@ -32,71 +32,19 @@ constexpr double kSmoothingMinEdges = 1.0;
 constexpr double kPathsPerKernel = 2000.0;
 constexpr double kRaysPerPath = 4.0;  // a path's work beside its scattering events
 
-// The traced far field before smoothing: per vertex mean and standard error over the paths.
-struct Tally {
-  std::vector<glm::vec3> mean, stdErr;
-  uint64_t paths = 0;
-};
-
-Tally trace(const FarFieldInput& in, uint64_t firstPath, uint64_t paths) {
-  const Material& m = in.material;
-  HomogeneousMedium medium;
-  medium.sigmaA = m.sigmaA;
-  medium.sigmaS = m.sigmaS();
-  medium.eta = m.eta;
-  medium.g = m.g;
-  LightTraceOptions o;
-  o.paths = paths;
-  o.firstPath = firstPath;
-  o.seed = in.options.seed;
-  o.threads = in.options.threads;
-  o.quiet = in.options.quiet;
-  o.nearWindowMm = farFieldWindowMm(m);
-  o.stopAtFirstExit = true;
-  o.minScatteringOrder = 1;
-  o.batches = 16;           // enough for the noise estimate of the smoothed field
-  o.tallyRadiance = false;  // what crosses unscattered leaves collimated: no exit model's light
-  const TriangleMesh& mesh = in.meshMm;
-  LightTraceResult r = lightTraceSubsurface(mesh.positions, mesh.normals, mesh.triangles,
-                                            DistantLight::environment(in.radiance), medium, o);
-  return {std::move(r.exitance), std::move(r.exitanceStdErr), paths};
-}
-
-// Two independent rounds as one: means weighted by their paths, variances accordingly.
-Tally combine(const Tally& a, const Tally& b) {
-  Tally out;
-  out.paths = a.paths + b.paths;
-  const double wa = double(a.paths) / double(out.paths), wb = 1.0 - wa;
-  out.mean.resize(a.mean.size());
-  out.stdErr.resize(a.mean.size());
-  for (std::size_t i = 0; i < a.mean.size(); ++i) {
-    out.mean[i] = float(wa) * a.mean[i] + float(wb) * b.mean[i];
-    const glm::vec3 sa = float(wa) * a.stdErr[i], sb = float(wb) * b.stdErr[i];
-    out.stdErr[i] = glm::sqrt(sa * sa + sb * sb);
-  }
-  return out;
-}
-
 // Per-vertex values averaged over the surface around each vertex i, sum_j w_ij v_j / sum_j w_ij
 // with w_ij = G(r_ij) A_j max(0, n_i . n_j): a Gaussian of sigma cut at 3 sigma, the normals
 // keeping the two faces of a thin part apart (light that crosses it is the tracer's to carry, not
-// the smoothing's). With standard errors s_j, also the variance of the mean,
-// sum_j w_ij^2 s_j^2 / (sum_j w_ij)^2.
-struct SurfaceAverage {
-  std::vector<glm::vec3> mean;
-  std::vector<glm::dvec3> variance;
-};
-SurfaceAverage surfaceAverage(const FarFieldInput& in, std::span<const glm::vec3> values,
-                              std::span<const glm::vec3> stdErr, double sigma) {
+// the smoothing's).
+std::vector<glm::vec3> surfaceAverage(const FarFieldInput& in, std::span<const glm::vec3> values,
+                                      double sigma) {
   const TriangleMesh& mesh = in.meshMm;
-  const std::size_t n = values.size();
   const double reach2 = 9.0 * sigma * sigma;
   const VertexGrid grid(mesh.positions, 3.0 * sigma);
-  SurfaceAverage out{std::vector<glm::vec3>(values.begin(), values.end()),
-                     std::vector<glm::dvec3>(n, glm::dvec3(0.0))};
-  parallelFor(n, in.options.threads, 64, [&](std::size_t begin, std::size_t end) {
+  std::vector<glm::vec3> mean(values.begin(), values.end());
+  parallelFor(values.size(), in.options.threads, 64, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
-      glm::dvec3 sum(0.0), var(0.0);
+      glm::dvec3 sum(0.0);
       double weights = 0.0;
       grid.forEachNear(mesh.positions[i], [&](uint32_t j) {
         const glm::vec3 d = mesh.positions[j] - mesh.positions[i];
@@ -104,31 +52,82 @@ SurfaceAverage surfaceAverage(const FarFieldInput& in, std::span<const glm::vec3
         if (d2 > reach2 || !(facing > 0.0)) return;
         const double w = std::exp(-0.5 * d2 / (sigma * sigma)) * in.areasMm2[j] * facing;
         sum += w * glm::dvec3(values[j]);
-        if (!stdErr.empty()) var += w * w * glm::dvec3(stdErr[j]) * glm::dvec3(stdErr[j]);
         weights += w;
       });
-      if (!(weights > 0.0)) continue;
-      out.mean[i] = glm::vec3(sum / weights);
-      out.variance[i] = var / (weights * weights);
+      if (weights > 0.0) mean[i] = glm::vec3(sum / weights);
     }
   });
+  return mean;
+}
+
+// A round of traced paths, averaged over the surface: the mean of its batches' averages and that
+// mean's variance from their spread (which counts what neighbouring vertices share: an exit is
+// split between a triangle's vertices, and the averaging sums neighbours).
+struct Round {
+  std::vector<glm::dvec3> mean, variance;
+  uint64_t paths = 0;
+};
+
+Round traceRound(const FarFieldInput& in, uint64_t firstPath, uint64_t paths, double sigma) {
+  LightTraceOptions o;
+  o.paths = paths;
+  o.firstPath = firstPath;
+  o.seed = in.options.seed;
+  o.threads = in.options.threads;
+  o.quiet = in.options.quiet;
+  o.nearWindowMm = farFieldWindowMm(in.material);
+  o.stopAtFirstExit = true;
+  // What crosses unscattered leaves collimated: light no exit model of B describes.
+  o.minScatteringOrder = 1;
+  o.batches = 16;  // enough for the noise estimate
+  o.tallyRadiance = false;
+  o.keepBatches = true;
+  const TriangleMesh& mesh = in.meshMm;
+  const LightTraceResult r = lightTraceSubsurface(mesh.positions, mesh.normals, mesh.triangles,
+                                                  DistantLight::environment(in.radiance),
+                                                  homogeneousMediumOf(in.material), o);
+  const std::size_t n = mesh.positions.size();
+  const double k = double(r.batchExitance.size());
+  Round round{std::vector<glm::dvec3>(n, glm::dvec3(0.0)),
+              std::vector<glm::dvec3>(n, glm::dvec3(0.0)), paths};
+  std::vector<glm::dvec3> sumSq(n, glm::dvec3(0.0));
+  for (const std::vector<glm::vec3>& batch : r.batchExitance) {
+    const std::vector<glm::vec3> averaged = surfaceAverage(in, batch, sigma);
+    for (std::size_t i = 0; i < n; ++i) {
+      const glm::dvec3 v(averaged[i]);
+      round.mean[i] += v / k;
+      sumSq[i] += v * v;
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i)
+    round.variance[i] =
+        glm::max(glm::dvec3(0.0), sumSq[i] / k - round.mean[i] * round.mean[i]) / (k - 1.0);
+  return round;
+}
+
+// Two independent rounds as one: means weighted by their paths, variances accordingly.
+Round combine(const Round& a, const Round& b) {
+  Round out;
+  out.paths = a.paths + b.paths;
+  const double wa = double(a.paths) / double(out.paths), wb = 1.0 - wa;
+  for (std::size_t i = 0; i < a.mean.size(); ++i) {
+    out.mean.push_back(wa * a.mean[i] + wb * b.mean[i]);
+    out.variance.push_back(wa * wa * a.variance[i] + wb * wb * b.variance[i]);
+  }
   return out;
 }
 
-// The tally averaged over the surface (surfaceAverage), and the relative noise it leaves in B:
-// relative to B ~ P E + B_far over vertices and channels, area-weighted.
-double smoothTally(const FarFieldInput& in, const Tally& tally, double sigma,
-                   std::vector<glm::vec3>& smoothed) {
-  SurfaceAverage s = surfaceAverage(in, tally.mean, tally.stdErr, sigma);
+// The relative noise a round leaves in B ~ P E + B_far, over vertices and channels,
+// area-weighted.
+double relativeNoise(const FarFieldInput& in, const Round& round) {
   const std::vector<glm::vec3>& p = in.energy.escape.probability;
   double noise = 0.0, signal = 0.0;
-  for (std::size_t i = 0; i < s.mean.size(); ++i)
+  for (std::size_t i = 0; i < round.mean.size(); ++i)
     for (int c = 0; c < 3; ++c) {
-      const double b = double(p[i][c]) * in.irradiance[i][c] + s.mean[i][c];
-      noise += in.areasMm2[i] * s.variance[i][c];
+      const double b = double(p[i][c]) * in.irradiance[i][c] + round.mean[i][c];
+      noise += in.areasMm2[i] * round.variance[i][c];
       signal += in.areasMm2[i] * b * b;
     }
-  smoothed = std::move(s.mean);
   return signal > 0.0 ? std::sqrt(noise / signal) : 0.0;
 }
 
@@ -157,7 +156,7 @@ double farFieldSensitivity(const FarFieldInput& in, double smoothingMm) {
   const std::vector<glm::vec3>& near = in.energy.escape.nearProbability;
   const glm::dvec3 tr = in.material.sigmaTr();
   const double length = 1.0 / std::min({tr.x, tr.y, tr.z});
-  const std::vector<glm::vec3> local = surfaceAverage(in, in.irradiance, {}, smoothingMm).mean;
+  const std::vector<glm::vec3> local = surfaceAverage(in, in.irradiance, smoothingMm);
   const std::vector<glm::vec3> wide = gaussianAverage(in, length);
   double moved = 0.0, total = 0.0;
   for (std::size_t i = 0; i < p.size(); ++i)
@@ -232,8 +231,8 @@ FarField traceFarField(const FarFieldInput& in) {
                 "irradiance even on the diffusion length's scale (far field moves " +
                     format("%.2g%%", 100.0 * r.sensitivity) + " of B)",
                 clock);
-  Tally tally = trace(in, 0, o.pilotPaths);
-  double noise = smoothTally(in, tally, r.smoothingMm, out.exitance);
+  Round round = traceRound(in, 0, o.pilotPaths, r.smoothingMm);
+  double noise = relativeNoise(in, round);
   const double ratio = noise / o.noiseBudget;
   const double needed = std::ceil(1.1 * double(o.pilotPaths) * ratio * ratio);
   if (automatic && needed > pathCap)
@@ -242,12 +241,14 @@ FarField traceFarField(const FarFieldInput& in) {
                     format("%.3g", pathCap) + ")",
                 clock);
   const uint64_t total = static_cast<uint64_t>(std::min(needed, pathCap));
-  if (total > tally.paths) {
-    tally = combine(tally, trace(in, tally.paths, total - tally.paths));
-    noise = smoothTally(in, tally, r.smoothingMm, out.exitance);
+  if (total > round.paths) {
+    round = combine(round, traceRound(in, round.paths, total - round.paths, r.smoothingMm));
+    noise = relativeNoise(in, round);
   }
+  out.exitance.assign(round.mean.size(), glm::vec3(0.0f));
+  for (std::size_t i = 0; i < round.mean.size(); ++i) out.exitance[i] = glm::vec3(round.mean[i]);
   r.traced = true;
-  r.paths = tally.paths;
+  r.paths = round.paths;
   r.relativeStdError = noise;
   r.reason =
       std::string(automatic ? "irradiance varies on the diffusion length's scale" : "requested") +

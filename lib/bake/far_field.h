@@ -65,7 +65,7 @@ struct FarFieldOptions {
   uint64_t maxPaths = 1 << 22;
   // Cap on the tracing's work, in scattering events plus a few rays per path (auto skips what
   // would exceed it; on traces up to it).
-  double maxWork = 2e7;
+  double maxWork = 5e7;
   uint64_t seed = 1;
   int threads = 0;
   bool quiet = true;

@@ -210,19 +210,21 @@ void validateOptions(const std::vector<glm::vec3>& positions, const std::vector<
 // Mean and standard error over the batches of per-vertex batch means.
 void combineBatches(const std::vector<BatchTally>& batches, const std::vector<uint64_t>& sizes,
                     const std::vector<float>& areas, double coneProjectedSolidAngle,
-                    LightTraceResult& result) {
+                    bool keepBatches, LightTraceResult& result) {
   const std::size_t n = areas.size();
   const double k = double(batches.size());
   result.exitance.assign(n, glm::vec3(0.0f));
   result.exitanceStdErr.assign(n, glm::vec3(0.0f));
   result.radiance.assign(n, glm::vec3(0.0f));
   result.radianceStdErr.assign(n, glm::vec3(0.0f));
+  if (keepBatches) result.batchExitance.assign(batches.size(), std::vector<glm::vec3>(n));
   for (std::size_t v = 0; v < n; ++v) {
     const double perArea = areas[v] > 0.0f ? 1.0 / double(areas[v]) : 0.0;
     glm::dvec3 sb(0.0), sb2(0.0), sl(0.0), sl2(0.0);
     for (std::size_t b = 0; b < batches.size(); ++b) {
       const double scale = perArea / double(sizes[b]);
       const glm::dvec3 eb = batches[b].exitance[v] * scale;
+      if (!result.batchExitance.empty()) result.batchExitance[b][v] = glm::vec3(eb);
       sb += eb;
       sb2 += eb * eb;
       if (batches[b].radiance.empty()) continue;
@@ -292,7 +294,7 @@ LightTraceResult lightTraceSubsurface(const std::vector<glm::vec3>& positions,
   LightTraceResult result;
   result.paths = options.paths;
   const double sinCone = std::sin(options.coneHalfAngleDeg * M_PI / 180.0);
-  combineBatches(batches, sizes, areas, M_PI * sinCone * sinCone, result);
+  combineBatches(batches, sizes, areas, M_PI * sinCone * sinCone, options.keepBatches, result);
   result.seconds = clock.seconds();
   return result;
 }

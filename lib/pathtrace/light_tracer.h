@@ -101,16 +101,20 @@ struct LightTraceOptions {
   // Stop a path at its first exit (the far field leaves the light the object sends to itself to
   // the interreflection stage); false follows it, as the reference does.
   bool stopAtFirstExit = false;
-  uint64_t firstPath = 0;             // paths [firstPath, firstPath + paths): rounds that add up
-  bool tallyRadiance = true;          // false: B only (the radiance and its error stay 0)
+  uint64_t firstPath = 0;     // paths [firstPath, firstPath + paths): rounds that add up
+  bool tallyRadiance = true;  // false: B only (the radiance and its error stay 0)
+  // Also return each batch's B (LightTraceResult::batchExitance): the far field averages it over
+  // the surface per batch, so that its noise counts the paths that neighbouring vertices share.
+  bool keepBatches = false;
   int maxSurfaceInteractions = 64;    // reflections and refractions at the surface, per path
   int maxScatteringEvents = 1 << 20;  // per medium walk (safety cap; counted)
 };
 
 struct LightTraceResult {
   // Per vertex.
-  std::vector<glm::vec3> exitance, exitanceStdErr;  // B
-  std::vector<glm::vec3> radiance, radianceStdErr;  // along the vertex normal
+  std::vector<glm::vec3> exitance, exitanceStdErr;    // B
+  std::vector<glm::vec3> radiance, radianceStdErr;    // along the vertex normal
+  std::vector<std::vector<glm::vec3>> batchExitance;  // per batch, with keepBatches
   // Power bookkeeping per channel (summed over all paths, divided by the path count: the same
   // units as B times mm^2).
   glm::dvec3 sourcePower{0.0};   // leaving the source disc

@@ -332,13 +332,17 @@ PathTraceResult pathTraceSubsurface(const std::vector<glm::vec3>& positions,
 PathTraceResult pathTraceSubsurface(const TriangleMesh& meshMm, const Cubemap& radiance,
                                     const Material& material, const PathTraceOptions& options) {
   validateMaterial(material);
+  return pathTraceSubsurface(meshMm.positions, meshMm.normals, meshMm.triangles, radiance,
+                             homogeneousMediumOf(material), options);
+}
+
+HomogeneousMedium homogeneousMediumOf(const Material& material) {
   HomogeneousMedium medium;
   medium.sigmaA = material.sigmaA;
   medium.sigmaS = material.sigmaS();
   medium.eta = material.eta;
   medium.g = material.g;
-  return pathTraceSubsurface(meshMm.positions, meshMm.normals, meshMm.triangles, radiance, medium,
-                             options);
+  return medium;
 }
 
 }  // namespace sss

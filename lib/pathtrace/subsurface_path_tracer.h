@@ -131,6 +131,8 @@ struct HomogeneousMedium {
 // Throws Error unless |g| < 1, the coefficients are finite and non-negative with some
 // extinction, and eta >= 1.
 void validateHomogeneousMedium(const HomogeneousMedium& medium);
+// The medium of a material: its sigma_a, the real sigma_s = sigma_s' / (1 - g), eta and g.
+HomogeneousMedium homogeneousMediumOf(const Material& material);
 PathTraceResult pathTraceSubsurface(const std::vector<glm::vec3>& positionsMm,
                                     const std::vector<glm::vec3>& normals,
                                     const std::vector<glm::uvec3>& triangles,

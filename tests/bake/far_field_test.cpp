@@ -87,11 +87,7 @@ TEST(FarField, SunLitSphereUnlitHalfMatchesTheLightTracer) {
   const Material skin = findMaterialPreset("skin1");
   const glm::vec3 sun = glm::normalize(glm::vec3(0.3f, 0.8f, 0.5f));
   const Cubemap env = sunEnvironment(sun);
-  HomogeneousMedium medium;
-  medium.sigmaA = skin.sigmaA;
-  medium.sigmaS = skin.sigmaS();
-  medium.eta = skin.eta;
-  medium.g = skin.g;
+  const HomogeneousMedium medium = homogeneousMediumOf(skin);
   LightTraceOptions lo;
   lo.paths = 300000;
   lo.seed = 99;  // independent of the far field's paths
@@ -140,6 +136,46 @@ TEST(FarField, UniformLightKeepsBEqualToEP) {
   // one meets 1 %).
   EXPECT_LT(std::sqrt(sq / ref), 0.02);
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(meanForced[c] / meanAuto[c], 1.0, 0.015) << c;
+}
+
+// The noise the far field reports (and the bake adds to its predicted error) holds against the
+// spread between two seeds: their difference has twice its variance.
+TEST(FarField, ReportedNoiseMatchesTheSpreadOverSeeds) {
+  const TriangleMesh sphere = makeIcosphere(2, 5.0f);
+  const std::vector<float> areas = vertexAreas(sphere);
+  const Material skin = findMaterialPreset("skin1");
+  const Cubemap env = sunEnvironment(glm::normalize(glm::vec3(0.3f, 0.8f, 0.5f)));
+  const DirectionalAlbedoWeight weight(skin);
+  VisibilityOptions vis;
+  vis.samples = 64;
+  vis.entry = &weight;
+  VisibilityReport visReport;
+  transmittedIrradianceWithVisibility(sphere.positions, sphere.normals, sphere.triangles, env,
+                                      float(skin.eta), vis, &visReport);
+  const std::vector<glm::vec3>& e = visReport.entryWeighted;
+  EnergyOptions energy;
+  energy.model = EnergyModel::Escape;
+  energy.nearWindowMm = farFieldWindowMm(skin);
+  const EnergyPlan plan = planFiniteObjectEnergy(sphere, areas, skin, energy);
+  FarFieldOptions o;
+  o.mode = FarFieldMode::On;
+  o.noiseBudget = 0.01;
+  const FarField a = traceFarField({sphere, areas, env, skin, plan, e, o});
+  o.seed = 2;
+  const FarField b = traceFarField({sphere, areas, env, skin, plan, e, o});
+  ASSERT_TRUE(a.traced() && b.traced());
+  double diff = 0.0, signal = 0.0;
+  for (std::size_t v = 0; v < areas.size(); ++v)
+    for (int c = 0; c < 3; ++c) {
+      const double d = a.exitance[v][c] - b.exitance[v][c];
+      const double bv = double(plan.escape.probability[v][c]) * e[v][c] + a.exitance[v][c];
+      diff += areas[v] * d * d;
+      signal += areas[v] * bv * bv;
+    }
+  const double measured = std::sqrt(diff / signal / 2.0);
+  const double reported = 0.5 * (a.report.relativeStdError + b.report.relativeStdError);
+  EXPECT_GT(measured / reported, 0.6);
+  EXPECT_LT(measured / reported, 1.5);
 }
 
 TEST(FarField, SameResultForAnyThreadCount) {

@@ -108,11 +108,7 @@ void study(const Scene& s, const std::string& meshPath, const TriangleMesh& mesh
            std::ofstream& csv) {
   const glm::vec3 sun = glm::normalize(glm::vec3(0.5f, 0.0f, 0.866f));
   BakeEnvironment env{s.sun ? sunEnvironment(sun, 1.0, 256) : Cubemap(16, glm::vec3(1.0f)), {}};
-  HomogeneousMedium medium;
-  medium.sigmaA = s.material.sigmaA;
-  medium.sigmaS = s.material.sigmaS();
-  medium.eta = s.material.eta;
-  medium.g = s.material.g;
+  const HomogeneousMedium medium = homogeneousMediumOf(s.material);
   LightTraceOptions lo;
   lo.paths = paths;
   const LightTraceResult ref = cachedReference(cache, s.name + "-" + std::to_string(paths), [&] {

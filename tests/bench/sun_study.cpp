@@ -198,11 +198,7 @@ void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstre
            std::ofstream& bandsCsv) {
   const Cubemap env = sunEnvironment(s.sun, 1.0, 256);
   const std::vector<float> areas = vertexAreas(s.mesh);
-  HomogeneousMedium medium;
-  medium.sigmaA = s.material.sigmaA;
-  medium.sigmaS = s.material.sigmaS();
-  medium.eta = s.material.eta;
-  medium.g = s.material.g;
+  const HomogeneousMedium medium = homogeneousMediumOf(s.material);
   LightTraceOptions lo;
   lo.paths = paths;
   const std::string key = s.name + "-" + std::to_string(paths);

@@ -62,7 +62,7 @@ struct FarFieldOptions {
   FarFieldMode mode = FarFieldMode::Auto;
   double noiseBudget = 0.005;  // relative RMS noise the traced far field may leave in B
   uint64_t pilotPaths = 1 << 13;
-  uint64_t maxPaths = 1 << 22;
+  uint64_t maxPaths = 1 << 23;
   // Cap on the tracing's work, in scattering events plus a few rays per path (auto skips what
   // would exceed it; on traces up to it).
   double maxWork = 5e7;

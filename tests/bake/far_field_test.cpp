@@ -5,6 +5,7 @@
 #include <glm/geometric.hpp>
 
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "bake/diffusion.h"
@@ -27,6 +28,20 @@ Cubemap sunEnvironment(const glm::vec3& towardsSun) {
   return study::sunEnvironment(towardsSun, 2.0, 64);  // texels of ~1.4 degrees
 }
 
+// E_w per vertex (the directional entry's weighted irradiance) by visibility rays.
+std::vector<glm::vec3> entryWeightedIrradiance(const TriangleMesh& mesh, const Cubemap& env,
+                                               const Material& m, int samples, int threads) {
+  const DirectionalAlbedoWeight weight(m);
+  VisibilityOptions vis;
+  vis.samples = samples;
+  vis.entry = &weight;
+  vis.threads = threads;
+  VisibilityReport visReport;
+  transmittedIrradianceWithVisibility(mesh.positions, mesh.normals, mesh.triangles, env,
+                                      float(m.eta), vis, &visReport);
+  return std::move(visReport.entryWeighted);
+}
+
 // The bake's stages on a mesh in mm: E_w by visibility rays, the escape plan with the near share,
 // the far field, then B (as lib/bake/bake.cpp runs them at a 1 % tolerance).
 struct Baked {
@@ -36,15 +51,7 @@ struct Baked {
 Baked bakeWith(const TriangleMesh& mesh, const Cubemap& env, const Material& m, FarFieldMode mode,
                int threads = 0) {
   const std::vector<float> areas = vertexAreas(mesh);
-  const DirectionalAlbedoWeight weight(m);
-  VisibilityOptions vis;
-  vis.samples = 256;
-  vis.entry = &weight;
-  vis.threads = threads;
-  VisibilityReport visReport;
-  transmittedIrradianceWithVisibility(mesh.positions, mesh.normals, mesh.triangles, env,
-                                      float(m.eta), vis, &visReport);
-  const std::vector<glm::vec3>& e = visReport.entryWeighted;
+  const std::vector<glm::vec3> e = entryWeightedIrradiance(mesh, env, m, 256, threads);
   EnergyOptions energy;
   energy.model = EnergyModel::Escape;
   energy.noiseBudget = 0.006;
@@ -145,14 +152,7 @@ TEST(FarField, ReportedNoiseMatchesTheSpreadOverSeeds) {
   const std::vector<float> areas = vertexAreas(sphere);
   const Material skin = findMaterialPreset("skin1");
   const Cubemap env = sunEnvironment(glm::normalize(glm::vec3(0.3f, 0.8f, 0.5f)));
-  const DirectionalAlbedoWeight weight(skin);
-  VisibilityOptions vis;
-  vis.samples = 64;
-  vis.entry = &weight;
-  VisibilityReport visReport;
-  transmittedIrradianceWithVisibility(sphere.positions, sphere.normals, sphere.triangles, env,
-                                      float(skin.eta), vis, &visReport);
-  const std::vector<glm::vec3>& e = visReport.entryWeighted;
+  const std::vector<glm::vec3> e = entryWeightedIrradiance(sphere, env, skin, 64, 0);
   EnergyOptions energy;
   energy.model = EnergyModel::Escape;
   energy.nearWindowMm = farFieldWindowMm(skin);

@@ -7,6 +7,7 @@
 //   -. the environment    loadEnvironment (lib/envmap) into a radiance cubemap
 //   2. plan_energy.h      the energy model (escape walks, finite_object_energy.h) and the profile
 //   3. light_vertices.h   E per vertex: the irradiance cubemap, or visibility rays
+//   3b. far_field.h       the light leaving far from where it entered, traced (escape model only)
 //   4. transport.h        B per vertex: a diffusion sum, or the path tracer
 //   5. assemble           the baked mesh: positions in the file's units, E, B, the material
 // ErrorBudget (error_budget.h) splits the tolerance between the stages' estimates. Every setting

@@ -31,6 +31,9 @@ constexpr double kSmoothingMinEdges = 1.0;
 // the cap before tracing a pilot.
 constexpr double kPathsPerKernel = 2000.0;
 constexpr double kRaysPerPath = 4.0;  // a path's work beside its scattering events
+// Auto leaves out meshes over this many vertices: the tracer keeps 16 batches of tallies per
+// vertex (~600 bytes a vertex), which the bake's memory estimate does not count.
+constexpr std::size_t kMaxVertices = 250000;
 
 // Per-vertex values averaged over the surface around each vertex i, sum_j w_ij v_j / sum_j w_ij
 // with w_ij = G(r_ij) A_j max(0, n_i . n_j): a Gaussian of sigma cut at 3 sigma, the normals
@@ -218,6 +221,12 @@ FarField traceFarField(const FarFieldInput& in) {
   // walks counted them, and the rays at the surface), and the path cap.
   const double pathWork = in.energy.escape.meanScatteringEvents + kRaysPerPath;
   const double pathCap = std::min(double(o.maxPaths), o.maxWork / pathWork);
+  if (automatic && in.meshMm.positions.size() > kMaxVertices)
+    return skip(std::move(out),
+                "over " + std::to_string(kMaxVertices) +
+                    " vertices (the tracer's per-batch tallies would take " +
+                    format("%.2g", 600e-9 * double(in.meshMm.positions.size())) + " GB)",
+                clock);
   const double kernels = smoothingKernels(in, r.smoothingMm);
   if (automatic && kPathsPerKernel * kernels > pathCap)
     return skip(std::move(out),

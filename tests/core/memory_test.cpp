@@ -131,11 +131,11 @@ TEST(DeclaredMeshCounts, UnknownWhenTheHeaderCannotBeTrustedOrTheFormatHasNone) 
 class BakeMemoryRefusal : public ::testing::Test {
  protected:
   test::ToolRun bake(const std::string& mesh, const std::string& limit) const {
-    return test::runTool("sss-bake",
-                         dir_.path(mesh) + " --sky -m marble --mm-per-unit 1 --samples 4 -q -o " +
-                             dir_.path("out.ply"),
-                         test::Capture::StdoutAndStderr,
-                         limit.empty() ? "" : "SSS_MEMORY_LIMIT_MB=" + limit);
+    return test::runTool(
+        "sss-bake",
+        dir_.path(mesh) + " --sky -m marble --mm-per-unit 1 --samples 4 --far-field off -q -o " +
+            dir_.path("out.ply"),
+        test::Capture::StdoutAndStderr, limit.empty() ? "" : "SSS_MEMORY_LIMIT_MB=" + limit);
   }
   void expectRefused(const test::ToolRun& r, const std::string& message, const std::string& input,
                      const std::string& bytes) const {

@@ -14,7 +14,6 @@
 #include "core/parallel.h"
 #include "core/timer.h"
 #include "envmap/cubemap.h"
-#include "material/gaussian_profile.h"
 #include "material/material.h"
 #include "mesh/triangle_mesh.h"
 #include "mesh/vertex_grid.h"
@@ -134,23 +133,6 @@ double relativeNoise(const FarFieldInput& in, const Round& round) {
   return signal > 0.0 ? std::sqrt(noise / signal) : 0.0;
 }
 
-// E averaged by a normalized Gaussian of sigma in space (E itself where the weights vanish): the
-// diffusion sums' fast methods, for a wide sigma.
-std::vector<glm::vec3> gaussianAverage(const FarFieldInput& in, double sigma) {
-  DiffusionOptions o;
-  o.threads = in.options.threads;
-  o.quiet = true;
-  o.tolerance = 0.01;  // a test against the noise budget, not a result
-  o.weightSums = true;
-  const DiffusionInput input{in.meshMm.positions, in.meshMm.normals, in.areasMm2, in.irradiance};
-  const DiffusionResult s = diffuse(input, GaussianProfile(sigma * sigma), o);
-  std::vector<glm::vec3> avg(in.irradiance.begin(), in.irradiance.end());
-  for (std::size_t i = 0; i < avg.size(); ++i)
-    for (int c = 0; c < 3; ++c)
-      if (s.weightSums[i][c] > 0.0f) avg[i][c] = s.exitance[i][c] / s.weightSums[i][c];
-  return avg;
-}
-
 // Auto's test: the share of B the far field can move (far_field.h), with E averaged over the far
 // field's own smoothing first, so that the visibility rays' noise in E does not count as
 // variation (under uniform light it would, by its 0.3 % per vertex).
@@ -160,7 +142,12 @@ double farFieldSensitivity(const FarFieldInput& in, double smoothingMm) {
   const glm::dvec3 tr = in.material.sigmaTr();
   const double length = 1.0 / std::min({tr.x, tr.y, tr.z});
   const std::vector<glm::vec3> local = surfaceAverage(in, in.irradiance, smoothingMm);
-  const std::vector<glm::vec3> wide = gaussianAverage(in, length);
+  DiffusionOptions o;
+  o.threads = in.options.threads;
+  o.quiet = true;
+  o.tolerance = 0.01;  // a test against the noise budget, not a result
+  const std::vector<glm::vec3> wide = gaussianAverageIrradiance(
+      {in.meshMm.positions, in.meshMm.normals, in.areasMm2, in.irradiance}, length, o);
   double moved = 0.0, total = 0.0;
   for (std::size_t i = 0; i < p.size(); ++i)
     for (int c = 0; c < 3; ++c) {

@@ -28,31 +28,6 @@ double escapeExcessSigmaMm(const Material& material) {
   return shortest > 0.0 ? kExcessDiffusionLengths / shortest : 0.0;
 }
 
-// Ebar: the transmitted irradiance averaged by a normalized Gaussian of sigma mm over the surface,
-// sum_j G(r_ij) E_j A_j / sum_j G(r_ij) A_j, with options' method, tolerance and threads.
-std::vector<glm::vec3> gaussianAverageIrradiance(const DiffusionInput& input, double sigmaMm,
-                                                 const DiffusionOptions& options) {
-  const std::size_t n = input.positions.size();
-  if (!(sigmaMm > 0.0)) {  // no absorption: one average over the whole surface
-    glm::dvec3 sum(0.0);
-    double area = 0.0;
-    for (std::size_t i = 0; i < n; ++i) {
-      sum += glm::dvec3(input.irradiance[i]) * double(input.areas[i]);
-      area += input.areas[i];
-    }
-    return std::vector<glm::vec3>(n, area > 0.0 ? glm::vec3(sum / area) : glm::vec3(0.0f));
-  }
-  DiffusionOptions average = options;
-  average.weightSums = true;
-  average.quiet = true;
-  const DiffusionResult r = diffuse(input, GaussianProfile(sigmaMm * sigmaMm), average);
-  std::vector<glm::vec3> out(n, glm::vec3(0.0f));
-  for (std::size_t i = 0; i < n; ++i)
-    for (int c = 0; c < 3; ++c)
-      if (r.weightSums[i][c] > 0.0f) out[i][c] = r.exitance[i][c] / r.weightSums[i][c];
-  return out;
-}
-
 // exitance: the profile's sum B_i; rho: the same sum with E = 1; then B_i becomes
 // min(P_i, R) B_i / rho_i + max(0, P_i - R) Ebar_i per channel (rho_i = 0: only the second term);
 // excess gets the second term alone.
@@ -157,6 +132,29 @@ std::string escapeReason(const EnergyPlan& plan, const EnergyOptions& options) {
 }
 
 }  // namespace
+
+std::vector<glm::vec3> gaussianAverageIrradiance(const DiffusionInput& input, double sigmaMm,
+                                                 const DiffusionOptions& options) {
+  const std::size_t n = input.positions.size();
+  if (!(sigmaMm > 0.0)) {  // no absorption: one average over the whole surface
+    glm::dvec3 sum(0.0);
+    double area = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      sum += glm::dvec3(input.irradiance[i]) * double(input.areas[i]);
+      area += input.areas[i];
+    }
+    return std::vector<glm::vec3>(n, area > 0.0 ? glm::vec3(sum / area) : glm::vec3(0.0f));
+  }
+  DiffusionOptions average = options;
+  average.weightSums = true;
+  average.quiet = true;
+  const DiffusionResult r = diffuse(input, GaussianProfile(sigmaMm * sigmaMm), average);
+  std::vector<glm::vec3> out(n, glm::vec3(0.0f));
+  for (std::size_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c)
+      if (r.weightSums[i][c] > 0.0f) out[i][c] = r.exitance[i][c] / r.weightSums[i][c];
+  return out;
+}
 
 EnergyPlan planFiniteObjectEnergy(const TriangleMesh& meshMm, std::span<const float> areas,
                                   const Material& material, const EnergyOptions& options) {

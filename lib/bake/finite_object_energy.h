@@ -85,6 +85,12 @@ struct EnergyPlan {
 EnergyPlan planFiniteObjectEnergy(const TriangleMesh& meshMm, std::span<const float> areas,
                                   const Material& material, const EnergyOptions& options);
 
+// Ebar: the irradiance averaged by a normalized Gaussian of sigma mm in space,
+// sum_j G(r_ij) E_j A_j / sum_j G(r_ij) A_j, by options' method, tolerance and threads (one
+// average over the whole surface for sigma <= 0; 0 where the weights vanish).
+std::vector<glm::vec3> gaussianAverageIrradiance(const DiffusionInput& input, double sigmaMm,
+                                                 const DiffusionOptions& options);
+
 // More walks for an escape plan until the noise of P's near share meets options.noiseBudget
 // (the far field, far_field.h, spreads P_near with the profile; it needs more walks than P).
 // The walks repeat the plan's (each walk has its own random stream) and add to them.

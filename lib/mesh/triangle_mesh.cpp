@@ -1,5 +1,6 @@
 #include "mesh/triangle_mesh.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <glm/geometric.hpp>
@@ -27,6 +28,17 @@ std::vector<float> vertexAreas(const TriangleMesh& mesh) {
     sum[t.x] += third;
     sum[t.y] += third;
     sum[t.z] += third;
+  }
+  return std::vector<float>(sum.begin(), sum.end());
+}
+
+std::vector<float> projectedVertexAreas(const TriangleMesh& mesh) {
+  std::vector<double> sum(mesh.positions.size(), 0.0);
+  for (const glm::uvec3& t : mesh.triangles) {
+    const glm::dvec3 a = areaVector(mesh, t);  // |a| = 2 x the triangle's area
+    for (const unsigned v : {t.x, t.y, t.z}) {
+      sum[v] += std::max(0.0, glm::dot(a, glm::dvec3(mesh.normals[v]))) / 6.0;
+    }
   }
   return std::vector<float>(sum.begin(), sum.end());
 }

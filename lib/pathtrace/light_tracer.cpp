@@ -208,9 +208,10 @@ void validateOptions(const std::vector<glm::vec3>& positions, const std::vector<
 }
 
 // Mean and standard error over the batches of per-vertex batch means.
+// B is per vertex area; the radiance per projected area (see the header).
 void combineBatches(const std::vector<BatchTally>& batches, const std::vector<uint64_t>& sizes,
-                    const std::vector<float>& areas, double coneProjectedSolidAngle,
-                    bool keepBatches, LightTraceResult& result) {
+                    const std::vector<float>& areas, const std::vector<float>& projectedAreas,
+                    double coneProjectedSolidAngle, bool keepBatches, LightTraceResult& result) {
   const std::size_t n = areas.size();
   const double k = double(batches.size());
   result.exitance.assign(n, glm::vec3(0.0f));
@@ -220,6 +221,8 @@ void combineBatches(const std::vector<BatchTally>& batches, const std::vector<ui
   if (keepBatches) result.batchExitance.assign(batches.size(), std::vector<glm::vec3>(n));
   for (std::size_t v = 0; v < n; ++v) {
     const double perArea = areas[v] > 0.0f ? 1.0 / double(areas[v]) : 0.0;
+    const double perProjectedArea =
+        projectedAreas[v] > 0.0f ? 1.0 / double(projectedAreas[v]) : 0.0;
     glm::dvec3 sb(0.0), sb2(0.0), sl(0.0), sl2(0.0);
     for (std::size_t b = 0; b < batches.size(); ++b) {
       const double scale = perArea / double(sizes[b]);
@@ -228,7 +231,8 @@ void combineBatches(const std::vector<BatchTally>& batches, const std::vector<ui
       sb += eb;
       sb2 += eb * eb;
       if (batches[b].radiance.empty()) continue;
-      const glm::dvec3 el = batches[b].radiance[v] * (scale / coneProjectedSolidAngle);
+      const glm::dvec3 el =
+          batches[b].radiance[v] * (perProjectedArea / double(sizes[b]) / coneProjectedSolidAngle);
       sl += el;
       sl2 += el * el;
     }
@@ -294,7 +298,8 @@ LightTraceResult lightTraceSubsurface(const std::vector<glm::vec3>& positions,
   LightTraceResult result;
   result.paths = options.paths;
   const double sinCone = std::sin(options.coneHalfAngleDeg * M_PI / 180.0);
-  combineBatches(batches, sizes, areas, M_PI * sinCone * sinCone, options.keepBatches, result);
+  combineBatches(batches, sizes, areas, projectedVertexAreas(mesh), M_PI * sinCone * sinCone,
+                 options.keepBatches, result);
   result.seconds = clock.seconds();
   return result;
 }

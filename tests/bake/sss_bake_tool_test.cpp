@@ -31,6 +31,10 @@ namespace sss {
 namespace {
 
 const std::string kTool = SSS_BINARY_DIR "/tools/sss-bake";
+// For the tests about files and determinism, not light: the half-space energy model (no escape
+// walks, so no far field either) keeps each bake to milliseconds of light (under ASan the walks
+// took seconds per bake).
+const std::string kHalfSpaceEnergy = " --energy halfspace";
 
 struct RunResult {
   int exitCode;
@@ -233,14 +237,18 @@ TEST_F(BakeTool, InterreflectionBrightensAPit) {
   expectUsageError(run(args("pit.ply", "-m marble --unit mm --bounces many")), "many");
 }
 
+// Each stage once: visibility and transport (half-space energy), the auto-samples pilot, the
+// escape walks. The far field's own determinism is tested in far_field_test.
 TEST_F(BakeTool, SameOutputForOneAndTwoThreads) {
-  ASSERT_EQ(run(args("sphere.ply", "-m skin1 --unit cm --threads 1")).exitCode, 0);
+  ASSERT_EQ(run(args("sphere.ply", "-m skin1 --unit cm --threads 1" + kHalfSpaceEnergy)).exitCode,
+            0);
   fs::rename(dir_ / "out.ply", dir_ / "one.ply");
-  ASSERT_EQ(run(args("sphere.ply", "-m skin1 --unit cm --threads 2")).exitCode, 0);
+  ASSERT_EQ(run(args("sphere.ply", "-m skin1 --unit cm --threads 2" + kHalfSpaceEnergy)).exitCode,
+            0);
   EXPECT_EQ(readFile(dir_ / "one.ply"), readFile(dir_ / "out.ply"));
   // Auto samples: the pilot and the count it picks do not depend on the threads either.
-  const std::string autoArgs =
-      path("sphere.ply") + " --sky -m skin1 --unit cm -q -o " + path("out.ply") + " --threads ";
+  const std::string autoArgs = path("sphere.ply") + " --sky -m skin1 --unit cm -q" +
+                               kHalfSpaceEnergy + " -o " + path("out.ply") + " --threads ";
   ASSERT_EQ(run(autoArgs + "1").exitCode, 0);
   fs::rename(dir_ / "out.ply", dir_ / "one.ply");
   ASSERT_EQ(run(autoArgs + "2").exitCode, 0);
@@ -400,7 +408,8 @@ TEST_F(BakeTool, EnergyModelFollowsTheObjectSize) {
 // floats), validates with zero errors and warnings, assimp reads it, and it embeds the report.
 TEST_F(BakeTool, WritesGlbChosenByTheOutputExtension) {
   const std::string common = path("sphere.ply") + " -e " + path("white.exr") +
-                             " --samples 16 -q -m marble --mm-per-unit 1 -o ";
+                             " --samples 16 -q -m marble --mm-per-unit 1" + kHalfSpaceEnergy +
+                             " -o ";
   RunResult r = run(common + path("out.glb") + " --json " + path("r.json"));
   ASSERT_EQ(r.exitCode, 0) << r.output;
   r = run(common + path("out.ply"));
@@ -516,7 +525,8 @@ TEST_F(BakeTool, DegenerateAndDuplicateFacesAreDroppedWithACount) {
   mesh.triangles.push_back(glm::uvec3(4, 4, 7));  // degenerate
   writeAsciiPly(dir_ / "dirty.ply", mesh, false);
   const RunResult r = runExpectingWarning(
-      args("dirty.ply", "-m marble --unit mm --json " + path("r.json")), "warning");
+      args("dirty.ply", "-m marble --unit mm" + kHalfSpaceEnergy + " --json " + path("r.json")),
+      "warning");
   ASSERT_EQ(r.exitCode, 0) << r.output;
   const auto report = nlohmann::json::parse(readFile(dir_ / "r.json"));
   EXPECT_EQ(report["mesh"]["dropped_duplicate"], 1);
@@ -534,7 +544,8 @@ TEST_F(BakeTool, NonManifoldMeshGivesAWarning) {
   mesh.triangles.push_back(glm::uvec3(t.x, t.y, static_cast<unsigned>(mesh.positions.size() - 1)));
   writeAsciiPly(dir_ / "fin.ply", mesh, true);
   const RunResult r = runExpectingWarning(
-      args("fin.ply", "-m marble --unit mm --json " + path("r.json")), "non-manifold");
+      args("fin.ply", "-m marble --unit mm" + kHalfSpaceEnergy + " --json " + path("r.json")),
+      "non-manifold");
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_GT(nlohmann::json::parse(readFile(dir_ / "r.json"))["mesh"]["non_manifold_edges"], 0);
 }
@@ -544,7 +555,8 @@ TEST_F(BakeTool, InsideOutMeshIsFlippedWithAWarning) {
   for (glm::uvec3& t : mesh.triangles) std::swap(t.y, t.z);
   writeAsciiPly(dir_ / "inverted.ply", mesh, false);
   const RunResult r = runExpectingWarning(
-      args("inverted.ply", "-m marble --unit mm --json " + path("r.json")), "warning");
+      args("inverted.ply", "-m marble --unit mm" + kHalfSpaceEnergy + " --json " + path("r.json")),
+      "warning");
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_TRUE(
       nlohmann::json::parse(readFile(dir_ / "r.json"))["mesh"]["orientation_flipped"].get<bool>());

@@ -54,10 +54,12 @@
 #include "mesh/primitives.h"
 #include "optics/fresnel.h"
 #include "pathtrace/subsurface_path_tracer.h"
+#include "study_support.h"
 
 namespace {
 
 using namespace sss;
+using sss::study::loadScaled;
 
 struct Scene {
   std::string name;
@@ -126,18 +128,6 @@ double relativeRmsAll(const std::vector<glm::vec3>& a, const std::vector<glm::ve
       den += sq(b[i][c]);
     }
   return std::sqrt(num / den);
-}
-
-TriangleMesh loadScaled(const std::string& path, double longestMm) {
-  TriangleMesh mesh = loadMesh(path);
-  glm::vec3 lo(INFINITY), hi(-INFINITY);
-  for (const auto& p : mesh.positions) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
-  }
-  const glm::vec3 ext = hi - lo;
-  scalePositions(mesh, longestMm / std::max({ext.x, ext.y, ext.z}));
-  return mesh;
 }
 
 // Half-space totals: a thick box, uniform radiance 1, the top centre vertex. The Monte Carlo

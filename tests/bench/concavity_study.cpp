@@ -4,16 +4,24 @@
 //
 //   concavity_study OUT_DIR [--paths N] [--only NAME] [--cache DIR]
 //
-// Scenes: the closed 20 mm box with a pit 6 mm deep (tests/bake/box_with_pit.h; its floor sees
-// about 70 % of the sky) in marble and in skim milk, under uniform radiance 1 and under a sun of
-// 1 degree angular radius 30 degrees from the pit's axis. The bake is sss-bake's own pipeline
-// (lib/bake/bake.h) with its defaults at 1 % (escape energy, dipole, directional entry, normalized
-// exit) and 256 visibility rays, with --bounces 0 and --bounces auto.
+// Scenes, each in marble and in skim milk (a high-albedo and a low-density material):
+//  - the closed 20 mm box with a pit 6 mm deep (tests/bake/box_with_pit.h; its floor sees about
+//    70 % of the sky) under uniform radiance 1 and under a sun of 1 degree angular radius 30
+//    degrees from the pit's axis;
+//  - the sample bunny (data/cache/meshes/bunny.ply: closed, 1,839 vertices) scaled to 50 mm along
+//    its longest side, with concavities (between the ears, under the chin and the haunch) and thin
+//    parts (the ears), under uniform radiance 1 and under forest.exr at full resolution (its
+//    sky and sunlit canopy).
+// The bake is sss-bake's own pipeline (lib/bake/bake.h) with its defaults at 1 % (escape energy,
+// dipole, directional entry, normalized exit, far field auto) and 256 visibility rays, with
+// --bounces 0 and --bounces auto.
 // Metrics, on the radiance along the normal (all channels; the reference's noise removed):
 //   rms_all      sqrt(max(0, sum (L - L_ref)^2 - sum se^2) / sum L_ref^2) over every vertex,
 //   rms_concave  the same over the concave vertices (those that see < 80 % of the sky: E under
 //                uniform light below 0.8 of a convex vertex's),
-//   ratio_concave  sum L / sum L_ref over the concave vertices.
+//   ratio_concave  sum L / sum L_ref over the concave vertices,
+//   predicted    the bake's own predicted error (the JSON's estimated_error.total), and
+//   measured_over_predicted  rms_all / predicted: 1 when the bake's "1 %" holds.
 // Writes OUT_DIR/concavity.csv.
 #include <cmath>
 #include <cstdio>
@@ -29,6 +37,7 @@
 #include "bake/bake.h"
 #include "bake/visibility.h"
 #include "core/error.h"
+#include "envmap/environment.h"
 #include "material/material.h"
 #include "mesh/triangle_mesh.h"
 #include "optics/fresnel.h"
@@ -42,10 +51,23 @@ using namespace sss::study;
 
 constexpr int kVisibilityRays = 256;
 
+enum class Light { Uniform, Sun, Forest };
+const char* lightName(Light l) {
+  return l == Light::Uniform ? "uniform" : l == Light::Sun ? "sun" : "forest";
+}
+
+// A closed mesh in mm, written where the bake reads it, and its concave vertices.
+struct Shape {
+  std::string name;
+  TriangleMesh mesh;
+  std::string meshPath;
+  std::vector<char> concave;
+};
+
 struct Scene {
   std::string name;
   Material material;
-  bool sun;  // else uniform radiance 1
+  Light light;
 };
 
 void writeAsciiPly(const std::string& path, const TriangleMesh& mesh) {
@@ -103,11 +125,22 @@ Metrics compare(const std::vector<glm::vec3>& l, const LightTraceResult& ref,
   return m;
 }
 
-void study(const Scene& s, const std::string& meshPath, const TriangleMesh& mesh,
-           const std::vector<char>& concave, uint64_t paths, const std::string& cache,
+Cubemap environmentOf(Light light) {
+  switch (light) {
+    case Light::Uniform:
+      return Cubemap(16, glm::vec3(1.0f));
+    case Light::Sun:
+      return sunEnvironment(glm::normalize(glm::vec3(0.5f, 0.0f, 0.866f)), 1.0, 256);
+    case Light::Forest:
+      break;
+  }
+  return loadEnvironment(std::string(SSS_SOURCE_DIR) + "/data/cache/env/forest.exr", {});
+}
+
+void study(const Scene& s, const Shape& shape, uint64_t paths, const std::string& cache,
            std::ofstream& csv) {
-  const glm::vec3 sun = glm::normalize(glm::vec3(0.5f, 0.0f, 0.866f));
-  BakeEnvironment env{s.sun ? sunEnvironment(sun, 1.0, 256) : Cubemap(16, glm::vec3(1.0f)), {}};
+  const TriangleMesh& mesh = shape.mesh;
+  BakeEnvironment env{environmentOf(s.light), {}};
   const HomogeneousMedium medium = homogeneousMediumOf(s.material);
   LightTraceOptions lo;
   lo.paths = paths;
@@ -119,25 +152,28 @@ void study(const Scene& s, const std::string& meshPath, const TriangleMesh& mesh
               (unsigned long long)paths, ref.seconds, (unsigned long long)ref.reentries);
   for (int bounces : {0, kAutoBounces}) {
     BakeSettings settings;
-    settings.meshPath = meshPath;
+    settings.meshPath = shape.meshPath;
     settings.material = s.material;
     settings.mmPerUnit = 1.0;
     settings.samples = kVisibilityRays;
     settings.bounces = bounces;
     settings.quiet = true;
     const BakeOutput out = bake(settings, env);
-    const Metrics m = compare(out.baked.radianceNormal, ref, concave);
+    const Metrics m = compare(out.baked.radianceNormal, ref, shape.concave);
     const InterreflectionReport& ir = out.report.interreflection;
-    char line[256];
-    std::snprintf(line, sizeof line, "%s,%s,%s,%s,%d,%.5f,%.5f,%.4f,%.3f,%llu\n", s.name.c_str(),
-                  s.material.name.c_str(), s.sun ? "sun" : "uniform", bounces == 0 ? "0" : "auto",
-                  ir.bounces, m.rmsAll, m.rmsConcave, m.ratioConcave, out.report.totalSeconds,
+    const double predicted = out.report.errors.total;
+    char line[320];
+    std::snprintf(line, sizeof line, "%s,%s,%s,%s,%d,%.5f,%.5f,%.4f,%.5f,%.2f,%.3f,%llu\n",
+                  s.name.c_str(), s.material.name.c_str(), lightName(s.light),
+                  bounces == 0 ? "0" : "auto", ir.bounces, m.rmsAll, m.rmsConcave, m.ratioConcave,
+                  predicted, predicted > 0 ? m.rmsAll / predicted : 0.0, out.report.totalSeconds,
                   (unsigned long long)paths);
     csv << line;
     csv.flush();
     std::printf(
-        "  bounces %-4s (%d done): rms all %.4f, concave %.4f, concave ratio %.3f, %.2f s\n",
-        bounces == 0 ? "0" : "auto", ir.bounces, m.rmsAll, m.rmsConcave, m.ratioConcave,
+        "  bounces %-4s (%d done): rms all %.4f, concave %.4f, concave ratio %.3f, predicted "
+        "%.4f, %.2f s\n",
+        bounces == 0 ? "0" : "auto", ir.bounces, m.rmsAll, m.rmsConcave, m.ratioConcave, predicted,
         out.report.totalSeconds);
     std::fflush(stdout);
   }
@@ -154,25 +190,31 @@ int run(int argc, char** argv) {
   const std::string &only = args.only, &cache = args.cache;
   const uint64_t paths = args.paths;
   std::filesystem::create_directories(outDir);
-  const TriangleMesh mesh = boxWithPit();
-  const std::string meshPath = outDir + "/box_with_pit.ply";
-  writeAsciiPly(meshPath, mesh);
-  const std::vector<char> concave = concaveVertices(mesh, 1.3f);
-  std::size_t count = 0;
-  for (char c : concave) count += c;
-  std::printf("box with pit: %zu vertices, %zu see < 80 %% of the sky\n", mesh.positions.size(),
-              count);
+  std::vector<Shape> shapes;
+  shapes.push_back({"pit", boxWithPit(), outDir + "/box_with_pit.ply", {}});
+  TriangleMesh bunny =
+      loadScaled(std::string(SSS_SOURCE_DIR) + "/data/cache/meshes/bunny.ply", 50.0);
+  bunny.normals = computeVertexNormals(bunny);
+  shapes.push_back({"bunny", std::move(bunny), outDir + "/bunny_50mm.ply", {}});
+  for (Shape& shape : shapes) {
+    writeAsciiPly(shape.meshPath, shape.mesh);
+    shape.concave = concaveVertices(shape.mesh, 1.3f);
+    std::size_t count = 0;
+    for (char c : shape.concave) count += c;
+    std::printf("%s: %zu vertices, %zu see < 80 %% of the sky\n", shape.name.c_str(),
+                shape.mesh.positions.size(), count);
+  }
   std::ofstream csv(outDir + "/concavity.csv");
   csv << "scene,material,light,bounces_asked,bounces_done,rms_all,rms_concave,ratio_concave,"
-         "bake_s,ref_paths\n";
-  for (const char* m : {"marble", "skimmilk"})
-    for (bool sun : {false, true}) {
-      const Scene s{std::string("pit-") + (sun ? "sun-" : "uniform-") + m, findMaterialPreset(m),
-                    sun};
-      if (only.empty() || s.name.find(only) != std::string::npos)
-        study(s, meshPath, mesh, concave, paths, cache, csv);
-    }
-  std::filesystem::remove(meshPath);
+         "predicted,measured_over_predicted,bake_s,ref_paths\n";
+  for (const Shape& shape : shapes)
+    for (const char* m : {"marble", "skimmilk"})
+      for (Light light : {Light::Uniform, shape.name == "pit" ? Light::Sun : Light::Forest}) {
+        const Scene s{shape.name + "-" + lightName(light) + "-" + m, findMaterialPreset(m), light};
+        if (only.empty() || s.name.find(only) != std::string::npos)
+          study(s, shape, paths, cache, csv);
+      }
+  for (const Shape& shape : shapes) std::filesystem::remove(shape.meshPath);
   return 0;
 }
 

@@ -1,7 +1,9 @@
-// What the light-tracer studies share (sun_study.cpp, concavity_study.cpp): a sun-only
-// environment and a cache for the references, so that a model change is re-measured in seconds.
+// What the studies share (sun_study.cpp, concavity_study.cpp, accuracy_study.cpp): a sun-only
+// environment, a sample mesh scaled to a size in mm, and a cache for the light tracer's
+// references, so that a model change is re-measured in seconds.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -13,6 +15,8 @@
 #include <glm/geometric.hpp>
 
 #include "envmap/cubemap.h"
+#include "mesh/load_mesh.h"
+#include "mesh/triangle_mesh.h"
 #include "pathtrace/light_tracer.h"
 
 namespace sss::study {
@@ -27,6 +31,20 @@ inline Cubemap sunEnvironment(const glm::vec3& towardsSun, double radiusDeg, int
         if (glm::dot(env.direction(f, x, y), towardsSun) >= cosRadius)
           env.at(f, x, y) = glm::vec3(1000.0f);
   return env;
+}
+
+// A mesh file scaled so that its longest bounding-box side is `longestMm` (sample meshes come in
+// arbitrary units).
+inline TriangleMesh loadScaled(const std::string& path, double longestMm) {
+  TriangleMesh mesh = loadMesh(path);
+  glm::vec3 lo(INFINITY), hi(-INFINITY);
+  for (const auto& p : mesh.positions) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  const glm::vec3 ext = hi - lo;
+  scalePositions(mesh, longestMm / std::max({ext.x, ext.y, ext.z}));
+  return mesh;
 }
 
 // The reference's per-vertex arrays, kept in `cache` (if not empty) as raw floats.

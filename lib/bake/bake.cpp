@@ -1,11 +1,13 @@
 #include "bake/bake.h"
 
 #include <cmath>
+#include <cstdio>
 #include <optional>
 #include <utility>
 
 #include "bake/error_budget.h"
 #include "bake/interreflection.h"
+#include "bake/visibility_pilot.h"
 #include "core/timer.h"
 #include "core/tool.h"
 #include "envmap/environment.h"
@@ -75,7 +77,8 @@ BakeErrorReport errorReport(const BakeReport& r, double tolerance) {
   }
   e.visibility = r.lighting.estimatedError;
   e.energy = r.energy.walkError();
-  e.total = ErrorBudget::total(e.visibility, e.exitance, e.energy);
+  e.interreflection = r.interreflection.estimatedMissing;
+  e.total = std::hypot(ErrorBudget::total(e.visibility, e.exitance, e.energy), e.interreflection);
   return e;
 }
 
@@ -119,6 +122,42 @@ void addInterreflection(const BakeSettings& s, const PreparedMesh& mesh, const C
   report.change = r.change;
   report.blockedFraction = gather.blockedFraction();
   report.seconds = clock.seconds();
+}
+
+// Stage 4b without bounces: a pilot gather (about 1,000 spread vertices, the bounces' rays)
+// estimates how much the light the object sends itself would add to B, so that the reported
+// error counts it and a concave object is not baked dark without a word.
+void estimateInterreflection(const BakeSettings& s, const PreparedMesh& mesh,
+                             const Cubemap& radiance, const DirectionalAlbedoWeight& weight,
+                             const VertexLighting& lighting, const VertexExitance& exitance,
+                             InterreflectionReport& report) {
+  constexpr std::size_t kPilotVertices = 1024;
+  const Stopwatch clock;
+  const TriangleMesh& m = mesh.meshMm;
+  InterreflectionOptions options;
+  options.rays = s.interreflectionRays;
+  if (!lighting.entryWeighted.empty()) options.entry = &weight;
+  options.seed = s.seed;
+  options.threads = s.threads;
+  options.vertices = pilotVertices(m.positions.size(), kPilotVertices);
+  const InterreflectionGather gather(m.positions, m.normals, m.triangles, radiance,
+                                     float(s.material.eta), options);
+  const MissingInterreflection missing = estimateMissingInterreflection(
+      gather, options.vertices, exitance.exitance, lighting.transportIrradiance(), mesh.areasMm2);
+  report.estimated = true;
+  report.estimatedMissing = missing.relativeRms;
+  report.pilotVertices = int(options.vertices.size());
+  report.blockedFraction = gather.blockedFraction();
+  report.seconds = clock.seconds();
+  if (missing.relativeRms > s.tolerance && !s.quiet) {
+    char line[200];
+    std::snprintf(line, sizeof line,
+                  "interreflection: the light the object sends itself would change B by about "
+                  "%.1f%% (%.0f%% of the rays from its surface meet it again); --bounces auto "
+                  "adds it",
+                  100.0 * missing.relativeRms, 100.0 * gather.blockedFraction());
+    warn(line);
+  }
 }
 
 // Stage 5: the baked mesh in the file's units, with what made it in a comment.
@@ -186,9 +225,11 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
   transportIn.threads = s.threads;
   transportIn.quiet = s.quiet;
   VertexExitance exitance = transport(transportIn);
-  if (s.bounces != 0 && s.method != BakeMethod::PathTrace)
+  if (s.bounces != 0 && diffusion)
     addInterreflection(s, mesh, radiance, transportIn, weight, lighting, exitance,
                        report.interreflection);
+  else if (diffusion)
+    estimateInterreflection(s, mesh, radiance, weight, lighting, exitance, report.interreflection);
 
   report.energy = std::move(energy.report);
   report.lighting = std::move(lighting.report);

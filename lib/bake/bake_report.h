@@ -26,6 +26,9 @@ struct BakeErrorReport {
   double visibility = 0.0;  // from E (visibility noise or the irradiance cubemap)
   double exitance = 0.0;    // the transport method's own
   double energy = 0.0;      // the escape walks' noise
+  // A model error, not noise: the light the object sends itself when no bounces add it
+  // (estimateMissingInterreflection); 0 with bounces.
+  double interreflection = 0.0;
   double total = 0.0;
   double tolerance = 0.0;
 };
@@ -37,6 +40,10 @@ struct InterreflectionReport {
   int bounces = 0;               // gathers done
   double change = 0.0;           // relative RMS change of B at the last bounce
   double blockedFraction = 0.0;  // of the gather's rays, those that met the object
+  // Without bounces: the pilot's estimate of the share of B they would add (relative RMS).
+  bool estimated = false;
+  double estimatedMissing = 0.0;
+  int pilotVertices = 0;
   double seconds = 0.0;
 };
 

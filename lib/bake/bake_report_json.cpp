@@ -153,11 +153,9 @@ Json toJson(const FarFieldReport& r) {
 }
 
 Json toJson(const BakeErrorReport& r) {
-  return {{"visibility", r.visibility},
-          {"exitance", r.exitance},
-          {"energy", r.energy},
-          {"total", r.total},
-          {"tolerance", r.tolerance}};
+  return {{"visibility", r.visibility}, {"exitance", r.exitance},
+          {"energy", r.energy},         {"interreflection", r.interreflection},
+          {"total", r.total},           {"tolerance", r.tolerance}};
 }
 
 Json toJson(const BakeReport& r) {
@@ -182,6 +180,10 @@ Json toJson(const BakeReport& r) {
                           {"last_change", r.interreflection.change},
                           {"blocked_fraction", r.interreflection.blockedFraction},
                           {"seconds", r.interreflection.seconds}};
+  if (r.interreflection.estimated) {
+    j["interreflection"]["estimated_missing"] = r.interreflection.estimatedMissing;
+    j["interreflection"]["pilot_vertices"] = r.interreflection.pilotVertices;
+  }
   j["estimated_error"] = toJson(r.errors);
   j["threads"] = r.threads;
   j["stages"] = {{"load_mesh_s", r.mesh.seconds},     {"load_environment_s", r.environment.seconds},

@@ -77,6 +77,7 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
   // keeps a white furnace at 1 up to third-order mirror paths).
   const auto addHit = [&](std::vector<Hit>& hits, const SurfaceHit& h, const glm::vec3& incoming,
                           const glm::vec3& throughput, bool followMirror) {
+    const bool sameRay = !followMirror;  // the second hit continues the first's ray
     const glm::vec3 mirror = incoming + 2.0f * h.mu * h.normal;
     const float fr = fresnelDielectric(h.mu, eta);
     const float offset = surfaceRayOffset(h.point, extent);
@@ -87,12 +88,20 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
     const bool open = !followMirror || (!second.hit && glm::dot(mirror, h.faceNormal) > 0.0f);
     hits.push_back({h.vertices, h.barycentric,
                     throughput * fresnelTransmittance(h.mu, eta) * exitScale,
-                    open ? throughput * fr * radiance.sample(mirror) : glm::vec3(0.0f)});
+                    open ? throughput * fr * radiance.sample(mirror) : glm::vec3(0.0f), sameRay});
     return std::make_pair(second, mirror);
   };
-  parallelFor(n, options.threads, 64, [&](std::size_t begin, std::size_t end) {
+  std::vector<uint32_t> traced = options.vertices;
+  if (traced.empty()) {
+    traced.resize(n);
+    for (std::size_t v = 0; v < n; ++v) traced[v] = uint32_t(v);
+  }
+  for (const uint32_t v : traced)
+    if (v >= n) fail("", "interreflection: a traced vertex is not in the mesh");
+  parallelFor(traced.size(), options.threads, 64, [&](std::size_t begin, std::size_t end) {
     uint64_t count = 0;
-    for (std::size_t v = begin; v < end; ++v) {
+    for (std::size_t i = begin; i < end; ++i) {
+      const uint32_t v = traced[i];
       Pcg32 rng(options.seed, v);
       const float r0 = rng.uniform(), r1 = rng.uniform();
       const glm::vec3 nv = normals[v], p = positions[v];
@@ -122,20 +131,37 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
   for (std::size_t v = 0; v < n; ++v) offsets_[v + 1] = offsets_[v] + uint32_t(perVertex[v].size());
   hits_.reserve(offsets_[n]);
   for (auto& hits : perVertex) hits_.insert(hits_.end(), hits.begin(), hits.end());
-  blockedFraction_ = double(blocked) / double(std::max<std::size_t>(n * rays, 1));
+  rays_ = options.rays;
+  blockedFraction_ = double(blocked) / double(std::max<std::size_t>(traced.size() * rays, 1));
 }
 
-std::vector<glm::vec3> InterreflectionGather::gather(std::span<const glm::vec3> exitance) const {
+std::vector<glm::vec3> InterreflectionGather::gather(std::span<const glm::vec3> exitance,
+                                                     std::vector<glm::vec3>* variance) const {
   const std::size_t n = offsets_.size() - 1;
   if (exitance.size() != n) fail("", "interreflection: one exitance per vertex needed");
   std::vector<glm::vec3> e(n, glm::vec3(0.0f));
+  if (variance) variance->assign(n, glm::vec3(0.0f));
   for (std::size_t v = 0; v < n; ++v) {
+    glm::dvec3 ray(0.0), squares(0.0);  // the current ray's light; the sum of squares over rays
     for (uint32_t k = offsets_[v]; k < offsets_[v + 1]; ++k) {
       const Hit& h = hits_[k];
       const glm::vec3 b = h.barycentric.x * exitance[h.vertices.x] +
                           h.barycentric.y * exitance[h.vertices.y] +
                           h.barycentric.z * exitance[h.vertices.z];
-      e[v] += h.exitWeight * b + h.reflection;
+      const glm::vec3 light = h.exitWeight * b + h.reflection;
+      e[v] += light;
+      if (!h.sameRay) {
+        squares += ray * ray;
+        ray = glm::dvec3(0.0);
+      }
+      ray += glm::dvec3(light);
+    }
+    squares += ray * ray;
+    if (variance && rays_ > 1) {
+      // Var(sum of N rays) = N var(one ray) = N (sum x^2 - (sum x)^2 / N) / (N - 1).
+      const double count = double(rays_);
+      const glm::dvec3 sum(e[v]);
+      (*variance)[v] = glm::vec3(count * (squares - sum * sum / count) / (count - 1.0));
     }
   }
   return e;
@@ -155,6 +181,41 @@ double relativeChange(const std::vector<glm::vec3>& a, const std::vector<glm::ve
 }
 
 }  // namespace
+
+MissingInterreflection estimateMissingInterreflection(const InterreflectionGather& gather,
+                                                      std::span<const uint32_t> vertices,
+                                                      std::span<const glm::vec3> exitance,
+                                                      std::span<const glm::vec3> irradiance,
+                                                      std::span<const float> areas) {
+  if (irradiance.size() != exitance.size() || areas.size() != exitance.size())
+    fail("", "interreflection: one irradiance and area per vertex needed");
+  glm::dvec3 leaving(0.0), entering(0.0);
+  for (std::size_t v = 0; v < exitance.size(); ++v) {
+    leaving += double(areas[v]) * glm::dvec3(exitance[v]);
+    entering += double(areas[v]) * glm::dvec3(irradiance[v]);
+  }
+  glm::dvec3 k(0.0);
+  for (int c = 0; c < 3; ++c) k[c] = entering[c] > 0.0 ? leaving[c] / entering[c] : 0.0;
+  std::vector<glm::vec3> variance;
+  const std::vector<glm::vec3> added = gather.gather(exitance, &variance);
+  // The squares' sum less the rays' noise in it (a sun the mirror direction finds by chance
+  // would otherwise count as light).
+  double sumAdded = 0.0, sumB = 0.0, squaredAdded = 0.0, noise = 0.0, squaredB = 0.0;
+  for (const uint32_t v : vertices) {
+    const glm::dvec3 dB = k * glm::dvec3(added[v]), b(exitance[v]);
+    sumAdded += dB.x + dB.y + dB.z;
+    sumB += b.x + b.y + b.z;
+    squaredAdded += glm::dot(dB, dB);
+    noise += glm::dot(k * k, glm::dvec3(variance[v]));
+    squaredB += glm::dot(b, b);
+  }
+  MissingInterreflection m;
+  if (!(sumB > 0.0 && squaredB > 0.0)) return m;
+  m.gain = sumAdded / sumB;
+  m.relativeRms =
+      std::sqrt(std::max(0.0, squaredAdded - noise) / squaredB) / (1.0 - std::min(m.gain, 0.9));
+  return m;
+}
 
 BounceResult iterateInterreflection(
     const InterreflectionGather& gather, std::span<const glm::vec3> direct,

@@ -37,6 +37,9 @@ struct InterreflectionOptions {
   const DirectionalAlbedoWeight* entry = nullptr;
   uint64_t seed = 1;
   int threads = 0;  // <= 0: all cores
+  // Only these vertices trace rays (a pilot, estimateMissingInterreflection); the others gather
+  // nothing. Empty: every vertex.
+  std::vector<uint32_t> vertices;
 };
 
 class InterreflectionGather {
@@ -46,8 +49,11 @@ class InterreflectionGather {
                         std::span<const glm::uvec3> triangles, const Cubemap& radiance, float eta,
                         const InterreflectionOptions& options);
 
-  // E_ir per vertex for the exitance B per vertex (one per mesh vertex).
-  std::vector<glm::vec3> gather(std::span<const glm::vec3> exitance) const;
+  // E_ir per vertex for the exitance B per vertex (one per mesh vertex). With `variance`, also
+  // each vertex's Monte Carlo variance of E_ir (from its rays' spread, rays that met nothing
+  // counting 0; an upper bound, the rays being stratified).
+  std::vector<glm::vec3> gather(std::span<const glm::vec3> exitance,
+                                std::vector<glm::vec3>* variance = nullptr) const;
   // Of the rays traced, the fraction that met the object.
   double blockedFraction() const { return blockedFraction_; }
 
@@ -57,7 +63,9 @@ class InterreflectionGather {
     glm::vec3 barycentric;
     glm::vec3 exitWeight;  // pi / N F_t(mu) w(mu) F_t(mu_h) / (pi (1 - 2 C_1))
     glm::vec3 reflection;  // pi / N F_t(mu) w(mu) F_r(mu_h) L_env(r)
+    bool sameRay;          // the mirror bounce of the hit before it: one ray's light with it
   };
+  int rays_ = 0;
   std::vector<uint32_t> offsets_;  // hits of vertex v: [offsets_[v], offsets_[v + 1])
   std::vector<Hit> hits_;
   double blockedFraction_ = 0.0;
@@ -69,6 +77,26 @@ struct BounceResult {
   int bounces = 0;                    // gathers done
   double change = 0.0;                // relative RMS change of B at the last bounce
 };
+
+// Without bounces, how much the light the object sends itself would change B, estimated at the
+// traced vertices of a pilot gather (InterreflectionOptions::vertices) from one gather of the
+// bake's B. The first bounce adds dE_v = gather(B)_v; B answers E through the transport, whose
+// energy ratio over the object is k = sum B A / sum E A (per channel: what leaves per what
+// enters), so dB_v ~ k dE_v (the transport's smoothing left out: an upper estimate where dE
+// varies within a diffusion length). Each later bounce sends back about the same share again,
+// q = sum dB / sum B over the traced vertices, so the bounces add dB / (1 - q) (q capped at 0.9).
+// The rays' own noise is taken out of the RMS (a sun found by a mirror direction by chance).
+// Weighting q by where the light is added (the pit's own gain) overestimated the studies' rows
+// more; the measured agreement is in the README ("Interreflection").
+struct MissingInterreflection {
+  double relativeRms = 0.0;  // of the added B against B, over traced vertices and channels
+  double gain = 0.0;         // q: the first bounce's mean relative gain
+};
+MissingInterreflection estimateMissingInterreflection(const InterreflectionGather& gather,
+                                                      std::span<const uint32_t> vertices,
+                                                      std::span<const glm::vec3> exitance,
+                                                      std::span<const glm::vec3> irradiance,
+                                                      std::span<const float> areas);
 
 // B_0 = transport(E_direct); then E_k = E_direct + gather(B_{k-1}), B_k = transport(E_k), for
 // maxBounces bounces, or (maxBounces <= 0: auto) until the relative RMS change of B is below

@@ -16,7 +16,8 @@ namespace {
 // Pilot replicas draw their rotations from their own stream family, apart from the full pass.
 constexpr uint64_t kPilotSeedOffset = 0x9E3779B97F4A7C15ull;
 
-// The pilot's vertices: every stride-th, starting half a stride in, at most maxVertices of them.
+}  // namespace
+
 std::vector<uint32_t> pilotVertices(std::size_t vertexCount, std::size_t maxVertices) {
   std::vector<uint32_t> vertices;
   const std::size_t wanted = std::max<std::size_t>(maxVertices, 1);
@@ -26,6 +27,8 @@ std::vector<uint32_t> pilotVertices(std::size_t vertexCount, std::size_t maxVert
   }
   return vertices;
 }
+
+namespace {
 
 // Replicas of one vertex's estimate: their mean, and per channel the variance of one replica.
 class ReplicaLevels {

@@ -6,11 +6,16 @@
 #include <cstdint>
 #include <functional>
 #include <utility>
+#include <vector>
 
 #include "bake/visibility.h"
 #include "bake/visibility_vertex_estimator.h"
 
 namespace sss {
+
+// An evenly strided subset of the vertices: every stride-th, starting half a stride in, at most
+// maxVertices of them (the pilots' vertices: here and the interreflection estimate's).
+std::vector<uint32_t> pilotVertices(std::size_t vertexCount, std::size_t maxVertices);
 
 // Throws Error unless options ask for at least 2 replicas of at least 2 rays and coarse < fine.
 // `makeEstimator` gives each thread its estimator; the replicas' rotations come from their own

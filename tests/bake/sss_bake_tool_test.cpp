@@ -210,12 +210,20 @@ TEST_F(BakeTool, AlbedoComesBackFromALitPlane) {
 }
 
 // --bounces auto: a pit in a box gets the light its walls send it, and the JSON says how many
-// bounces it took.
+// bounces it took. Without bounces the bake warns, and its reported error holds the change the
+// bounces make.
 TEST_F(BakeTool, InterreflectionBrightensAPit) {
   const TriangleMesh box = boxWithPit();
   writeAsciiPly(dir_ / "pit.ply", box, true);
-  ASSERT_EQ(run(args("pit.ply", "-m marble --unit mm", 64)).exitCode, 0);
+  const RunResult without =
+      runExpectingWarning(args("pit.ply", "-m marble --unit mm --json " + path("r0.json"), 64),
+                          "--bounces auto adds it");
+  ASSERT_EQ(without.exitCode, 0) << without.output;
   const BakedPlyContents dark = readBakedPly(path("out.ply"));
+  const auto report0 = nlohmann::json::parse(readFile(dir_ / "r0.json"));
+  const double missing = report0["interreflection"]["estimated_missing"].get<double>();
+  EXPECT_EQ(report0["estimated_error"]["interreflection"].get<double>(), missing);
+  EXPECT_GE(report0["estimated_error"]["total"].get<double>(), missing);
   const RunResult r =
       run(args("pit.ply", "-m marble --unit mm --bounces auto --json " + path("r.json"), 64));
   ASSERT_EQ(r.exitCode, 0) << r.output;
@@ -232,6 +240,16 @@ TEST_F(BakeTool, InterreflectionBrightensAPit) {
     litPit += lit.baked.irradiance[v].g;
   }
   EXPECT_GT(litPit, 1.15 * darkPit);  // marble: 1.43x measured
+  double num = 0.0, den = 0.0;
+  for (std::size_t v = 0; v < box.positions.size(); ++v)
+    for (int c = 0; c < 3; ++c) {
+      num += std::pow(double(lit.baked.exitance[v][c]) - dark.baked.exitance[v][c], 2);
+      den += std::pow(double(dark.baked.exitance[v][c]), 2);
+    }
+  const double change = std::sqrt(num / den);
+  EXPECT_GT(change, 0.02);
+  EXPECT_NEAR(missing / change, 1.0, 0.35) << missing << " against " << change;
+  EXPECT_EQ(report["estimated_error"]["interreflection"].get<double>(), 0.0);
   fs::remove(dir_ / "out.ply");
   expectUsageError(run(args("pit.ply", "-m marble --unit mm --bounces -3")), "bounces");
   expectUsageError(run(args("pit.ply", "-m marble --unit mm --bounces many")), "many");

@@ -70,19 +70,6 @@ struct Scene {
   Light light;
 };
 
-void writeAsciiPly(const std::string& path, const TriangleMesh& mesh) {
-  std::ofstream out(path);
-  out << "ply\nformat ascii 1.0\nelement vertex " << mesh.positions.size()
-      << "\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty "
-         "float ny\nproperty float nz\nelement face "
-      << mesh.triangles.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
-  for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
-    const glm::vec3 p = mesh.positions[v], n = mesh.normals[v];
-    out << p.x << ' ' << p.y << ' ' << p.z << ' ' << n.x << ' ' << n.y << ' ' << n.z << '\n';
-  }
-  for (const glm::uvec3& t : mesh.triangles) out << "3 " << t.x << ' ' << t.y << ' ' << t.z << '\n';
-}
-
 // The concave vertices: E under uniform light below 0.8 of the unoccluded value.
 std::vector<char> concaveVertices(const TriangleMesh& mesh, float eta) {
   VisibilityOptions options;

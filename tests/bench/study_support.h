@@ -47,6 +47,35 @@ inline TriangleMesh loadScaled(const std::string& path, double longestMm) {
   return mesh;
 }
 
+// The mesh as an ASCII PLY with its normals, for the studies that run sss-bake's own pipeline
+// (lib/bake/bake.h reads the mesh from a file).
+inline void writeAsciiPly(const std::string& path, const TriangleMesh& mesh) {
+  std::ofstream out(path);
+  out << "ply\nformat ascii 1.0\nelement vertex " << mesh.positions.size()
+      << "\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty "
+         "float ny\nproperty float nz\nelement face "
+      << mesh.triangles.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
+  for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+    const glm::vec3 p = mesh.positions[v], n = mesh.normals[v];
+    out << p.x << ' ' << p.y << ' ' << p.z << ' ' << n.x << ' ' << n.y << ' ' << n.z << '\n';
+  }
+  for (const glm::uvec3& t : mesh.triangles) out << "3 " << t.x << ' ' << t.y << ' ' << t.z << '\n';
+}
+
+// Relative RMS over vertices and channels of a - ref, the reference's noise (se) removed:
+// sqrt(max(0, sum (a - ref)^2 - sum se^2) / sum ref^2).
+inline double relativeRmsAgainst(const std::vector<glm::vec3>& a, const std::vector<glm::vec3>& ref,
+                                 const std::vector<glm::vec3>& se) {
+  double num = 0.0, den = 0.0, noise = 0.0;
+  for (std::size_t v = 0; v < a.size(); ++v)
+    for (int c = 0; c < 3; ++c) {
+      num += (double(a[v][c]) - ref[v][c]) * (double(a[v][c]) - ref[v][c]);
+      den += double(ref[v][c]) * ref[v][c];
+      noise += double(se[v][c]) * se[v][c];
+    }
+  return den > 0.0 ? std::sqrt(std::max(0.0, num - noise) / den) : 0.0;
+}
+
 // The reference's per-vertex arrays, kept in `cache` (if not empty) as raw floats.
 inline LightTraceResult cachedReference(const std::string& cache, const std::string& key,
                                         const std::function<LightTraceResult()>& trace) {

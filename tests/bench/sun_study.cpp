@@ -26,6 +26,12 @@
 // The same metrics on the exitance B (no exit model) in the _B columns; ref_unscattered_B is the
 // share of the reference's B on the unlit part that crossed without scattering, and the
 // _scattered columns compare with the reference that leaves that light out (minScatteringOrder 1).
+// OUT_DIR/sun_predicted.csv: sss-bake's own pipeline (lib/bake/bake.h, defaults at 1 %, 256
+// rays) per scene, its JSON's predicted error (estimated_error.total) beside the relative RMS of
+// its radiance along the normal over every vertex (the reference's noise removed; per vertex,
+// where the band metrics above average the bake's noise away). Resolving 1 % per vertex takes
+// about 8M paths (--paths 8000000): at the default 500K the reference's own noise is ~14 % per
+// vertex.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -38,6 +44,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "bake/bake.h"
 #include "bake/bake_settings.h"
 #include "bake/diffusion.h"
 #include "bake/error_budget.h"
@@ -194,8 +201,35 @@ DiffusionResult bakeExitance(const Scene& s, const Cubemap& env, const std::vect
   return r;
 }
 
+// sss-bake's pipeline on the scene: its predicted error against the measured one, per vertex.
+void predictedAgainstMeasured(const Scene& s, const Cubemap& env, const LightTraceResult& ref,
+                              const std::string& outDir, std::ofstream& csv) {
+  const std::string meshPath = outDir + "/" + s.name + ".ply";
+  writeAsciiPly(meshPath, s.mesh);
+  BakeSettings settings;
+  settings.meshPath = meshPath;
+  settings.material = s.material;
+  settings.mmPerUnit = 1.0;
+  settings.samples = kVisibilityRays;
+  settings.tolerance = kTolerance;
+  settings.quiet = true;
+  const BakeOutput out = bake(settings, BakeEnvironment{env, {}});
+  std::filesystem::remove(meshPath);
+  const double measured =
+      relativeRmsAgainst(out.baked.radianceNormal, ref.radiance, ref.radianceStdErr);
+  const double predicted = out.report.errors.total;
+  char line[256];
+  std::snprintf(line, sizeof line, "%s,%s,%.5f,%.5f,%.2f,%.3f\n", s.name.c_str(),
+                s.material.name.c_str(), measured, predicted,
+                predicted > 0.0 ? measured / predicted : 0.0, out.report.totalSeconds);
+  csv << line;
+  csv.flush();
+  std::printf("  sss-bake defaults: per-vertex RMS %.4f, predicted %.4f (%.2fx)\n", measured,
+              predicted, predicted > 0.0 ? measured / predicted : 0.0);
+}
+
 void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstream& csv,
-           std::ofstream& bandsCsv) {
+           std::ofstream& bandsCsv, const std::string& outDir, std::ofstream& predictedCsv) {
   const Cubemap env = sunEnvironment(s.sun, 1.0, 256);
   const std::vector<float> areas = vertexAreas(s.mesh);
   const HomogeneousMedium medium = homogeneousMediumOf(s.material);
@@ -227,6 +261,7 @@ void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstre
               s.name.c_str(), (unsigned long long)paths, ref.seconds, ref.meanScatteringEvents,
               (unsigned long long)ref.reentries);
   std::fflush(stdout);
+  predictedAgainstMeasured(s, env, ref, outDir, predictedCsv);
   // Radiance along the normal per unit B: the normalized exit model (today's default), the
   // calibrated one, or "hybrid": calibrated for the profile's part of B, normalized for the escape
   // model's excess (light that diffused deep; a candidate, not in the tools).
@@ -333,9 +368,11 @@ int run(int argc, char** argv) {
   std::ofstream bandsCsv(outDir + "/sun_bands.csv");
   bandsCsv << "scene,material,energy,band,cos_lo,cos_hi,ref_L_r,ref_L_g,ref_L_b,ratio_r,ratio_g,"
               "ratio_b\n";
+  std::ofstream predictedCsv(outDir + "/sun_predicted.csv");
+  predictedCsv << "scene,material,rms_vertex_L,predicted,measured_over_predicted,bake_s\n";
   for (const Scene& s : scenes)
     if (only.empty() || s.name.find(only) != std::string::npos)
-      study(s, paths, cache, csv, bandsCsv);
+      study(s, paths, cache, csv, bandsCsv, outDir, predictedCsv);
   return 0;
 }
 

@@ -77,7 +77,7 @@ BakeErrorReport errorReport(const BakeReport& r, double tolerance) {
   }
   e.visibility = r.lighting.estimatedError;
   e.energy = r.energy.walkError();
-  e.interreflection = r.interreflection.estimatedMissing;
+  e.interreflection = r.interreflection.enabled ? 0.0 : r.interreflection.estimatedMissing;
   e.total = std::hypot(ErrorBudget::total(e.visibility, e.exitance, e.energy), e.interreflection);
   return e;
 }
@@ -124,13 +124,13 @@ void addInterreflection(const BakeSettings& s, const PreparedMesh& mesh, const C
   report.seconds = clock.seconds();
 }
 
-// Stage 4b without bounces: a pilot gather (about 1,000 spread vertices, the bounces' rays)
-// estimates how much the light the object sends itself would add to B, so that the reported
-// error counts it and a concave object is not baked dark without a word.
+// Stage 4b without bounces (and before auto bounces): a pilot gather (about 1,000 spread
+// vertices, the bounces' rays) estimates how much the light the object sends itself would add to
+// B, so that the reported error counts it and a concave object is not baked dark without a word.
 void estimateInterreflection(const BakeSettings& s, const PreparedMesh& mesh,
                              const Cubemap& radiance, const DirectionalAlbedoWeight& weight,
                              const VertexLighting& lighting, const VertexExitance& exitance,
-                             InterreflectionReport& report) {
+                             bool warnAboveTolerance, InterreflectionReport& report) {
   constexpr std::size_t kPilotVertices = 1024;
   const Stopwatch clock;
   const TriangleMesh& m = mesh.meshMm;
@@ -149,7 +149,7 @@ void estimateInterreflection(const BakeSettings& s, const PreparedMesh& mesh,
   report.pilotVertices = int(options.vertices.size());
   report.blockedFraction = gather.blockedFraction();
   report.seconds = clock.seconds();
-  if (missing.relativeRms > s.tolerance && !s.quiet) {
+  if (warnAboveTolerance && missing.relativeRms > s.tolerance && !s.quiet) {
     char line[200];
     std::snprintf(line, sizeof line,
                   "interreflection: the light the object sends itself would change B by about "
@@ -225,11 +225,23 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
   transportIn.threads = s.threads;
   transportIn.quiet = s.quiet;
   VertexExitance exitance = transport(transportIn);
-  if (s.bounces != 0 && diffusion)
+  if (diffusion && s.bounces != kAutoBounces && s.bounces > 0) {
     addInterreflection(s, mesh, radiance, transportIn, weight, lighting, exitance,
                        report.interreflection);
-  else if (diffusion)
-    estimateInterreflection(s, mesh, radiance, weight, lighting, exitance, report.interreflection);
+  } else if (diffusion) {
+    // Without bounces, and first with auto: the pilot's estimate. Auto bounces only when it says
+    // they would change B by more than the bounces' own convergence target (a tenth of the
+    // tolerance): a convex or nearly convex object costs the pilot alone.
+    const bool automatic = s.bounces == kAutoBounces;
+    estimateInterreflection(s, mesh, radiance, weight, lighting, exitance, !automatic,
+                            report.interreflection);
+    report.interreflection.automatic = automatic;
+    if (automatic && report.interreflection.estimatedMissing > 0.1 * s.tolerance) {
+      report.interreflection = {};
+      addInterreflection(s, mesh, radiance, transportIn, weight, lighting, exitance,
+                         report.interreflection);
+    }
+  }
 
   report.energy = std::move(energy.report);
   report.lighting = std::move(lighting.report);

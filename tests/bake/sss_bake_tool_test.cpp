@@ -250,6 +250,15 @@ TEST_F(BakeTool, InterreflectionBrightensAPit) {
   EXPECT_GT(change, 0.02);
   EXPECT_NEAR(missing / change, 1.0, 0.35) << missing << " against " << change;
   EXPECT_EQ(report["estimated_error"]["interreflection"].get<double>(), 0.0);
+  // A convex object: auto finds nothing to bounce and leaves it at the pilot.
+  ASSERT_EQ(
+      run(args("sphere.ply", "-m marble --unit mm --bounces auto --json " + path("r1.json"), 16))
+          .exitCode,
+      0);
+  const auto convex = nlohmann::json::parse(readFile(dir_ / "r1.json"));
+  EXPECT_FALSE(convex["interreflection"]["enabled"].get<bool>());
+  EXPECT_EQ(convex["interreflection"]["bounces_requested"], "auto");
+  EXPECT_EQ(convex["interreflection"]["estimated_missing"].get<double>(), 0.0);
   fs::remove(dir_ / "out.ply");
   expectUsageError(run(args("pit.ply", "-m marble --unit mm --bounces -3")), "bounces");
   expectUsageError(run(args("pit.ply", "-m marble --unit mm --bounces many")), "many");

@@ -4,8 +4,8 @@
 # ~0.2 s start-up paid once) and as N `sss-bake ONE -o FILE` processes, run after run
 # alternately, median of RUNS. Wall clock and the processes' CPU time (bash's `times`).
 # Usage: tests/bench/batch_bench.sh [BUILD_DIR] [N=20] [RUNS=3] [-- BAKE OPTIONS...]
-#   Default bake options: the bunny as run-pipeline.sh bakes it but without shadow rays and with
-#   the half-space energy (--visibility none --energy halfspace), where start-up matters most;
+#   Default bake options: the bunny as run-pipeline.sh bakes it but without shadow rays or bounces
+#   and with the half-space energy (--visibility none --energy halfspace), where start-up matters most;
 #   pass others after "--" (e.g. the defaults: "--").
 # Output: tests/bench/results/bake/batch.csv (mode,run,bakes,wall_s,cpu_s) and batch.txt
 set -euo pipefail

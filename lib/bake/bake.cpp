@@ -82,6 +82,18 @@ BakeErrorReport errorReport(const BakeReport& r, double tolerance) {
   return e;
 }
 
+// The gather's options from the settings: the bounces and the pilot trace the same rays, weighted
+// by the directional entry when the transport's light is.
+InterreflectionOptions interreflectionOptions(const BakeSettings& s, const VertexLighting& lighting,
+                                              const DirectionalAlbedoWeight& weight) {
+  InterreflectionOptions options;
+  options.rays = s.interreflectionRays;
+  if (!lighting.entryWeighted.empty()) options.entry = &weight;
+  options.seed = s.seed;
+  options.threads = s.threads;
+  return options;
+}
+
 // Stage 4b: the light the object sends to itself (interreflection.h), iterated with the transport;
 // E and B become the converged ones.
 void addInterreflection(const BakeSettings& s, const PreparedMesh& mesh, const Cubemap& radiance,
@@ -89,11 +101,7 @@ void addInterreflection(const BakeSettings& s, const PreparedMesh& mesh, const C
                         VertexLighting& lighting, VertexExitance& exitance,
                         InterreflectionReport& report) {
   const Stopwatch clock;
-  InterreflectionOptions options;
-  options.rays = s.interreflectionRays;
-  if (!lighting.entryWeighted.empty()) options.entry = &weight;
-  options.seed = s.seed;
-  options.threads = s.threads;
+  const InterreflectionOptions options = interreflectionOptions(s, lighting, weight);
   const TriangleMesh& m = mesh.meshMm;
   const InterreflectionGather gather(m.positions, m.normals, m.triangles, radiance,
                                      float(s.material.eta), options);
@@ -134,11 +142,7 @@ void estimateInterreflection(const BakeSettings& s, const PreparedMesh& mesh,
   constexpr std::size_t kPilotVertices = 1024;
   const Stopwatch clock;
   const TriangleMesh& m = mesh.meshMm;
-  InterreflectionOptions options;
-  options.rays = s.interreflectionRays;
-  if (!lighting.entryWeighted.empty()) options.entry = &weight;
-  options.seed = s.seed;
-  options.threads = s.threads;
+  InterreflectionOptions options = interreflectionOptions(s, lighting, weight);
   options.vertices = pilotVertices(m.positions.size(), kPilotVertices);
   const InterreflectionGather gather(m.positions, m.normals, m.triangles, radiance,
                                      float(s.material.eta), options);
@@ -225,7 +229,7 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
   transportIn.threads = s.threads;
   transportIn.quiet = s.quiet;
   VertexExitance exitance = transport(transportIn);
-  if (diffusion && s.bounces != kAutoBounces && s.bounces > 0) {
+  if (diffusion && s.bounces > 0) {
     addInterreflection(s, mesh, radiance, transportIn, weight, lighting, exitance,
                        report.interreflection);
   } else if (diffusion) {
@@ -236,6 +240,7 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
     estimateInterreflection(s, mesh, radiance, weight, lighting, exitance, !automatic,
                             report.interreflection);
     report.interreflection.automatic = automatic;
+    // (Bouncing builds its own gather over every vertex: the pilot's ray scene is not kept.)
     if (automatic && report.interreflection.estimatedMissing > 0.1 * s.tolerance) {
       report.interreflection = {};
       addInterreflection(s, mesh, radiance, transportIn, weight, lighting, exitance,

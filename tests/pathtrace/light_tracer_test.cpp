@@ -8,6 +8,7 @@
 #include <cmath>
 #include <vector>
 
+#include "../bake/box_with_pit.h"
 #include "core/error.h"
 #include "envmap/cubemap.h"
 #include "mesh/primitives.h"
@@ -15,7 +16,6 @@
 #include "optics/fresnel.h"
 #include "pathtrace/light_tracer.h"
 #include "pathtrace/subsurface_path_tracer.h"
-#include "../bake/box_with_pit.h"
 #include "support/plane_parallel_slab.h"
 
 namespace sss {

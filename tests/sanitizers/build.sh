@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The checked build shared by the sanitizer suite (tests/sanitizers/run.sh) and the fuzz targets
 # (tests/fuzz/run.sh): clang with AddressSanitizer + UndefinedBehaviorSanitizer (LeakSanitizer
-# included) and libFuzzer's coverage instrumentation (SSS_FUZZ=ON), so one build serves both, and
-# CI pays for one instrumented build instead of two. Builds TARGETS (default: everything) into
+# included) and, on the readers' libraries only, libFuzzer's coverage instrumentation (SSS_FUZZ=ON;
+# CMakeLists.txt says why not everywhere), so one build serves both, and CI pays for one
+# instrumented build instead of two. Builds TARGETS (default: everything) into
 # BUILD_DIR.
 #   tests/sanitizers/build.sh BUILD_DIR [TARGET ...]
 set -euo pipefail

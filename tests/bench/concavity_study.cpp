@@ -89,25 +89,16 @@ struct Metrics {
 
 Metrics compare(const std::vector<glm::vec3>& l, const LightTraceResult& ref,
                 const std::vector<char>& concave) {
-  double num[2] = {0, 0}, den[2] = {0, 0}, noise[2] = {0, 0}, sum = 0, sumRef = 0;
+  double sum = 0.0, sumRef = 0.0;
   for (std::size_t v = 0; v < l.size(); ++v)
-    for (int c = 0; c < 3; ++c) {
-      const double d = double(l[v][c]) - ref.radiance[v][c];
-      const double se = ref.radianceStdErr[v][c];
-      for (int k = 0; k < 2; ++k) {
-        if (k == 1 && !concave[v]) continue;
-        num[k] += d * d;
-        den[k] += double(ref.radiance[v][c]) * ref.radiance[v][c];
-        noise[k] += se * se;
-      }
-      if (concave[v]) {
+    if (concave[v])
+      for (int c = 0; c < 3; ++c) {
         sum += l[v][c];
         sumRef += ref.radiance[v][c];
       }
-    }
   Metrics m;
-  m.rmsAll = den[0] > 0 ? std::sqrt(std::max(0.0, num[0] - noise[0]) / den[0]) : 0.0;
-  m.rmsConcave = den[1] > 0 ? std::sqrt(std::max(0.0, num[1] - noise[1]) / den[1]) : 0.0;
+  m.rmsAll = relativeRmsAgainst(l, ref.radiance, ref.radianceStdErr);
+  m.rmsConcave = relativeRmsAgainst(l, ref.radiance, ref.radianceStdErr, &concave);
   m.ratioConcave = sumRef > 0 ? sum / sumRef : 0.0;
   return m;
 }

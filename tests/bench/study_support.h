@@ -63,12 +63,14 @@ inline void writeAsciiPly(const std::string& path, const TriangleMesh& mesh) {
 }
 
 // Relative RMS over vertices and channels of a - ref, the reference's noise (se) removed:
-// sqrt(max(0, sum (a - ref)^2 - sum se^2) / sum ref^2).
+// sqrt(max(0, sum (a - ref)^2 - sum se^2) / sum ref^2); over the vertices `only` marks, if given.
 inline double relativeRmsAgainst(const std::vector<glm::vec3>& a, const std::vector<glm::vec3>& ref,
-                                 const std::vector<glm::vec3>& se) {
+                                 const std::vector<glm::vec3>& se,
+                                 const std::vector<char>* only = nullptr) {
   double num = 0.0, den = 0.0, noise = 0.0;
   for (std::size_t v = 0; v < a.size(); ++v)
     for (int c = 0; c < 3; ++c) {
+      if (only && !(*only)[v]) continue;
       num += (double(a[v][c]) - ref[v][c]) * (double(a[v][c]) - ref[v][c]);
       den += double(ref[v][c]) * ref[v][c];
       noise += double(se[v][c]) * se[v][c];

@@ -94,6 +94,10 @@ InterreflectionOptions interreflectionOptions(const BakeSettings& s, const Verte
   return options;
 }
 
+// The bounces' increments are summed at most this loosely (iterateInterreflection): beyond it the
+// hierarchical sum's clusters grow past its calibrated error model (diffusion.cpp).
+constexpr double kLoosestIncrementTolerance = 0.1;
+
 // Stage 4b: the light the object sends to itself (interreflection.h), iterated with the transport;
 // E and B become the converged ones.
 void addInterreflection(const BakeSettings& s, const PreparedMesh& mesh, const Cubemap& radiance,
@@ -105,18 +109,24 @@ void addInterreflection(const BakeSettings& s, const PreparedMesh& mesh, const C
   const TriangleMesh& m = mesh.meshMm;
   const InterreflectionGather gather(m.positions, m.normals, m.triangles, radiance,
                                      float(s.material.eta), options);
-  const auto transportOf = [&](std::span<const glm::vec3> e) {
-    TransportInput in = transportIn;
+  // What the bounces add goes through the transport's linear part: the method the first transport
+  // chose, its sums with E = 1 (transportIn.weightSums), and no far field (traced from the
+  // environment, it does not change with the light the object sends itself).
+  TransportInput in = transportIn;
+  in.method = bakeMethodOf(exitance.report.diffusion.method);
+  in.quiet = true;
+  const std::vector<glm::vec3> noFarField(in.farExitance.size(), glm::vec3(0.0f));
+  in.farExitance = noFarField;
+  const auto increment = [&](std::span<const glm::vec3> e, double looseness) {
     in.irradiance = e;
-    in.quiet = true;
-    VertexExitance b = transport(in);
-    exitance.report = std::move(b.report);
-    return std::move(b.exitance);
+    in.diffusionTolerance =
+        std::min(kLoosestIncrementTolerance, looseness * transportIn.diffusionTolerance);
+    return transport(in).exitance;
   };
   // Auto: converged to a tenth of the tolerance, well inside the budget of B.
   const std::vector<glm::vec3>& direct = lighting.transportIrradiance();
-  BounceResult r =
-      iterateInterreflection(gather, direct, transportOf, s.bounces, 0.1 * s.tolerance);
+  BounceResult r = iterateInterreflection(gather, direct, exitance.exitance, increment, s.bounces,
+                                          0.1 * s.tolerance);
   // E in the output: the unweighted direct light plus what the object sent itself.
   if (!lighting.entryWeighted.empty())
     for (std::size_t i = 0; i < r.irradiance.size(); ++i)
@@ -228,6 +238,8 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
   transportIn.seed = s.seed;
   transportIn.threads = s.threads;
   transportIn.quiet = s.quiet;
+  EnergyWeightSums weightSums;  // kept for the bounces
+  transportIn.weightSums = &weightSums;
   VertexExitance exitance = transport(transportIn);
   if (diffusion && s.bounces > 0) {
     addInterreflection(s, mesh, radiance, transportIn, weight, lighting, exitance,

@@ -25,6 +25,22 @@ DiffusionMethod diffusionMethodOf(BakeMethod method) {
   return DiffusionMethod::Auto;
 }
 
+BakeMethod bakeMethodOf(DiffusionMethod method) {
+  switch (method) {
+    case DiffusionMethod::Exact:
+      return BakeMethod::Exact;
+    case DiffusionMethod::Gauss:
+      return BakeMethod::Gauss;
+    case DiffusionMethod::Incremental:
+      return BakeMethod::Incremental;
+    case DiffusionMethod::Hierarchical:
+      return BakeMethod::Hierarchical;
+    case DiffusionMethod::Auto:
+      break;
+  }
+  return BakeMethod::Auto;
+}
+
 void checkTolerance(double tolerance) {
   if (!(tolerance > 0.0 && tolerance < 1.0)) {
     fail("", "the tolerance must be in (0, 1), e.g. 0.01 for 1%");

@@ -33,6 +33,8 @@ inline constexpr EnumNames<BakeMethod, 6> kBakeMethodNames{
       {BakeMethod::PathTrace, "pathtrace"}}}};
 // The diffusion method of a method other than PathTrace.
 DiffusionMethod diffusionMethodOf(BakeMethod method);
+// Its inverse: the method that runs `method` (Auto for Auto).
+BakeMethod bakeMethodOf(DiffusionMethod method);
 
 // The diffusion profile R_d (lib/material, makeProfile's names); Auto: autoProfileName() of the
 // energy model in use.

@@ -244,7 +244,10 @@ DiffusionResult diffuse(const DiffusionInput& input, const DiffusionProfile& pro
       sumInMortonOrder(input, setup, method, options, std::move(autoClusters), report);
   result.exitance.resize(n);
   for (std::size_t k = 0; k < n; ++k) result.exitance[setup.tree.points.original[k]] = sorted[k];
-  if (options.weightSums) result.weightSums = unitWeightSums(input, profile, options, method);
+  if (options.weightSums && options.knownWeightSums.size() == n)
+    result.weightSums.assign(options.knownWeightSums.begin(), options.knownWeightSums.end());
+  else if (options.weightSums)
+    result.weightSums = unitWeightSums(input, profile, options, method);
   report.totalSeconds = total.seconds();
   return result;
 }

@@ -68,6 +68,9 @@ struct DiffusionOptions {
   // Also return rho_o = sum_i R_d(r_oi) A_i, the sum with E = 1 (finite_object_energy.h): fused
   // into the exact sum, a second pass of the same method otherwise.
   bool weightSums = false;
+  // rho when it is already known (same mesh, profile and method: it does not depend on E), one
+  // per vertex: returned as it is instead of the second pass. Empty: computed.
+  std::span<const glm::vec3> knownWeightSums;
 };
 
 struct DiffusionReport {

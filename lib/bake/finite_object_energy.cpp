@@ -134,7 +134,8 @@ std::string escapeReason(const EnergyPlan& plan, const EnergyOptions& options) {
 }  // namespace
 
 std::vector<glm::vec3> gaussianAverageIrradiance(const DiffusionInput& input, double sigmaMm,
-                                                 const DiffusionOptions& options) {
+                                                 const DiffusionOptions& options,
+                                                 std::vector<glm::vec3>* weights) {
   const std::size_t n = input.positions.size();
   if (!(sigmaMm > 0.0)) {  // no absorption: one average over the whole surface
     glm::dvec3 sum(0.0);
@@ -148,7 +149,9 @@ std::vector<glm::vec3> gaussianAverageIrradiance(const DiffusionInput& input, do
   DiffusionOptions average = options;
   average.weightSums = true;
   average.quiet = true;
-  const DiffusionResult r = diffuse(input, GaussianProfile(sigmaMm * sigmaMm), average);
+  if (weights) average.knownWeightSums = *weights;
+  DiffusionResult r = diffuse(input, GaussianProfile(sigmaMm * sigmaMm), average);
+  if (weights && weights->empty()) *weights = r.weightSums;
   std::vector<glm::vec3> out(n, glm::vec3(0.0f));
   for (std::size_t i = 0; i < n; ++i)
     for (int c = 0; c < 3; ++c)
@@ -202,17 +205,30 @@ void refineNearShare(EnergyPlan& plan, const TriangleMesh& meshMm, std::span<con
   plan.seconds = seconds + clock.seconds();
 }
 
+namespace {
+
+// diffuse() with rho (DiffusionOptions::weightSums), taken from `known` when it is filled, and
+// left there when it is empty.
+DiffusionResult diffuseWithWeightSums(const DiffusionInput& input, const DiffusionProfile& profile,
+                                      DiffusionOptions options, std::vector<glm::vec3>* known) {
+  options.weightSums = true;
+  if (known) options.knownWeightSums = *known;
+  DiffusionResult result = diffuse(input, profile, options);
+  if (known && known->empty()) *known = result.weightSums;
+  return result;
+}
+
 // The far field's B: P_near / rho_near times the windowed profile's sum, plus the traced far field.
 DiffusionResult diffuseNearAndFar(const DiffusionInput& input, const DiffusionProfile& profile,
-                                  DiffusionOptions options, const EnergyPlan& plan,
-                                  const Material& material,
-                                  std::span<const glm::vec3> farExitance) {
+                                  const DiffusionOptions& options, const EnergyPlan& plan,
+                                  const Material& material, std::span<const glm::vec3> farExitance,
+                                  EnergyWeightSums* weights) {
   const std::size_t n = input.positions.size();
   if (farExitance.size() != n || plan.escape.nearProbability.size() != n)
     fail("", "energy: one far-field exitance and near share per vertex needed");
-  options.weightSums = true;
   DiffusionResult result =
-      diffuse(input, WindowedProfile(profile, farFieldWindowMm(material)), options);
+      diffuseWithWeightSums(input, WindowedProfile(profile, farFieldWindowMm(material)), options,
+                            weights ? &weights->profile : nullptr);
   result.escapeExcess.assign(farExitance.begin(), farExitance.end());
   for (std::size_t i = 0; i < n; ++i)
     for (int c = 0; c < 3; ++c) {
@@ -224,22 +240,23 @@ DiffusionResult diffuseNearAndFar(const DiffusionInput& input, const DiffusionPr
   return result;
 }
 
+}  // namespace
+
 DiffusionResult diffuseWithEnergy(const DiffusionInput& input, const DiffusionProfile& profile,
                                   DiffusionOptions options, const EnergyPlan& plan,
-                                  const Material& material,
-                                  std::span<const glm::vec3> farExitance) {
-  const bool escape = plan.model == EnergyModel::Escape;
-  if (escape && !farExitance.empty())
-    return diffuseNearAndFar(input, profile, options, plan, material, farExitance);
-  options.weightSums = escape;
-  DiffusionResult result = diffuse(input, profile, options);
-  if (escape) {
-    options.method = result.report.method;
-    applyEscapeEnergy(result.exitance, result.weightSums, plan.escape.probability,
-                      plan.halfSpaceAlbedo,
-                      gaussianAverageIrradiance(input, escapeExcessSigmaMm(material), options),
-                      result.escapeExcess);
-  }
+                                  const Material& material, std::span<const glm::vec3> farExitance,
+                                  EnergyWeightSums* weights) {
+  if (plan.model != EnergyModel::Escape) return diffuse(input, profile, options);
+  if (!farExitance.empty())
+    return diffuseNearAndFar(input, profile, options, plan, material, farExitance, weights);
+  DiffusionResult result =
+      diffuseWithWeightSums(input, profile, options, weights ? &weights->profile : nullptr);
+  options.method = result.report.method;
+  applyEscapeEnergy(result.exitance, result.weightSums, plan.escape.probability,
+                    plan.halfSpaceAlbedo,
+                    gaussianAverageIrradiance(input, escapeExcessSigmaMm(material), options,
+                                              weights ? &weights->average : nullptr),
+                    result.escapeExcess);
   return result;
 }
 

@@ -85,11 +85,21 @@ struct EnergyPlan {
 EnergyPlan planFiniteObjectEnergy(const TriangleMesh& meshMm, std::span<const float> areas,
                                   const Material& material, const EnergyOptions& options);
 
+// The sums with E = 1 the escape model divides by: rho of the profile (windowed, with a far
+// field) and of the excess's Gaussian average. They depend on the mesh, the profile and the
+// method, not on E, so that a transport run again on other light (the bounces of
+// interreflection.h, with the method of the first) reuses them instead of summing them again.
+struct EnergyWeightSums {
+  std::vector<glm::vec3> profile, average;
+};
+
 // Ebar: the irradiance averaged by a normalized Gaussian of sigma mm in space,
 // sum_j G(r_ij) E_j A_j / sum_j G(r_ij) A_j, by options' method, tolerance and threads (one
-// average over the whole surface for sigma <= 0; 0 where the weights vanish).
+// average over the whole surface for sigma <= 0; 0 where the weights vanish). `weights`, when
+// given: the denominators, reused when filled, else filled.
 std::vector<glm::vec3> gaussianAverageIrradiance(const DiffusionInput& input, double sigmaMm,
-                                                 const DiffusionOptions& options);
+                                                 const DiffusionOptions& options,
+                                                 std::vector<glm::vec3>* weights = nullptr);
 
 // More walks for an escape plan until the noise of P's near share meets options.noiseBudget
 // (the far field, far_field.h, spreads P_near with the profile; it needs more walks than P).
@@ -102,11 +112,13 @@ void refineNearShare(EnergyPlan& plan, const TriangleMesh& meshMm, std::span<con
 // method (DiffusionOptions::weightSums) and Ebar, the irradiance averaged by a Gaussian of 4 of
 // the material's longest diffusion lengths, by the method diffuse() chose. With a traced far field
 // (farExitance per vertex, far_field.h): B_i = P_near,i / rho_near,i sum_j R_d W E_j A_j + B_far,i,
-// the profile windowed (material/windowed_profile.h); escapeExcess is then B_far.
+// the profile windowed (material/windowed_profile.h); escapeExcess is then B_far. `weights`, when
+// given: rho and Ebar's denominators, reused when filled, else filled (EnergyWeightSums).
 DiffusionResult diffuseWithEnergy(const DiffusionInput& input, const DiffusionProfile& profile,
                                   DiffusionOptions options, const EnergyPlan& plan,
                                   const Material& material,
-                                  std::span<const glm::vec3> farExitance = {});
+                                  std::span<const glm::vec3> farExitance = {},
+                                  EnergyWeightSums* weights = nullptr);
 
 // The profile `--profile auto` takes for the energy model in use: dipole with escape (its shape is
 // the closest to the Monte Carlo reference once the energy is right), burley with halfspace (its

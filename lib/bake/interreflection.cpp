@@ -136,7 +136,8 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
 }
 
 std::vector<glm::vec3> InterreflectionGather::gather(std::span<const glm::vec3> exitance,
-                                                     std::vector<glm::vec3>* variance) const {
+                                                     std::vector<glm::vec3>* variance,
+                                                     bool mirrored) const {
   const std::size_t n = offsets_.size() - 1;
   if (exitance.size() != n) fail("", "interreflection: one exitance per vertex needed");
   std::vector<glm::vec3> e(n, glm::vec3(0.0f));
@@ -148,7 +149,7 @@ std::vector<glm::vec3> InterreflectionGather::gather(std::span<const glm::vec3> 
       const glm::vec3 b = h.barycentric.x * exitance[h.vertices.x] +
                           h.barycentric.y * exitance[h.vertices.y] +
                           h.barycentric.z * exitance[h.vertices.z];
-      const glm::vec3 light = h.exitWeight * b + h.reflection;
+      const glm::vec3 light = h.exitWeight * b + (mirrored ? h.reflection : glm::vec3(0.0f));
       e[v] += light;
       if (!h.sameRay) {
         squares += ray * ray;
@@ -166,21 +167,6 @@ std::vector<glm::vec3> InterreflectionGather::gather(std::span<const glm::vec3> 
   }
   return e;
 }
-
-namespace {
-
-// Relative RMS of a - b over all vertices and channels.
-double relativeChange(const std::vector<glm::vec3>& a, const std::vector<glm::vec3>& b) {
-  double num = 0.0, den = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    const glm::dvec3 d = glm::dvec3(a[i]) - glm::dvec3(b[i]);
-    num += glm::dot(d, d);
-    den += glm::dot(glm::dvec3(b[i]), glm::dvec3(b[i]));
-  }
-  return den > 0.0 ? std::sqrt(num / den) : 0.0;
-}
-
-}  // namespace
 
 MissingInterreflection estimateMissingInterreflection(const InterreflectionGather& gather,
                                                       std::span<const uint32_t> vertices,
@@ -217,21 +203,44 @@ MissingInterreflection estimateMissingInterreflection(const InterreflectionGathe
   return m;
 }
 
-BounceResult iterateInterreflection(
-    const InterreflectionGather& gather, std::span<const glm::vec3> direct,
-    const std::function<std::vector<glm::vec3>(std::span<const glm::vec3>)>& transport,
-    int maxBounces, double tolerance) {
+namespace {
+
+double squaredNorm(std::span<const glm::vec3> values) {
+  double sum = 0.0;
+  for (const glm::vec3& x : values) sum += glm::dot(glm::dvec3(x), glm::dvec3(x));
+  return sum;
+}
+
+}  // namespace
+
+BounceResult iterateInterreflection(const InterreflectionGather& gather,
+                                    std::span<const glm::vec3> direct,
+                                    std::vector<glm::vec3> initial,
+                                    const BounceTransport& increment, int maxBounces,
+                                    double tolerance) {
   constexpr int kAutoBounceLimit = 64;
+  const std::size_t n = direct.size();
+  if (initial.size() != n) fail("", "interreflection: one initial exitance per vertex needed");
   BounceResult r;
   r.irradiance.assign(direct.begin(), direct.end());
-  r.exitance = transport(r.irradiance);
+  r.exitance = std::move(initial);
+  std::vector<glm::vec3> added = r.exitance;  // what the last bounce added to B (B_0 at first)
+  const double directSquares = squaredNorm(direct);
   const int limit = maxBounces > 0 ? maxBounces : kAutoBounceLimit;
   for (int bounce = 0; bounce < limit; ++bounce) {
-    const std::vector<glm::vec3> indirect = gather.gather(r.exitance);
-    for (std::size_t v = 0; v < direct.size(); ++v) r.irradiance[v] = direct[v] + indirect[v];
-    std::vector<glm::vec3> next = transport(r.irradiance);
-    r.change = relativeChange(next, r.exitance);
-    r.exitance = std::move(next);
+    const std::vector<glm::vec3> light = gather.gather(added, nullptr, bounce == 0);
+    const double share = std::sqrt(squaredNorm(light) / std::max(directSquares, 1e-300));
+    const double looseness = std::max(1.0, std::ldexp(1.0, -(bounce + 2)) / share);
+    added = increment(light, looseness);
+    if (added.size() != n) fail("", "interreflection: one exitance per vertex needed");
+    double changed = 0.0, before = 0.0;  // squared norms of dB_k and B_(k-1)
+    for (std::size_t v = 0; v < n; ++v) {
+      changed += glm::dot(glm::dvec3(added[v]), glm::dvec3(added[v]));
+      before += glm::dot(glm::dvec3(r.exitance[v]), glm::dvec3(r.exitance[v]));
+      r.irradiance[v] += light[v];
+      r.exitance[v] += added[v];
+    }
+    r.change = before > 0.0 ? std::sqrt(changed / before) : 0.0;
     r.bounces = bounce + 1;
     if (maxBounces <= 0 && r.change < tolerance) break;
   }

@@ -52,8 +52,11 @@ class InterreflectionGather {
   // E_ir per vertex for the exitance B per vertex (one per mesh vertex). With `variance`, also
   // each vertex's Monte Carlo variance of E_ir (from its rays' spread, rays that met nothing
   // counting 0; an upper bound, the rays being stratified).
+  // `mirrored` false: without the Fresnel-reflected sky, which does not depend on B (the linear
+  // part, for the bounces' increments).
   std::vector<glm::vec3> gather(std::span<const glm::vec3> exitance,
-                                std::vector<glm::vec3>* variance = nullptr) const;
+                                std::vector<glm::vec3>* variance = nullptr,
+                                bool mirrored = true) const;
   // Of the rays traced, the fraction that met the object.
   double blockedFraction() const { return blockedFraction_; }
 
@@ -98,12 +101,25 @@ MissingInterreflection estimateMissingInterreflection(const InterreflectionGathe
                                                       std::span<const glm::vec3> irradiance,
                                                       std::span<const float> areas);
 
-// B_0 = transport(E_direct); then E_k = E_direct + gather(B_{k-1}), B_k = transport(E_k), for
+// The transport's part that is linear in E (B = transport(E) less its constant terms, the traced
+// far field): what the bounces' light adds to B, from that light and a looseness >= 1, how many
+// times the transport's own relative error the sum may have (iterateInterreflection).
+using BounceTransport =
+    std::function<std::vector<glm::vec3>(std::span<const glm::vec3>, double looseness)>;
+
+// B_0 = `initial` (the transport of E_direct, which the bake has); then B_k = B_(k-1) + dB_k with
+// dE_1 = gather(B_0), dE_k = gather(dB_(k-1)) without the mirrored sky, dB_k = increment(dE_k):
+// the same B_k = transport(E_direct + gather(B_(k-1))) as iterating the whole transport, for
 // maxBounces bounces, or (maxBounces <= 0: auto) until the relative RMS change of B is below
-// tolerance (at most 64 bounces).
-BounceResult iterateInterreflection(
-    const InterreflectionGather& gather, std::span<const glm::vec3> direct,
-    const std::function<std::vector<glm::vec3>(std::span<const glm::vec3>)>& transport,
-    int maxBounces, double tolerance);
+// tolerance (at most 64 bounces). Summing only what each bounce adds leaves out what does not
+// change: the direct light's sums, and the far field, which is traced from the environment. And
+// the increments, small against B, need less precision: bounce k (from 1) allows a looseness of
+// 2^-(k+1) / s_k, s_k the relative RMS of dE_k against E_direct (at least 1), so that their errors
+// add up to at most half of the transport's own, even all in one direction.
+BounceResult iterateInterreflection(const InterreflectionGather& gather,
+                                    std::span<const glm::vec3> direct,
+                                    std::vector<glm::vec3> initial,
+                                    const BounceTransport& increment, int maxBounces,
+                                    double tolerance);
 
 }  // namespace sss

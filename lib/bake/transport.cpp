@@ -54,8 +54,8 @@ std::vector<glm::vec3> diffusionSum(const TransportInput& in, TransportReport& r
   options.tolerance = in.diffusionTolerance;
   options.threads = in.threads;
   options.quiet = in.quiet;
-  DiffusionResult result =
-      diffuseWithEnergy(input, in.profile, options, in.energy, in.material, in.farExitance);
+  DiffusionResult result = diffuseWithEnergy(input, in.profile, options, in.energy, in.material,
+                                             in.farExitance, in.weightSums);
   report.diffusion = std::move(result.report);
   report.diffusionTolerance = in.diffusionTolerance;
   report.estimatedError = report.diffusion.estimatedError;

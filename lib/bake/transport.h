@@ -35,6 +35,9 @@ struct TransportInput {
   int threads = 0;
   bool quiet = false;
   std::span<const glm::vec3> farExitance{};  // the traced far field (far_field.h), or empty
+  // The energy model's sums with E = 1 (finite_object_energy.h), filled by a first transport and
+  // reused by later ones on other light with the same method (the bounces); null: not kept.
+  EnergyWeightSums* weightSums = nullptr;
 };
 
 struct PathTraceStageReport {

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -34,10 +35,11 @@ TEST(Interreflection, WhiteFurnaceSendsRadianceOneFromEveryVertex) {
   EXPECT_GT(gather.blockedFraction(), 0.02);
   // A non-absorbing object under uniform light returns all it receives where it receives it: the
   // transport of any normalized model maps a uniform E to B = E.
-  const auto identity = [](std::span<const glm::vec3> e) {
+  const auto identity = [](std::span<const glm::vec3> e, double = 1.0) {
     return std::vector<glm::vec3>(e.begin(), e.end());
   };
-  const BounceResult r = iterateInterreflection(gather, direct, identity, 0, 1e-5);
+  const BounceResult r =
+      iterateInterreflection(gather, direct, identity(direct), identity, 0, 1e-5);
   EXPECT_GT(r.bounces, 2);
   EXPECT_LT(r.change, 1e-5);
   // Radiance along the normal: the exit model of B plus the reflected sky, F_r(1) * 1.
@@ -71,7 +73,7 @@ TEST(Interreflection, PilotEstimateOfTheMissingLightMatchesTheBounces) {
   const std::vector<glm::vec3> direct = transmittedIrradianceWithVisibility(
       mesh.positions, mesh.normals, mesh.triangles, white, eta, vis);
   const glm::vec3 albedo(0.9f, 0.6f, 0.2f);
-  const auto local = [&](std::span<const glm::vec3> e) {
+  const auto local = [&](std::span<const glm::vec3> e, double = 1.0) {
     std::vector<glm::vec3> b(e.begin(), e.end());
     for (glm::vec3& x : b) x *= albedo;
     return b;
@@ -80,7 +82,7 @@ TEST(Interreflection, PilotEstimateOfTheMissingLightMatchesTheBounces) {
   options.rays = 64;
   const InterreflectionGather all(mesh.positions, mesh.normals, mesh.triangles, white, eta,
                                   options);
-  const BounceResult bounced = iterateInterreflection(all, direct, local, 0, 1e-5);
+  const BounceResult bounced = iterateInterreflection(all, direct, local(direct), local, 0, 1e-5);
   const std::vector<glm::vec3> b0 = local(direct);
   double num = 0.0, den = 0.0;
   for (std::size_t v = 0; v < b0.size(); ++v) {
@@ -116,6 +118,56 @@ TEST(Interreflection, ConvexObjectsSendThemselvesNothing) {
   const std::vector<uint32_t> all = {0, 5, 9};
   EXPECT_EQ(estimateMissingInterreflection(gather, all, b, e, vertexAreas(sphere)).relativeRms,
             0.0);
+}
+
+// The bounces sum only what each adds, through the transport's linear part; iterating the whole
+// transport, constant terms included (a traced far field), B_k = T(E_direct + gather(B_(k-1))),
+// must give the same B and E. A transport that smooths (each vertex mixes with the next) and has a
+// constant term, on the pit box under a sky with a bright direction (the mirrored sky counts).
+TEST(Interreflection, SummingTheIncrementsEqualsIteratingTheWholeTransport) {
+  const TriangleMesh mesh = boxWithPit();
+  Cubemap sky(8, glm::vec3(0.3f, 0.4f, 0.5f));
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) sky.at(int(CubeFace::PosY), x, y) = glm::vec3(4.0f, 3.0f, 2.0f);
+  const float eta = 1.4f;
+  VisibilityOptions vis;
+  vis.samples = 64;
+  const std::vector<glm::vec3> direct = transmittedIrradianceWithVisibility(
+      mesh.positions, mesh.normals, mesh.triangles, sky, eta, vis);
+  const std::size_t n = direct.size();
+  const glm::vec3 albedo(0.8f, 0.5f, 0.3f), far(0.01f, 0.02f, 0.03f);
+  const auto linear = [&](std::span<const glm::vec3> e, double = 1.0) {
+    std::vector<glm::vec3> b(n);
+    for (std::size_t v = 0; v < n; ++v) b[v] = albedo * (0.6f * e[v] + 0.4f * e[(v + 1) % n]);
+    return b;
+  };
+  const auto whole = [&](std::span<const glm::vec3> e) {
+    std::vector<glm::vec3> b = linear(e);
+    for (glm::vec3& x : b) x += far;
+    return b;
+  };
+  InterreflectionOptions options;
+  options.rays = 32;
+  const InterreflectionGather gather(mesh.positions, mesh.normals, mesh.triangles, sky, eta,
+                                     options);
+  const int bounces = 5;
+  const std::vector<glm::vec3> b0 = whole(direct);
+  const BounceResult r = iterateInterreflection(gather, direct, b0, linear, bounces, 0);
+  std::vector<glm::vec3> e(direct.begin(), direct.end()), b = b0;
+  for (int k = 0; k < bounces; ++k) {
+    const std::vector<glm::vec3> light = gather.gather(b);
+    for (std::size_t v = 0; v < n; ++v) e[v] = direct[v] + light[v];
+    b = whole(e);
+  }
+  EXPECT_EQ(r.bounces, bounces);
+  double moved = 0.0;
+  for (std::size_t v = 0; v < n; ++v)
+    for (int c = 0; c < 3; ++c) {
+      ASSERT_NEAR(r.exitance[v][c], b[v][c], 1e-5 * b[v][c]) << "vertex " << v;
+      ASSERT_NEAR(r.irradiance[v][c], e[v][c], 1e-5 * e[v][c]) << "vertex " << v;
+      moved = std::max(moved, double(b[v][c] / b0[v][c]));
+    }
+  EXPECT_GT(moved, 1.2);  // the bounces matter in the pit
 }
 
 }  // namespace

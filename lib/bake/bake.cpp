@@ -77,7 +77,8 @@ BakeErrorReport errorReport(const BakeReport& r, double tolerance) {
   }
   e.visibility = r.lighting.estimatedError;
   e.energy = r.energy.walkError();
-  e.interreflection = r.interreflection.enabled ? 0.0 : r.interreflection.estimatedMissing;
+  e.interreflection = r.interreflection.enabled ? r.interreflection.gatherNoise
+                                                : r.interreflection.estimatedMissing;
   e.total = std::hypot(ErrorBudget::total(e.visibility, e.exitance, e.energy), e.interreflection);
   return e;
 }
@@ -93,6 +94,11 @@ InterreflectionOptions interreflectionOptions(const BakeSettings& s, const Verte
   options.threads = s.threads;
   return options;
 }
+
+// The interreflection pilot's vertices (spread over the mesh): the estimate without bounces, and
+// the replica that measures the gather's noise with them.
+constexpr std::size_t kPilotVertices = 1024;
+constexpr uint64_t kReplicaSeedOffset = 0x9e3779b9;
 
 // The bounces' increments are summed at most this loosely (iterateInterreflection): beyond it the
 // hierarchical sum's clusters grow past its calibrated error model (diffusion.cpp).
@@ -127,6 +133,16 @@ void addInterreflection(const BakeSettings& s, const PreparedMesh& mesh, const C
   const std::vector<glm::vec3>& direct = lighting.transportIrradiance();
   BounceResult r = iterateInterreflection(gather, direct, exitance.exitance, increment, s.bounces,
                                           0.1 * s.tolerance);
+  // No pilot's noise model (--visibility none): no smoothing assumed, an upper estimate.
+  // The gather's noise, from a replica of its rays with another seed at the pilot's vertices.
+  InterreflectionOptions replicaOptions = options;
+  replicaOptions.seed = options.seed + kReplicaSeedOffset;
+  replicaOptions.vertices = pilotVertices(m.positions.size(), kPilotVertices);
+  const InterreflectionGather replica(m.positions, m.normals, m.triangles, radiance,
+                                      float(s.material.eta), replicaOptions);
+  report.gatherNoise =
+      predictGatherNoise(gather, replica, replicaOptions.vertices, r.exitance, r.irradiance,
+                         mesh.areasMm2, lighting.report.rays.noiseModel.meanEffectiveVertices);
   // E in the output: the unweighted direct light plus what the object sent itself.
   if (!lighting.entryWeighted.empty())
     for (std::size_t i = 0; i < r.irradiance.size(); ++i)
@@ -149,7 +165,6 @@ void estimateInterreflection(const BakeSettings& s, const PreparedMesh& mesh,
                              const Cubemap& radiance, const DirectionalAlbedoWeight& weight,
                              const VertexLighting& lighting, const VertexExitance& exitance,
                              bool warnAboveTolerance, InterreflectionReport& report) {
-  constexpr std::size_t kPilotVertices = 1024;
   const Stopwatch clock;
   const TriangleMesh& m = mesh.meshMm;
   InterreflectionOptions options = interreflectionOptions(s, lighting, weight);

@@ -26,8 +26,9 @@ struct BakeErrorReport {
   double visibility = 0.0;  // from E (visibility noise or the irradiance cubemap)
   double exitance = 0.0;    // the transport method's own
   double energy = 0.0;      // the escape walks' noise
-  // A model error, not noise: the light the object sends itself when no bounces add it
-  // (estimateMissingInterreflection); 0 with bounces.
+  // Without bounces a model error, the light the object sends itself that they would add
+  // (estimateMissingInterreflection); with them, the noise of the gather's rays
+  // (predictGatherNoise).
   double interreflection = 0.0;
   double total = 0.0;
   double tolerance = 0.0;
@@ -44,6 +45,7 @@ struct InterreflectionReport {
   bool estimated = false;
   double estimatedMissing = 0.0;
   int pilotVertices = 0;
+  double gatherNoise = 0.0;  // with bounces: predicted relative RMS noise of B from the gather
   double seconds = 0.0;
 };
 

@@ -179,6 +179,7 @@ Json toJson(const BakeReport& r) {
                           {"bounces", r.interreflection.bounces},
                           {"last_change", r.interreflection.change},
                           {"blocked_fraction", r.interreflection.blockedFraction},
+                          {"gather_noise", r.interreflection.gatherNoise},
                           {"seconds", r.interreflection.seconds}};
   if (r.interreflection.estimated) {
     j["interreflection"]["estimated_missing"] = r.interreflection.estimatedMissing;

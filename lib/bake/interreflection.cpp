@@ -203,6 +203,33 @@ MissingInterreflection estimateMissingInterreflection(const InterreflectionGathe
   return m;
 }
 
+double predictGatherNoise(const InterreflectionGather& gather, const InterreflectionGather& replica,
+                          std::span<const uint32_t> vertices, std::span<const glm::vec3> exitance,
+                          std::span<const glm::vec3> irradiance, std::span<const float> areas,
+                          double effectiveVertices) {
+  const std::size_t n = exitance.size();
+  if (irradiance.size() != n || areas.size() != n)
+    fail("", "interreflection: one irradiance and area per vertex needed");
+  glm::dvec3 leaving(0.0), entering(0.0);
+  double squaredB = 0.0;
+  for (std::size_t v = 0; v < n; ++v) {
+    leaving += double(areas[v]) * glm::dvec3(exitance[v]);
+    entering += double(areas[v]) * glm::dvec3(irradiance[v]);
+    squaredB += glm::dot(glm::dvec3(exitance[v]), glm::dvec3(exitance[v]));
+  }
+  if (!(squaredB > 0.0) || vertices.empty()) return 0.0;
+  glm::dvec3 k(0.0);
+  for (int c = 0; c < 3; ++c) k[c] = entering[c] > 0.0 ? leaving[c] / entering[c] : 0.0;
+  const std::vector<glm::vec3> a = gather.gather(exitance), b = replica.gather(exitance);
+  double noise = 0.0;  // sum over the replica's vertices of k^2 Var(E_ir)
+  for (const uint32_t v : vertices) {
+    const glm::dvec3 d = k * (glm::dvec3(a[v]) - glm::dvec3(b[v]));
+    noise += 0.5 * glm::dot(d, d);
+  }
+  noise *= double(n) / double(vertices.size());
+  return std::sqrt(noise / std::max(effectiveVertices, 1.0) / squaredB);
+}
+
 namespace {
 
 double squaredNorm(std::span<const glm::vec3> values) {

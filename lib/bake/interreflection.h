@@ -101,6 +101,21 @@ MissingInterreflection estimateMissingInterreflection(const InterreflectionGathe
                                                       std::span<const glm::vec3> irradiance,
                                                       std::span<const float> areas);
 
+// With bounces, the noise the gather's rays leave in B, as a relative RMS over vertices and
+// channels. The hits are traced once, so one draw of noise serves every bounce. Its variance per
+// vertex is measured, as the visibility pilot's is (visibility.h), from a replica: the same rays
+// with another seed at some vertices (`vertices`; the rays are stratified, so the variance of one
+// estimate from its rays' spread would be an upper bound, 1.4-3.5x too high on the studies'
+// scenes), Var = |E_ir - E_ir'|^2 / 2 at the converged B. Then through the transport: its energy
+// ratio k = sum B A / sum E A per channel, and its smoothing over effectiveVertices vertices (the
+// visibility noise model's N_eff, visibility_noise_model.h). Not amplified by the later bounces as
+// the light is: each vertex gathers over many hit points, which averages the noise out. Measured
+// against the spread over seeds in the README ("Interreflection").
+double predictGatherNoise(const InterreflectionGather& gather, const InterreflectionGather& replica,
+                          std::span<const uint32_t> vertices, std::span<const glm::vec3> exitance,
+                          std::span<const glm::vec3> irradiance, std::span<const float> areas,
+                          double effectiveVertices);
+
 // The transport's part that is linear in E (B = transport(E) less its constant terms, the traced
 // far field): what the bounces' light adds to B, from that light and a looseness >= 1, how many
 // times the transport's own relative error the sum may have (iterateInterreflection).

@@ -170,5 +170,62 @@ TEST(Interreflection, SummingTheIncrementsEqualsIteratingTheWholeTransport) {
   EXPECT_GT(moved, 1.2);  // the bounces matter in the pit
 }
 
+// With bounces, the JSON's interreflection error is the gather's noise, measured from a replica of
+// its rays with another seed at some vertices: it must match the spread of B over seeds. A local
+// transport (no smoothing: one effective vertex), the pit box under a sky with a bright direction.
+TEST(Interreflection, PredictedGatherNoiseMatchesTheSpreadOverSeeds) {
+  const TriangleMesh mesh = boxWithPit();
+  Cubemap sky(8, glm::vec3(0.3f, 0.4f, 0.5f));
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) sky.at(int(CubeFace::PosY), x, y) = glm::vec3(4.0f, 3.0f, 2.0f);
+  const float eta = 1.4f;
+  VisibilityOptions vis;
+  vis.samples = 64;
+  const std::vector<glm::vec3> direct = transmittedIrradianceWithVisibility(
+      mesh.positions, mesh.normals, mesh.triangles, sky, eta, vis);
+  const std::size_t n = direct.size();
+  const glm::vec3 albedo(0.9f, 0.7f, 0.5f);
+  const auto local = [&](std::span<const glm::vec3> e, double = 1.0) {
+    std::vector<glm::vec3> b(e.begin(), e.end());
+    for (glm::vec3& x : b) x *= albedo;
+    return b;
+  };
+  const std::vector<float> areas = vertexAreas(mesh);
+  std::vector<uint32_t> half;
+  for (uint32_t v = 0; v < n; v += 2) half.push_back(v);
+  constexpr int kSeeds = 12;
+  std::vector<std::vector<glm::vec3>> baked;
+  double predicted = 0.0;
+  for (int seed = 1; seed <= kSeeds; ++seed) {
+    InterreflectionOptions options;
+    options.rays = 16;
+    options.seed = uint64_t(seed);
+    const InterreflectionGather gather(mesh.positions, mesh.normals, mesh.triangles, sky, eta,
+                                       options);
+    options.seed += 1000;
+    options.vertices = half;
+    const InterreflectionGather replica(mesh.positions, mesh.normals, mesh.triangles, sky, eta,
+                                        options);
+    const BounceResult r = iterateInterreflection(gather, direct, local(direct), local, 0, 1e-4);
+    predicted += predictGatherNoise(gather, replica, half, r.exitance, r.irradiance, areas, 1.0);
+    baked.push_back(r.exitance);
+  }
+  predicted /= kSeeds;
+  // The spread over seeds: sum over vertices of the sample variance, against sum |B|^2.
+  double variance = 0.0, squares = 0.0;
+  for (std::size_t v = 0; v < n; ++v) {
+    glm::dvec3 mean(0.0);
+    for (const auto& b : baked) mean += glm::dvec3(b[v]) / double(kSeeds);
+    for (const auto& b : baked) {
+      const glm::dvec3 d = glm::dvec3(b[v]) - mean;
+      variance += glm::dot(d, d) / (kSeeds - 1);
+    }
+    squares += glm::dot(mean, mean);
+  }
+  const double measured = std::sqrt(variance / squares);
+  ASSERT_GT(measured, 1e-3);  // the pit's rays do leave noise
+  EXPECT_NEAR(predicted / measured, 1.0, 0.25) << predicted << " " << measured;
+}
+
 }  // namespace
 }  // namespace sss

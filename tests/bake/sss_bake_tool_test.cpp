@@ -251,7 +251,12 @@ TEST_F(BakeTool, InterreflectionBrightensAPit) {
   const double change = std::sqrt(num / den);
   EXPECT_GT(change, 0.02);
   EXPECT_NEAR(missing / change, 1.0, 0.35) << missing << " against " << change;
-  EXPECT_EQ(report["estimated_error"]["interreflection"].get<double>(), 0.0);
+  // With bounces the interreflection term is the gather's noise (interreflection_test measures
+  // it against the spread over seeds): small against the light the bounces added.
+  const double gatherNoise = report["interreflection"]["gather_noise"].get<double>();
+  EXPECT_EQ(report["estimated_error"]["interreflection"].get<double>(), gatherNoise);
+  EXPECT_GT(gatherNoise, 0.0);
+  EXPECT_LT(gatherNoise, 0.2 * change);
   // A convex object: auto finds nothing to bounce and leaves it at the pilot.
   ASSERT_EQ(
       run(args("sphere.ply",

@@ -26,19 +26,8 @@ DiffusionMethod diffusionMethodOf(BakeMethod method) {
 }
 
 BakeMethod bakeMethodOf(DiffusionMethod method) {
-  switch (method) {
-    case DiffusionMethod::Exact:
-      return BakeMethod::Exact;
-    case DiffusionMethod::Gauss:
-      return BakeMethod::Gauss;
-    case DiffusionMethod::Incremental:
-      return BakeMethod::Incremental;
-    case DiffusionMethod::Hierarchical:
-      return BakeMethod::Hierarchical;
-    case DiffusionMethod::Auto:
-      break;
-  }
-  return BakeMethod::Auto;
+  // Every diffusion method is a bake method of the same name.
+  return kBakeMethodNames.parse(kDiffusionMethodNames.name(method));
 }
 
 void checkTolerance(double tolerance) {

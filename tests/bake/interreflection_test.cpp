@@ -120,20 +120,30 @@ TEST(Interreflection, ConvexObjectsSendThemselvesNothing) {
             0.0);
 }
 
+// The pit box under a sky with a bright side (its +Y face) and its direct light: the scene of the
+// bounces' own tests (the mirrored sky counts, and the pit gets light from its walls).
+struct PitUnderSky {
+  TriangleMesh mesh = boxWithPit();
+  Cubemap sky{8, glm::vec3(0.3f, 0.4f, 0.5f)};
+  float eta = 1.4f;
+  std::vector<glm::vec3> direct;
+  PitUnderSky() {
+    for (int y = 0; y < 8; ++y)
+      for (int x = 0; x < 8; ++x) sky.at(int(CubeFace::PosY), x, y) = glm::vec3(4.0f, 3.0f, 2.0f);
+    VisibilityOptions vis;
+    vis.samples = 64;
+    direct = transmittedIrradianceWithVisibility(mesh.positions, mesh.normals, mesh.triangles, sky,
+                                                 eta, vis);
+  }
+};
+
 // The bounces sum only what each adds, through the transport's linear part; iterating the whole
 // transport, constant terms included (a traced far field), B_k = T(E_direct + gather(B_(k-1))),
 // must give the same B and E. A transport that smooths (each vertex mixes with the next) and has a
 // constant term, on the pit box under a sky with a bright direction (the mirrored sky counts).
 TEST(Interreflection, SummingTheIncrementsEqualsIteratingTheWholeTransport) {
-  const TriangleMesh mesh = boxWithPit();
-  Cubemap sky(8, glm::vec3(0.3f, 0.4f, 0.5f));
-  for (int y = 0; y < 8; ++y)
-    for (int x = 0; x < 8; ++x) sky.at(int(CubeFace::PosY), x, y) = glm::vec3(4.0f, 3.0f, 2.0f);
-  const float eta = 1.4f;
-  VisibilityOptions vis;
-  vis.samples = 64;
-  const std::vector<glm::vec3> direct = transmittedIrradianceWithVisibility(
-      mesh.positions, mesh.normals, mesh.triangles, sky, eta, vis);
+  const PitUnderSky scene;
+  const auto& [mesh, sky, eta, direct] = scene;
   const std::size_t n = direct.size();
   const glm::vec3 albedo(0.8f, 0.5f, 0.3f), far(0.01f, 0.02f, 0.03f);
   const auto linear = [&](std::span<const glm::vec3> e, double = 1.0) {
@@ -174,15 +184,8 @@ TEST(Interreflection, SummingTheIncrementsEqualsIteratingTheWholeTransport) {
 // its rays with another seed at some vertices: it must match the spread of B over seeds. A local
 // transport (no smoothing: one effective vertex), the pit box under a sky with a bright direction.
 TEST(Interreflection, PredictedGatherNoiseMatchesTheSpreadOverSeeds) {
-  const TriangleMesh mesh = boxWithPit();
-  Cubemap sky(8, glm::vec3(0.3f, 0.4f, 0.5f));
-  for (int y = 0; y < 8; ++y)
-    for (int x = 0; x < 8; ++x) sky.at(int(CubeFace::PosY), x, y) = glm::vec3(4.0f, 3.0f, 2.0f);
-  const float eta = 1.4f;
-  VisibilityOptions vis;
-  vis.samples = 64;
-  const std::vector<glm::vec3> direct = transmittedIrradianceWithVisibility(
-      mesh.positions, mesh.normals, mesh.triangles, sky, eta, vis);
+  const PitUnderSky scene;
+  const auto& [mesh, sky, eta, direct] = scene;
   const std::size_t n = direct.size();
   const glm::vec3 albedo(0.9f, 0.7f, 0.5f);
   const auto local = [&](std::span<const glm::vec3> e, double = 1.0) {

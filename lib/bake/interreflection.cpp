@@ -62,7 +62,8 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
   const std::size_t n = positions.size();
   if (normals.size() != n || triangles.empty()) fail("", "interreflection: empty mesh");
   if (options.rays < 1) fail("", "interreflection: at least one ray per vertex");
-  const TriangleScene scene(positions, triangles);
+  const TriangleScene scene(positions, triangles,
+                            TriangleSceneOptions::surfaceRays(options.threads));
   const float extent = boundsOf(positions).longestSide();
   const float exitScale = float(exitRadianceScale(eta));
   const DirectionalAlbedoWeight diffuse;

@@ -35,17 +35,6 @@ void validateInput(std::size_t vertexCount, std::span<const glm::vec3> normals,
   }
 }
 
-// Medium (binned SAH) quality: the high-quality build (spatial splits) costs more time than it
-// saves on the bake's millions of rays (tests/bench/results/bake). Not robust: the rays leave
-// from an offset origin, and the cheaper traversal is the one those measurements used.
-TriangleSceneOptions occlusionSceneOptions(int threads) {
-  TriangleSceneOptions sceneOptions;
-  sceneOptions.quality = TriangleSceneOptions::BuildQuality::Medium;
-  sceneOptions.robust = false;
-  sceneOptions.threads = threads;
-  return sceneOptions;
-}
-
 struct FullPass {
   std::vector<glm::vec3> irradiance, entryWeighted;
   std::vector<float> relativeVariance;  // < 0: unlit vertex
@@ -112,7 +101,8 @@ std::vector<glm::vec3> transmittedIrradianceWithVisibility(std::span<const glm::
   const EnvironmentSampler sampler(radiance);
 
   Stopwatch buildClock;
-  const TriangleScene scene(positions, triangles, occlusionSceneOptions(options.threads));
+  const TriangleScene scene(positions, triangles,
+                            TriangleSceneOptions::surfaceRays(options.threads));
   const double buildSeconds = buildClock.seconds();
 
   const float extent = boundsOf(positions).longestSide();

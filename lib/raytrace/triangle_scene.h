@@ -48,6 +48,19 @@ struct TriangleSceneOptions {
   bool robust = true;
   // Embree device threads for the build; <= 0: all cores.
   int threads = 0;
+
+  // For the bake's rays from its vertices (visibility, the interreflection gather): medium
+  // quality, as the high-quality build (spatial splits) costs more time than it saves on the
+  // bake's millions of rays (tests/bench/results/bake); not robust, as the rays leave from an
+  // offset origin (surfaceRayOffset) and the cheaper traversal is the one those measurements used.
+  // One setting for both, so that they call the same directions blocked.
+  static TriangleSceneOptions surfaceRays(int threads) {
+    TriangleSceneOptions options;
+    options.quality = BuildQuality::Medium;
+    options.robust = false;
+    options.threads = threads;
+    return options;
+  }
 };
 
 class TriangleScene {

@@ -133,8 +133,9 @@ void addInterreflection(const BakeSettings& s, const PreparedMesh& mesh, const C
   const std::vector<glm::vec3>& direct = lighting.transportIrradiance();
   BounceResult r = iterateInterreflection(gather, direct, exitance.exitance, increment, s.bounces,
                                           0.1 * s.tolerance);
-  // No pilot's noise model (--visibility none): no smoothing assumed, an upper estimate.
-  // The gather's noise, from a replica of its rays with another seed at the pilot's vertices.
+  // The gather's noise, from a replica of its rays with another seed at the pilot's vertices
+  // (without the visibility pilot's noise model, --visibility none, no smoothing is assumed: an
+  // upper estimate).
   InterreflectionOptions replicaOptions = options;
   replicaOptions.seed = options.seed + kReplicaSeedOffset;
   replicaOptions.vertices = pilotVertices(m.positions.size(), kPilotVertices);

@@ -77,8 +77,8 @@ BakeErrorReport errorReport(const BakeReport& r, double tolerance) {
   }
   e.visibility = r.lighting.estimatedError;
   e.energy = r.energy.walkError();
-  e.interreflection = r.interreflection.enabled ? r.interreflection.gatherNoise
-                                                : r.interreflection.estimatedMissing;
+  const InterreflectionReport& ir = r.interreflection;
+  e.interreflection = ir.enabled ? std::hypot(ir.gatherNoise, ir.remaining) : ir.estimatedMissing;
   e.total = std::hypot(ErrorBudget::total(e.visibility, e.exitance, e.energy), e.interreflection);
   return e;
 }
@@ -155,6 +155,7 @@ void addInterreflection(const BakeSettings& s, const PreparedMesh& mesh, const C
   report.automatic = s.bounces == kAutoBounces;
   report.bounces = r.bounces;
   report.change = r.change;
+  report.remaining = r.remaining;
   report.blockedFraction = gather.blockedFraction();
   report.seconds = clock.seconds();
 }

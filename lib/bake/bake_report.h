@@ -28,7 +28,7 @@ struct BakeErrorReport {
   double energy = 0.0;      // the escape walks' noise
   // Without bounces a model error, the light the object sends itself that they would add
   // (estimateMissingInterreflection); with them, the noise of the gather's rays
-  // (predictGatherNoise).
+  // (predictGatherNoise) and what the bounces not done would add, in quadrature.
   double interreflection = 0.0;
   double total = 0.0;
   double tolerance = 0.0;
@@ -46,6 +46,7 @@ struct InterreflectionReport {
   double estimatedMissing = 0.0;
   int pilotVertices = 0;
   double gatherNoise = 0.0;  // with bounces: predicted relative RMS noise of B from the gather
+  double remaining = 0.0;    // with bounces: what the bounces not done would add (BounceResult)
   double seconds = 0.0;
 };
 

@@ -180,6 +180,7 @@ Json toJson(const BakeReport& r) {
                           {"last_change", r.interreflection.change},
                           {"blocked_fraction", r.interreflection.blockedFraction},
                           {"gather_noise", r.interreflection.gatherNoise},
+                          {"remaining", r.interreflection.remaining},
                           {"seconds", r.interreflection.seconds}};
   if (r.interreflection.estimated) {
     j["interreflection"]["estimated_missing"] = r.interreflection.estimatedMissing;

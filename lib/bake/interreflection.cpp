@@ -254,6 +254,7 @@ BounceResult iterateInterreflection(const InterreflectionGather& gather,
   r.exitance = std::move(initial);
   std::vector<glm::vec3> added = r.exitance;  // what the last bounce added to B (B_0 at first)
   const double directSquares = squaredNorm(direct);
+  double lastLight = 0.0;  // |dE_k|^2 of the last bounce
   const int limit = maxBounces > 0 ? maxBounces : kAutoBounceLimit;
   for (int bounce = 0; bounce < limit; ++bounce) {
     const std::vector<glm::vec3> light = gather.gather(added, nullptr, bounce == 0);
@@ -270,7 +271,13 @@ BounceResult iterateInterreflection(const InterreflectionGather& gather,
     }
     r.change = before > 0.0 ? std::sqrt(changed / before) : 0.0;
     r.bounces = bounce + 1;
+    lastLight = squaredNorm(light);
     if (maxBounces <= 0 && r.change < tolerance) break;
+  }
+  if (r.bounces > 0 && lastLight > 0.0) {
+    const double ratio = std::sqrt(squaredNorm(gather.gather(added, nullptr, false)) / lastLight);
+    const double rho = std::min(ratio, 0.95);
+    r.remaining = r.change * rho / (1.0 - rho);
   }
   return r;
 }

@@ -79,6 +79,10 @@ struct BounceResult {
   std::vector<glm::vec3> exitance;    // B = transport(irradiance)
   int bounces = 0;                    // gathers done
   double change = 0.0;                // relative RMS change of B at the last bounce
+  // What the bounces not done would still add, relative RMS against B: the last change times
+  // rho / (1 - rho), the series' ratio rho estimated by one more gather (no transport) as
+  // |gather(dB_k)| / |dE_k|, capped at 0.95.
+  double remaining = 0.0;
 };
 
 // Without bounces, how much the light the object sends itself would change B, estimated at the

@@ -230,5 +230,37 @@ TEST(Interreflection, PredictedGatherNoiseMatchesTheSpreadOverSeeds) {
   EXPECT_NEAR(predicted / measured, 1.0, 0.25) << predicted << " " << measured;
 }
 
+// A bake with fewer bounces than convergence needs reports what the rest would add (one more
+// gather estimates the series' ratio): it must match the difference to the converged B.
+TEST(Interreflection, RemainingBouncesAreEstimatedFromOneMoreGather) {
+  const PitUnderSky scene;
+  const auto& [mesh, sky, eta, direct] = scene;
+  const auto smoothing = [&](std::span<const glm::vec3> e, double = 1.0) {
+    std::vector<glm::vec3> b(e.size());
+    for (std::size_t v = 0; v < e.size(); ++v)
+      b[v] = glm::vec3(0.95f, 0.9f, 0.8f) * (0.5f * e[v] + 0.5f * e[(v + 1) % e.size()]);
+    return b;
+  };
+  InterreflectionOptions options;
+  options.rays = 64;
+  const InterreflectionGather gather(mesh.positions, mesh.normals, mesh.triangles, sky, eta,
+                                     options);
+  const std::vector<glm::vec3> b0 = smoothing(direct);
+  const BounceResult converged = iterateInterreflection(gather, direct, b0, smoothing, 0, 1e-7);
+  EXPECT_LT(converged.remaining, 1e-6);
+  for (int bounces : {1, 2, 3}) {
+    const BounceResult r = iterateInterreflection(gather, direct, b0, smoothing, bounces, 0.0);
+    double num = 0.0, den = 0.0;
+    for (std::size_t v = 0; v < b0.size(); ++v) {
+      const glm::dvec3 d = glm::dvec3(converged.exitance[v]) - glm::dvec3(r.exitance[v]);
+      num += glm::dot(d, d);
+      den += glm::dot(glm::dvec3(r.exitance[v]), glm::dvec3(r.exitance[v]));
+    }
+    const double actual = std::sqrt(num / den);
+    ASSERT_GT(actual, 1e-4) << bounces;
+    EXPECT_NEAR(r.remaining / actual, 1.0, 0.3) << bounces << ": " << r.remaining << " " << actual;
+  }
+}
+
 }  // namespace
 }  // namespace sss

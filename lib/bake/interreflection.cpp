@@ -169,11 +169,18 @@ std::vector<glm::vec3> InterreflectionGather::gather(std::span<const glm::vec3> 
   return e;
 }
 
-MissingInterreflection estimateMissingInterreflection(const InterreflectionGather& gather,
-                                                      std::span<const uint32_t> vertices,
-                                                      std::span<const glm::vec3> exitance,
-                                                      std::span<const glm::vec3> irradiance,
-                                                      std::span<const float> areas) {
+namespace {
+
+double squaredNorm(std::span<const glm::vec3> values) {
+  double sum = 0.0;
+  for (const glm::vec3& x : values) sum += glm::dot(glm::dvec3(x), glm::dvec3(x));
+  return sum;
+}
+
+// The transport's energy ratio over the object per channel, k = sum B A / sum E A (what leaves per
+// what enters): how a change of E at a vertex shows in B, the transport's smoothing left out.
+glm::dvec3 energyRatio(std::span<const glm::vec3> exitance, std::span<const glm::vec3> irradiance,
+                       std::span<const float> areas) {
   if (irradiance.size() != exitance.size() || areas.size() != exitance.size())
     fail("", "interreflection: one irradiance and area per vertex needed");
   glm::dvec3 leaving(0.0), entering(0.0);
@@ -183,6 +190,17 @@ MissingInterreflection estimateMissingInterreflection(const InterreflectionGathe
   }
   glm::dvec3 k(0.0);
   for (int c = 0; c < 3; ++c) k[c] = entering[c] > 0.0 ? leaving[c] / entering[c] : 0.0;
+  return k;
+}
+
+}  // namespace
+
+MissingInterreflection estimateMissingInterreflection(const InterreflectionGather& gather,
+                                                      std::span<const uint32_t> vertices,
+                                                      std::span<const glm::vec3> exitance,
+                                                      std::span<const glm::vec3> irradiance,
+                                                      std::span<const float> areas) {
+  const glm::dvec3 k = energyRatio(exitance, irradiance, areas);
   std::vector<glm::vec3> variance;
   const std::vector<glm::vec3> added = gather.gather(exitance, &variance);
   // The squares' sum less the rays' noise in it (a sun the mirror direction finds by chance
@@ -208,38 +226,18 @@ double predictGatherNoise(const InterreflectionGather& gather, const Interreflec
                           std::span<const uint32_t> vertices, std::span<const glm::vec3> exitance,
                           std::span<const glm::vec3> irradiance, std::span<const float> areas,
                           double effectiveVertices) {
-  const std::size_t n = exitance.size();
-  if (irradiance.size() != n || areas.size() != n)
-    fail("", "interreflection: one irradiance and area per vertex needed");
-  glm::dvec3 leaving(0.0), entering(0.0);
-  double squaredB = 0.0;
-  for (std::size_t v = 0; v < n; ++v) {
-    leaving += double(areas[v]) * glm::dvec3(exitance[v]);
-    entering += double(areas[v]) * glm::dvec3(irradiance[v]);
-    squaredB += glm::dot(glm::dvec3(exitance[v]), glm::dvec3(exitance[v]));
-  }
+  const glm::dvec3 k = energyRatio(exitance, irradiance, areas);
+  const double squaredB = squaredNorm(exitance);
   if (!(squaredB > 0.0) || vertices.empty()) return 0.0;
-  glm::dvec3 k(0.0);
-  for (int c = 0; c < 3; ++c) k[c] = entering[c] > 0.0 ? leaving[c] / entering[c] : 0.0;
   const std::vector<glm::vec3> a = gather.gather(exitance), b = replica.gather(exitance);
   double noise = 0.0;  // sum over the replica's vertices of k^2 Var(E_ir)
   for (const uint32_t v : vertices) {
     const glm::dvec3 d = k * (glm::dvec3(a[v]) - glm::dvec3(b[v]));
     noise += 0.5 * glm::dot(d, d);
   }
-  noise *= double(n) / double(vertices.size());
+  noise *= double(exitance.size()) / double(vertices.size());
   return std::sqrt(noise / std::max(effectiveVertices, 1.0) / squaredB);
 }
-
-namespace {
-
-double squaredNorm(std::span<const glm::vec3> values) {
-  double sum = 0.0;
-  for (const glm::vec3& x : values) sum += glm::dot(glm::dvec3(x), glm::dvec3(x));
-  return sum;
-}
-
-}  // namespace
 
 BounceResult iterateInterreflection(const InterreflectionGather& gather,
                                     std::span<const glm::vec3> direct,

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <vector>
 
-#include "../bake/box_with_pit.h"
+#include "bake/box_with_pit.h"
 #include "core/error.h"
 #include "envmap/cubemap.h"
 #include "mesh/primitives.h"

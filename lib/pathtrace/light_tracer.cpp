@@ -83,7 +83,7 @@ class LightTracer {
         eta_(float(medium.eta)),
         scene_(positions, triangles),
         walker_(scene_, triangles, medium.sigmaS, medium.sigmaA + medium.sigmaS, eta_, medium.g,
-                options.maxScatteringEvents),
+                options.maxScatteringEvents, options.unscatteredOnly),
         cosCone_(std::cos(options.coneHalfAngleDeg * M_PI / 180.0)) {
     const Bounds3 bounds = boundsOf(positions);
     center_ = bounds.center();
@@ -203,6 +203,8 @@ void validateOptions(const std::vector<glm::vec3>& positions, const std::vector<
   const glm::dvec3 w = options.nearWindowMm;
   if (!(w.x >= 0.0 && w.y >= 0.0 && w.z >= 0.0 && std::isfinite(w.x + w.y + w.z)))
     fail("", "light tracer: the near window must be finite and not negative");
+  if (options.unscatteredOnly && options.minScatteringOrder > 0)
+    fail("", "light tracer: unscattered light has no scattering order above 0");
   if (!(options.coneHalfAngleDeg > 0.0 && options.coneHalfAngleDeg <= 90.0))
     fail("", "light tracer: the radiance cone must be in (0, 90] degrees");
 }

@@ -99,6 +99,10 @@ struct LightTraceOptions {
   // Count light scattered at least this often in all: 0 (default) counts everything, 1 leaves
   // out unscattered transmission (the backward tracer's default).
   int minScatteringOrder = 0;
+  // Only the light that is never scattered, in expectation (medium_walk.h: each flight weighted by
+  // its transmittance instead of sampled): the unscattered part of the count above at a fraction
+  // of its cost and noise (sss-bake's unscattered light, lib/bake/unscattered_light.h).
+  bool unscatteredOnly = false;
   // The far field beside a windowed profile (lib/bake/far_field.h): when > 0 (mm, per channel),
   // an exit at distance d from where its path last entered counts with the weight
   // 1 - exp(-d^2 / (2 w^2)).

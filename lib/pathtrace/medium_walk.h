@@ -17,6 +17,7 @@
 #include <limits>
 #include <vector>
 
+#include <glm/exponential.hpp>
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
@@ -50,16 +51,18 @@ struct MediumExit {
 class MediumWalker {
  public:
   // sigmaS: the real (not reduced) scattering coefficient; eta: medium index relative to outside.
+  // unscatteredOnly: the light that crosses without scattering (see above).
   MediumWalker(const TriangleScene& scene, const std::vector<glm::uvec3>& triangles,
                const glm::dvec3& sigmaS, const glm::dvec3& sigmaT, float eta, double g,
-               int maxInteractions)
+               int maxInteractions, bool unscatteredOnly = false)
       : scene_(scene),
         triangles_(triangles),
         sigmaS_(sigmaS),
         sigmaT_(sigmaT),
         eta_(eta),
         g_(g),
-        maxInteractions_(maxInteractions) {}
+        maxInteractions_(maxInteractions),
+        unscatteredOnly_(unscatteredOnly) {}
 
   // One walk from p inside along unit d until it refracts out. start: a vertex whose own
   // triangles, met before any scattering or reflection, mean the entry direction was cut off by
@@ -82,8 +85,9 @@ class MediumWalker {
         stats.escaped = true;
         return exit;
       }
-      const double t = sigmaTh > 0.0 ? -std::log(1.0 - rng.uniformDouble()) / sigmaTh
-                                     : std::numeric_limits<double>::infinity();
+      const double t = sigmaTh > 0.0 && !unscatteredOnly_
+                           ? -std::log(1.0 - rng.uniformDouble()) / sigmaTh
+                           : std::numeric_limits<double>::infinity();
       if (t < hit.t) {
         // Scattering event: f_c = sigma_s,c T_c(t), p_j = sigma_t,j T_j(t), relative to hero.
         for (int c = 0; c < 3; ++c) {
@@ -110,11 +114,17 @@ class MediumWalker {
           return exit;
         }
       }
-      // Boundary: f_c = p_j = T(t_hit), relative to hero.
-      for (int c = 0; c < 3; ++c) {
-        const double ratio = std::exp(-(sigmaT_[c] - sigmaTh) * static_cast<double>(hit.t));
-        beta[c] *= ratio;
-        ru[c] *= ratio;
+      // Boundary: f_c = p_j = T(t_hit), relative to hero; unscattered only: f_c = T_c(t_hit) and
+      // no flight was sampled (p_j = 1).
+      if (unscatteredOnly_) {
+        beta *= glm::exp(-sigmaT_ * static_cast<double>(hit.t));
+        if (!russianRoulette(beta, rng)) return exit;
+      } else {
+        for (int c = 0; c < 3; ++c) {
+          const double ratio = std::exp(-(sigmaT_[c] - sigmaTh) * static_cast<double>(hit.t));
+          beta[c] *= ratio;
+          ru[c] *= ratio;
+        }
       }
       ++stats.boundaryHits;
       const glm::vec3 hitPoint = p + hit.t * d;
@@ -142,6 +152,17 @@ class MediumWalker {
   float eta_;
   double g_;
   int maxInteractions_;
+  bool unscatteredOnly_;
+
+  // Unscattered only: roulette once the largest channel's weight falls below 1 % (a flight through
+  // many diffusion lengths, or light trapped by internal reflections); false: absorbed.
+  static bool russianRoulette(glm::dvec3& beta, Pcg32& rng) {
+    const double m = std::max({beta.x, beta.y, beta.z});
+    if (m >= 0.01) return true;
+    if (!(m > 0.0) || rng.uniformDouble() >= m / 0.01) return false;
+    beta *= 0.01 / m;
+    return true;
+  }
 };
 
 }  // namespace sss

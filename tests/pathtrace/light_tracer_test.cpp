@@ -115,34 +115,87 @@ TEST(LightTracer, MatchesBackwardTracerUnderUniformLight) {
   }
 }
 
-// sigma_s = 0: the light crossing a slab is the closed form, a collimated beam at incidence
-// theta (inside theta_t) with the Fresnel reflectance R at both faces (the same inside and out)
-// and the internal reflections' geometric series:
+// The unscattered light crossing a slab is the closed form, a collimated beam at incidence theta
+// (inside theta_t) with the Fresnel reflectance R at both faces (the same inside and out) and the
+// internal reflections' geometric series:
 //   T = (1 - R)^2 e^-tau / (1 - R^2 e^-2tau),   B_lit = (1 - R)^2 R e^-2tau / (1 - R^2 e^-2tau),
-// tau = sigma_a d / cos theta_t, relative to the irradiance on the lit face.
-TEST(LightTracer, SlabUnscatteredLightMatchesClosedForm) {
+// tau = sigma_t d / cos theta_t, relative to the irradiance on the lit face. Traced with sigma_s =
+// 0 (all the light), or with scattering and only its unscattered part.
+void expectSlabUnscatteredClosedForm(const HomogeneousMedium& medium, bool unscatteredOnly) {
   const float d = 1.0f;
   const TriangleMesh slab = makeSlab(40.0f, d, 20);
-  const HomogeneousMedium medium = makeMedium({0.0, 0.0, 0.0}, {0.2, 0.7, 2.0}, 1.5);
   const double theta = 30.0 * M_PI / 180.0;
   const glm::vec3 towards(float(std::sin(theta)), 0.0f, float(std::cos(theta)));
   LightTraceOptions lo;
   lo.paths = 300000;
+  lo.unscatteredOnly = unscatteredOnly;
   const LightTraceResult r =
       lightTrace(slab, DistantLight::disc(towards, 0.0, glm::vec3(1.0f)), medium, lo);
   const double e = std::cos(theta);
-  const double R = fresnelDielectric(float(std::cos(theta)), 1.5f);
-  const double cosT = std::sqrt(1.0 - std::sin(theta) * std::sin(theta) / (1.5 * 1.5));
+  const double R = fresnelDielectric(float(std::cos(theta)), float(medium.eta));
+  const double cosT =
+      std::sqrt(1.0 - std::sin(theta) * std::sin(theta) / (medium.eta * medium.eta));
   const FaceMean bottom = centralFaceMean(slab, r, -1.0f, 10.0f);
   const FaceMean top = centralFaceMean(slab, r, 1.0f, 10.0f);
   for (int c = 0; c < 3; ++c) {
-    const double a = std::exp(-medium.sigmaA[c] * d / cosT);
+    const double a = std::exp(-(medium.sigmaA[c] + medium.sigmaS[c]) * d / cosT);
     const double series = 1.0 / (1.0 - R * R * a * a);
     const double t = (1 - R) * (1 - R) * a * series, lit = (1 - R) * (1 - R) * R * a * a * series;
     EXPECT_NEAR(bottom.mean[c] / e, t, 4.0 * bottom.stdErr[c] / e + 1e-3 * t) << c;
     EXPECT_NEAR(top.mean[c] / e, lit, 4.0 * top.stdErr[c] / e + 1e-3 * lit) << c;
     EXPECT_LT(bottom.stdErr[c] / bottom.mean[c], 0.01);
   }
+}
+
+TEST(LightTracer, SlabUnscatteredLightMatchesClosedForm) {
+  expectSlabUnscatteredClosedForm(makeMedium({0.0, 0.0, 0.0}, {0.2, 0.7, 2.0}, 1.5), false);
+}
+
+TEST(LightTracer, UnscatteredOnlyMatchesTheClosedFormInAScatteringSlab) {
+  expectSlabUnscatteredClosedForm(makeMedium({0.5, 1.0, 2.0}, {0.1, 0.2, 0.4}, 1.4), true);
+}
+
+// All the light = the unscattered part (traced alone) + the light scattered at least once, per
+// vertex within the standard errors, exitance and radiance along the normal, on a sphere under a
+// small sun where the unscattered light is a large, focused share of the far side.
+TEST(LightTracer, UnscatteredAndScatteredLightAddUpToAllOfIt) {
+  const TriangleMesh sphere = makeIcosphere(2, 2.0f);
+  const HomogeneousMedium medium = makeMedium({0.2, 0.5, 1.0}, {0.05, 0.2, 0.3}, 1.3);
+  const DistantLight sun =
+      DistantLight::disc(glm::vec3(0.3f, 0.4f, 0.866f), 2.0 * M_PI / 180.0, glm::vec3(1.0f));
+  LightTraceOptions lo;
+  lo.paths = 400000;
+  const LightTraceResult all = lightTrace(sphere, sun, medium, lo);
+  lo.minScatteringOrder = 1;
+  lo.seed = 2;
+  const LightTraceResult scattered = lightTrace(sphere, sun, medium, lo);
+  lo.minScatteringOrder = 0;
+  lo.unscatteredOnly = true;
+  lo.seed = 3;
+  const LightTraceResult unscattered = lightTrace(sphere, sun, medium, lo);
+  double chiB = 0.0, chiL = 0.0, unscatteredL = 0.0, totalL = 0.0;
+  int dof = 0;
+  for (std::size_t v = 0; v < sphere.positions.size(); ++v)
+    for (int c = 0; c < 3; ++c) {
+      auto z2 = [&](const std::vector<glm::vec3>& a, const std::vector<glm::vec3>& ae,
+                    const std::vector<glm::vec3>& b, const std::vector<glm::vec3>& be,
+                    const std::vector<glm::vec3>& u, const std::vector<glm::vec3>& ue) {
+        const double var = ae[v][c] * ae[v][c] + be[v][c] * be[v][c] + ue[v][c] * ue[v][c];
+        const double diff = a[v][c] - b[v][c] - u[v][c];
+        return var > 0.0 ? diff * diff / var : 0.0;
+      };
+      chiB += z2(all.exitance, all.exitanceStdErr, scattered.exitance, scattered.exitanceStdErr,
+                 unscattered.exitance, unscattered.exitanceStdErr);
+      chiL += z2(all.radiance, all.radianceStdErr, scattered.radiance, scattered.radianceStdErr,
+                 unscattered.radiance, unscattered.radianceStdErr);
+      unscatteredL += unscattered.radiance[v][c];
+      totalL += all.radiance[v][c];
+      ++dof;
+    }
+  EXPECT_LT(chiB / dof, 1.5);
+  EXPECT_LT(chiL / dof, 1.5);
+  EXPECT_GT(chiB / dof, 0.5);             // the standard errors are not inflated either
+  EXPECT_GT(unscatteredL / totalL, 0.1);  // the part tested is not negligible
 }
 
 // A scattering slab under a collimated beam: the central part of a wide 3D slab against the

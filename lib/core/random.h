@@ -8,10 +8,15 @@ namespace sss {
 
 class Pcg32 {
  public:
-  // stream selects an independent sequence: use the item index.
+  // stream selects an independent sequence: use the item index. The start state is a hash of
+  // both: PCG's streams are one LCG under affine maps of its state, so with the seed merely added
+  // (O'Neill's pcg32_srandom) the draws of consecutive streams are affine in the stream index, a
+  // lattice rather than independent sequences. Batches of consecutive paths then looked less
+  // noisy than they were: the light tracer's standard errors of unscattered light came out 1.36x
+  // low against the spread over seeds, 1.0x with the hash (tests/bake/unscattered_light_test.cpp).
   Pcg32(uint64_t seed, uint64_t stream) : inc_((stream << 1u) | 1u) {
     next();
-    state_ += seed;
+    state_ += splitMix64(seed ^ splitMix64(stream));
     next();
   }
   uint32_t next() {
@@ -29,6 +34,14 @@ class Pcg32 {
   }
 
  private:
+  // Steele, Lea & Flood 2014 (SplitMix64's finalizer): a bijective 64-bit mix.
+  static uint64_t splitMix64(uint64_t x) {
+    x += 0x9e3779b97f4a7c15ULL;
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+    return x ^ (x >> 31);
+  }
+
   uint64_t state_ = 0;
   uint64_t inc_;
 };

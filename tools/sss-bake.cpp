@@ -153,6 +153,9 @@ void addBakeOptions(CLI::App& app, sss::BakeSettings& s) {
                      "Trace the light that leaves far from where it entered (through a small or "
                      "thin object from a sun) from the environment; auto: escape energy and "
                      "uneven light");
+  cli::addEnumOption(app, "--unscattered", s.unscattered, sss::kUnscatteredModeNames,
+                     "Trace the light that crosses thin or low-density parts without scattering "
+                     "into the radiance along the normal; auto: where a pilot finds it");
   app.add_option("--tolerance", s.tolerance, "Target relative RMS error of the exitance")
       ->check(cli::checkedBy<double>(sss::checkTolerance))
       ->capture_default_str();

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <optional>
+#include <span>
 #include <utility>
 
 #include "bake/error_budget.h"
@@ -66,20 +67,24 @@ double diffusionTolerance(const BakeSettings& s, const ErrorBudget& budget,
       budgetedRays ? std::optional<double>(lighting.estimatedError) : std::nullopt);
 }
 
-// The path tracer's walks do not use E, so only their own error counts.
+// The path tracer's walks do not use E, so only their own error counts (and the unscattered
+// light's, which is added to both).
 BakeErrorReport errorReport(const BakeReport& r, double tolerance) {
   BakeErrorReport e;
   e.exitance = r.transport.estimatedError;
   e.tolerance = tolerance;
+  const UnscatteredLightReport& u = r.unscattered;
+  e.unscattered = u.traced ? u.relativeStdError : u.share;
   if (r.transport.pathTrace) {
-    e.total = e.exitance;
+    e.total = std::hypot(e.exitance, e.unscattered);
     return e;
   }
   e.visibility = r.lighting.estimatedError;
   e.energy = r.energy.walkError();
   const InterreflectionReport& ir = r.interreflection;
   e.interreflection = ir.enabled ? std::hypot(ir.gatherNoise, ir.remaining) : ir.estimatedMissing;
-  e.total = std::hypot(ErrorBudget::total(e.visibility, e.exitance, e.energy), e.interreflection);
+  e.total = std::hypot(ErrorBudget::total(e.visibility, e.exitance, e.energy), e.interreflection,
+                       e.unscattered);
   return e;
 }
 
@@ -191,20 +196,47 @@ void estimateInterreflection(const BakeSettings& s, const PreparedMesh& mesh,
   }
 }
 
+// The radiance leaving along the normal under the exit model sss-render uses by default (the
+// normalized one, optics/fresnel.h): L = B F_t(1, eta) / (pi (1 - 2 C_1(eta))); for the path
+// tracer too, whose B it converts. (The calibrated model is closer on a half-space under even
+// light, further on the study's objects: README, "Under a sun".)
+std::vector<glm::vec3> radianceAlongNormal(std::span<const glm::vec3> exitance, double eta) {
+  const float exitScale =
+      float(fresnelTransmittance(1.0f, float(eta)) * exitRadianceScale(float(eta)));
+  std::vector<glm::vec3> radiance;
+  radiance.reserve(exitance.size());
+  for (const glm::vec3& b : exitance) radiance.push_back(b * exitScale);
+  return radiance;
+}
+
+// Stage 4c: the light that crosses the object unscattered (unscattered_light.h), beside the
+// radiance along the normal that B gives.
+UnscatteredLight unscatteredStage(const BakeSettings& s, const PreparedMesh& mesh,
+                                  const Cubemap& radiance, std::span<const glm::vec3> scattered,
+                                  const ErrorBudget& budget) {
+  UnscatteredLightOptions options;
+  options.mode = s.unscattered;
+  options.noiseBudget = budget.unscatteredBudget();
+  options.seed = s.seed;
+  options.threads = s.threads;
+  options.quiet = s.quiet;
+  UnscatteredLight light =
+      traceUnscatteredLight({mesh.meshMm, mesh.areasMm2, radiance, s.material, scattered, options});
+  info("unscattered light: " + std::string(light.traced() ? "traced" : "not traced") + " (" +
+           light.report.reason + ")",
+       s.quiet);
+  return light;
+}
+
 // Stage 5: the baked mesh in the file's units, with what made it in a comment.
 BakedMesh assembleBakedMesh(TriangleMesh mesh, VertexLighting& lighting, VertexExitance& exitance,
-                            const BakeSettings& s, const BakeReport& r) {
+                            std::vector<glm::vec3> radianceNormal, const BakeSettings& s,
+                            const BakeReport& r) {
   BakedMesh baked;
   baked.mesh = std::move(mesh);
   baked.irradiance = std::move(lighting.irradiance);
   baked.exitance = std::move(exitance.exitance);
-  // The radiance leaving along the normal under the exit model sss-render uses by default (the
-  // normalized one, optics/fresnel.h): L = B F_t(1, eta) / (pi (1 - 2 C_1(eta))); for the path
-  // tracer too, whose B it converts. (The calibrated model is closer on a half-space under even
-  // light, further on the study's objects: README, "Under a sun".)
-  const float eta = float(s.material.eta);
-  const float exitScale = float(fresnelTransmittance(1.0f, eta) * exitRadianceScale(eta));
-  for (const glm::vec3& b : baked.exitance) baked.radianceNormal.push_back(b * exitScale);
+  baked.radianceNormal = std::move(radianceNormal);
   baked.materialName = s.material.name;
   baked.sigmaA = s.material.sigmaA;
   baked.sigmaSPrime = s.material.sigmaSPrime;
@@ -219,6 +251,7 @@ BakedMesh assembleBakedMesh(TriangleMesh mesh, VertexLighting& lighting, VertexE
                                    " energy=" + kEnergyModelNames.name(r.energy.plan.model) +
                                    " far_field=" + (r.farField.traced ? "traced" : "off") +
                                    " entry=" + kEntryModelNames.name(r.lighting.entry)) +
+      " unscattered=" + (r.unscattered.traced ? "traced" : "off") +
       " visibility=" + kVisibilityModeNames.name(s.visibility) + " samples=" +
       std::to_string(rays ? r.lighting.rays.samples : 0) + " seed=" + std::to_string(s.seed));
   return baked;
@@ -277,11 +310,19 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
     }
   }
 
+  // The radiance along the normal: B's through the exit model, and the unscattered light's.
+  std::vector<glm::vec3> radianceNormal = radianceAlongNormal(exitance.exitance, s.material.eta);
+  const UnscatteredLight unscattered = unscatteredStage(s, mesh, radiance, radianceNormal, budget);
+  for (std::size_t i = 0; i < unscattered.radiance.size(); ++i)
+    radianceNormal[i] += unscattered.radiance[i];
+  report.unscattered = unscattered.report;
+
   report.energy = std::move(energy.report);
   report.lighting = std::move(lighting.report);
   report.transport = std::move(exitance.report);
   report.errors = errorReport(report, s.tolerance);
-  out.baked = assembleBakedMesh(std::move(mesh.mesh), lighting, exitance, s, report);
+  out.baked = assembleBakedMesh(std::move(mesh.mesh), lighting, exitance, std::move(radianceNormal),
+                                s, report);
   report.totalSeconds = clock.seconds();
   return out;
 }

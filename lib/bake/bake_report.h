@@ -9,6 +9,7 @@
 #include "bake/plan_energy.h"
 #include "bake/prepare_mesh.h"
 #include "bake/transport.h"
+#include "bake/unscattered_light.h"
 #include "material/material.h"
 
 namespace sss {
@@ -30,6 +31,9 @@ struct BakeErrorReport {
   // (estimateMissingInterreflection); with them, the noise of the gather's rays
   // (predictGatherNoise) and what the bounces not done would add, in quadrature.
   double interreflection = 0.0;
+  // Of the radiance along the normal: the traced unscattered light's noise, or the share of it
+  // that auto found negligible and left out.
+  double unscattered = 0.0;
   double total = 0.0;
   double tolerance = 0.0;
 };
@@ -59,6 +63,7 @@ struct BakeReport {
   FarFieldReport farField;
   TransportReport transport;
   InterreflectionReport interreflection;
+  UnscatteredLightReport unscattered;
   BakeErrorReport errors;
   int threads = 0;
   double totalSeconds = 0.0;

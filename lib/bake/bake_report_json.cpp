@@ -152,10 +152,24 @@ Json toJson(const FarFieldReport& r) {
   return j;
 }
 
+Json toJson(const UnscatteredLightReport& r) {
+  Json j = {{"requested", kUnscatteredModeNames.name(r.requested)},
+            {"traced", r.traced},
+            {"reason", r.reason},
+            {"seconds", r.seconds}};
+  if (r.requested == UnscatteredMode::Off) return j;
+  j["share"] = r.share;
+  if (!r.traced) return j;
+  j["paths"] = r.paths;
+  j["estimated_error"] = r.relativeStdError;
+  return j;
+}
+
 Json toJson(const BakeErrorReport& r) {
-  return {{"visibility", r.visibility}, {"exitance", r.exitance},
-          {"energy", r.energy},         {"interreflection", r.interreflection},
-          {"total", r.total},           {"tolerance", r.tolerance}};
+  return {{"visibility", r.visibility},   {"exitance", r.exitance},
+          {"energy", r.energy},           {"interreflection", r.interreflection},
+          {"unscattered", r.unscattered}, {"total", r.total},
+          {"tolerance", r.tolerance}};
 }
 
 Json toJson(const BakeReport& r) {
@@ -186,12 +200,14 @@ Json toJson(const BakeReport& r) {
     j["interreflection"]["estimated_missing"] = r.interreflection.estimatedMissing;
     j["interreflection"]["pilot_vertices"] = r.interreflection.pilotVertices;
   }
+  j["unscattered"] = toJson(r.unscattered);
   j["estimated_error"] = toJson(r.errors);
   j["threads"] = r.threads;
-  j["stages"] = {{"load_mesh_s", r.mesh.seconds},     {"load_environment_s", r.environment.seconds},
-                 {"energy_s", r.energy.seconds},      {"irradiance_s", r.lighting.seconds},
-                 {"far_field_s", r.farField.seconds}, {"exitance_s", r.transport.seconds},
-                 {"total_s", r.totalSeconds}};
+  j["stages"] = {
+      {"load_mesh_s", r.mesh.seconds},          {"load_environment_s", r.environment.seconds},
+      {"energy_s", r.energy.seconds},           {"irradiance_s", r.lighting.seconds},
+      {"far_field_s", r.farField.seconds},      {"exitance_s", r.transport.seconds},
+      {"unscattered_s", r.unscattered.seconds}, {"total_s", r.totalSeconds}};
   return j;
 }
 

@@ -8,6 +8,7 @@
 
 #include "bake/far_field.h"
 #include "bake/finite_object_energy.h"
+#include "bake/unscattered_light.h"
 #include "core/enum_names.h"
 #include "envmap/orientation.h"
 #include "material/material.h"
@@ -65,10 +66,11 @@ struct BakeSettings {
   int samples = 0;    // visibility rays per vertex (>= 2); 0: auto (chooseVisibilitySamples)
   uint64_t seed = 1;  // visibility rays and Monte Carlo walks
   BakeMethod method = BakeMethod::Auto;
-  ProfileChoice profile = ProfileChoice::Auto;  // unused by PathTrace
-  EnergyModel energy = EnergyModel::Auto;       // unused by PathTrace
-  EntryModel entry = EntryModel::Directional;   // unused by PathTrace
-  FarFieldMode farField = FarFieldMode::Auto;   // far_field.h; unused by PathTrace
+  ProfileChoice profile = ProfileChoice::Auto;          // unused by PathTrace
+  EnergyModel energy = EnergyModel::Auto;               // unused by PathTrace
+  EntryModel entry = EntryModel::Directional;           // unused by PathTrace
+  FarFieldMode farField = FarFieldMode::Auto;           // far_field.h; unused by PathTrace
+  UnscatteredMode unscattered = UnscatteredMode::Auto;  // unscattered_light.h
   // Relative RMS of B; ErrorBudget (error_budget.h) splits it between the estimates.
   double tolerance = 0.01;
   int walks = 256;  // PathTrace: random walks per vertex (>= 1)

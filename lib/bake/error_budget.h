@@ -35,6 +35,11 @@ class ErrorBudget {
   double visibilityShare(bool escapeWalks) const {
     return escapeWalks ? kVisibilityShareWithWalks : kVisibilityShare;
   }
+  // The unscattered light's noise budget (unscattered_light.h), outside the split: it is light the
+  // other estimates leave out, added to the radiance along the normal, not an error of B.
+  static constexpr double kUnscatteredShare = 0.3;
+  double unscatteredBudget() const { return kUnscatteredShare * tolerance_; }
+
   double visibilityBudget(bool escapeWalks) const {
     return visibilityShare(escapeWalks) * tolerance_;
   }

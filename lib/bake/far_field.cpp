@@ -9,6 +9,7 @@
 
 #include "bake/diffusion.h"
 #include "bake/finite_object_energy.h"
+#include "bake/traced_round.h"
 #include "core/error.h"
 #include "core/format.h"
 #include "core/parallel.h"
@@ -65,12 +66,7 @@ std::vector<glm::vec3> surfaceAverage(const FarFieldInput& in, std::span<const g
 // A round of traced paths, averaged over the surface: the mean of its batches' averages and that
 // mean's variance from their spread (which counts what neighbouring vertices share: an exit is
 // split between a triangle's vertices, and the averaging sums neighbours).
-struct Round {
-  std::vector<glm::dvec3> mean, variance;
-  uint64_t paths = 0;
-};
-
-Round traceRound(const FarFieldInput& in, uint64_t firstPath, uint64_t paths, double sigma) {
+TracedRound traceRound(const FarFieldInput& in, uint64_t firstPath, uint64_t paths, double sigma) {
   LightTraceOptions o;
   o.paths = paths;
   o.firstPath = firstPath;
@@ -90,8 +86,8 @@ Round traceRound(const FarFieldInput& in, uint64_t firstPath, uint64_t paths, do
                                                   homogeneousMediumOf(in.material), o);
   const std::size_t n = mesh.positions.size();
   const double k = double(r.batchExitance.size());
-  Round round{std::vector<glm::dvec3>(n, glm::dvec3(0.0)),
-              std::vector<glm::dvec3>(n, glm::dvec3(0.0)), paths};
+  TracedRound round{std::vector<glm::dvec3>(n, glm::dvec3(0.0)),
+                    std::vector<glm::dvec3>(n, glm::dvec3(0.0)), paths};
   std::vector<glm::dvec3> sumSq(n, glm::dvec3(0.0));
   for (const std::vector<glm::vec3>& batch : r.batchExitance) {
     const std::vector<glm::vec3> averaged = surfaceAverage(in, batch, sigma);
@@ -107,21 +103,9 @@ Round traceRound(const FarFieldInput& in, uint64_t firstPath, uint64_t paths, do
   return round;
 }
 
-// Two independent rounds as one: means weighted by their paths, variances accordingly.
-Round combine(const Round& a, const Round& b) {
-  Round out;
-  out.paths = a.paths + b.paths;
-  const double wa = double(a.paths) / double(out.paths), wb = 1.0 - wa;
-  for (std::size_t i = 0; i < a.mean.size(); ++i) {
-    out.mean.push_back(wa * a.mean[i] + wb * b.mean[i]);
-    out.variance.push_back(wa * wa * a.variance[i] + wb * wb * b.variance[i]);
-  }
-  return out;
-}
-
 // The relative noise a round leaves in B ~ P E + B_far, over vertices and channels,
 // area-weighted.
-double relativeNoise(const FarFieldInput& in, const Round& round) {
+double relativeNoise(const FarFieldInput& in, const TracedRound& round) {
   const std::vector<glm::vec3>& p = in.energy.escape.probability;
   double noise = 0.0, signal = 0.0;
   for (std::size_t i = 0; i < round.mean.size(); ++i)
@@ -227,7 +211,7 @@ FarField traceFarField(const FarFieldInput& in) {
                 "irradiance even on the diffusion length's scale (far field moves " +
                     format("%.2g%%", 100.0 * r.sensitivity) + " of B)",
                 clock);
-  Round round = traceRound(in, 0, o.pilotPaths, r.smoothingMm);
+  TracedRound round = traceRound(in, 0, o.pilotPaths, r.smoothingMm);
   double noise = relativeNoise(in, round);
   const double ratio = noise / o.noiseBudget;
   const double needed = std::ceil(1.1 * double(o.pilotPaths) * ratio * ratio);
@@ -238,7 +222,7 @@ FarField traceFarField(const FarFieldInput& in) {
                 clock);
   const uint64_t total = static_cast<uint64_t>(std::min(needed, pathCap));
   if (total > round.paths) {
-    round = combine(round, traceRound(in, round.paths, total - round.paths, r.smoothingMm));
+    round = combineRounds(round, traceRound(in, round.paths, total - round.paths, r.smoothingMm));
     noise = relativeNoise(in, round);
   }
   out.exitance.assign(round.mean.size(), glm::vec3(0.0f));

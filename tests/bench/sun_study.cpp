@@ -5,7 +5,7 @@
 // tests/bench/accuracy_study.cpp does (visibility rays, the energy plan, the auto profile and
 // diffusion method at 1 %) in four configurations (the `energy` column: energy/entry/exit):
 // today's defaults (the escape energy model that `auto` picks, the directional entry, the
-// normalized exit model), the same with the calibrated exit model (sss-render --exit-model
+// normalized exit model, the far field and the unscattered light, both auto), the same with the calibrated exit model (sss-render --exit-model
 // calibrated; material/directional_albedo_weight.h), the defaults before issue 11's part 2
 // (diffuse entry), and the half-space energy with the diffuse entry.
 //
@@ -50,6 +50,7 @@
 #include "bake/error_budget.h"
 #include "bake/far_field.h"
 #include "bake/finite_object_energy.h"
+#include "bake/unscattered_light.h"
 #include "bake/visibility.h"
 #include "core/error.h"
 #include "core/timer.h"
@@ -201,6 +202,18 @@ DiffusionResult bakeExitance(const Scene& s, const Cubemap& env, const std::vect
   return r;
 }
 
+// The unscattered light as sss-bake adds it to the radiance along the normal (unscattered_light.h,
+// auto, the budget of a 1 % bake).
+void addUnscatteredLight(const Scene& s, const Cubemap& env, const std::vector<float>& areas,
+                         std::vector<glm::vec3>& radiance, std::string& chosen, double& seconds) {
+  UnscatteredLightOptions o;
+  o.noiseBudget = ErrorBudget(kTolerance).unscatteredBudget();
+  const UnscatteredLight u = traceUnscatteredLight({s.mesh, areas, env, s.material, radiance, o});
+  for (std::size_t v = 0; v < u.radiance.size(); ++v) radiance[v] += u.radiance[v];
+  if (u.traced()) chosen += "/unscattered-" + std::to_string(u.report.paths);
+  seconds += u.report.seconds;
+}
+
 // sss-bake's pipeline on the scene: its predicted error against the measured one, per vertex.
 void predictedAgainstMeasured(const Scene& s, const Cubemap& env, const LightTraceResult& ref,
                               const std::string& outDir, std::ofstream& csv) {
@@ -235,6 +248,7 @@ void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstre
   const HomogeneousMedium medium = homogeneousMediumOf(s.material);
   LightTraceOptions lo;
   lo.paths = paths;
+  lo.seed = study::kReferenceSeed;
   const std::string key = s.name + "-" + std::to_string(paths);
   const LightTraceResult ref = cachedReference(cache, key, [&] {
     return lightTraceSubsurface(s.mesh.positions, s.mesh.normals, s.mesh.triangles,
@@ -300,6 +314,8 @@ void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstre
       l[v] = config.exit == Exit::Normalized ? b[v] * normalized
                                              : (b[v] - excess) * calibrated + excess * normalized;
     }
+    // Today's defaults also add the unscattered light (auto, as bake.cpp's unscatteredStage).
+    if (config.far == kAuto) addUnscatteredLight(s, env, areas, l, chosen, seconds);
     const Metrics mL = compare(l, ref.radiance, ref.radianceStdErr, areas, sel);
     const Metrics mB = compare(b, ref.exitance, ref.exitanceStdErr, areas, sel);
     const Metrics mS = compare(l, scattered.radiance, scattered.radianceStdErr, areas, sel);

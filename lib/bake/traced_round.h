@@ -1,0 +1,32 @@
+// A round of light-tracer paths as the bake's traced stages keep it (far_field.h,
+// unscattered_light.h): a per-vertex mean, its variance and the path count, so that a pilot round
+// and the round that completes it to the budget add up as one estimate.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+namespace sss {
+
+struct TracedRound {
+  std::vector<glm::dvec3> mean, variance;  // per vertex and channel
+  uint64_t paths = 0;
+};
+
+// Two independent rounds as one: means weighted by their paths, variances accordingly.
+inline TracedRound combineRounds(const TracedRound& a, const TracedRound& b) {
+  TracedRound out;
+  out.paths = a.paths + b.paths;
+  const double wa = double(a.paths) / double(out.paths), wb = 1.0 - wa;
+  out.mean.reserve(a.mean.size());
+  out.variance.reserve(a.mean.size());
+  for (std::size_t i = 0; i < a.mean.size(); ++i) {
+    out.mean.push_back(wa * a.mean[i] + wb * b.mean[i]);
+    out.variance.push_back(wa * wa * a.variance[i] + wb * wb * b.variance[i]);
+  }
+  return out;
+}
+
+}  // namespace sss

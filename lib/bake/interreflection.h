@@ -6,9 +6,10 @@
 // the radiance leaving the hit point towards the vertex: the exit model's radiance of the exitance
 // interpolated over the hit triangle's vertices, L = B F_t(mu_h, eta) / (pi (1 - 2 C_1(eta)))
 // (optics/fresnel.h), plus the Fresnel-reflected environment F_r(mu_h) L_env(r), r the mirror
-// direction at the hit (not traced again: one reflection). mu_h is the cosine at the hit between
-// the way back to the vertex and the hit's interpolated normal. The vertex's transmitted irradiance
-// gains
+// direction at the hit, L_env looked up in the environment box-filtered to texels of ~11 degrees
+// (a sun the mirror direction would find by chance, spread over a wider cone: interreflection.cpp).
+// mu_h is the cosine at the hit between the way back to the vertex and the hit's interpolated
+// normal. The vertex's transmitted irradiance gains
 //   E_ir = integral over blocked w of F_t(mu) L_hit(w) cos dw  ~  pi / N sum_k F_t(mu_k) L_hit,k
 // (N cosine-distributed rays; unblocked ones add nothing: the visibility stage has them). The hits
 // are traced once; each bounce is a gather over them, so B -> E_ir is linear and cheap, and the

@@ -21,7 +21,9 @@
 //                uniform light below 0.8 of a convex vertex's),
 //   ratio_concave  sum L / sum L_ref over the concave vertices,
 //   predicted    the bake's own predicted error (the JSON's estimated_error.total), and
-//   measured_over_predicted  rms_all / predicted: 1 when the bake's "1 %" holds.
+//   measured_over_predicted  rms_all / predicted: 1 when the bake's "1 %" holds;
+//   *_calibrated  the first three with the calibrated exit model for B's part (sss-render
+//                --exit-model calibrated).
 // Writes OUT_DIR/concavity.csv.
 #include <cmath>
 #include <cstdio>
@@ -38,6 +40,7 @@
 #include "bake/visibility.h"
 #include "core/error.h"
 #include "envmap/environment.h"
+#include "material/directional_albedo_weight.h"
 #include "material/material.h"
 #include "mesh/triangle_mesh.h"
 #include "optics/fresnel.h"
@@ -139,21 +142,35 @@ void study(const Scene& s, const Shape& shape, uint64_t paths, const std::string
     settings.quiet = true;
     const BakeOutput out = bake(settings, env);
     const Metrics m = compare(out.baked.radianceNormal, ref, shape.concave);
+    // The same with the calibrated exit model (sss-render --exit-model calibrated) for B's part.
+    const float eta = float(s.material.eta);
+    const glm::vec3 calibrated =
+        calibratedExitRadiance(DirectionalAlbedoWeight(s.material), 1.0f, eta);
+    const float normalized = float(fresnelTransmittance(1.0f, eta) * exitRadianceScale(eta));
+    std::vector<glm::vec3> l = out.baked.radianceNormal;
+    for (std::size_t v = 0; v < l.size(); ++v)
+      l[v] += out.baked.exitance[v] * (calibrated - glm::vec3(normalized));
+    const Metrics mc = compare(l, ref, shape.concave);
+    const UnscatteredLightReport& u = out.report.unscattered;
+    std::printf("  unscattered: %s (%s), share %.4f, paths %llu, noise %.4f, %.2f s\n",
+                u.traced ? "traced" : "not traced", u.reason.c_str(), u.share,
+                (unsigned long long)u.paths, u.relativeStdError, u.seconds);
     const InterreflectionReport& ir = out.report.interreflection;
     const double predicted = out.report.errors.total;
-    char line[320];
-    std::snprintf(line, sizeof line, "%s,%s,%s,%s,%d,%.5f,%.5f,%.4f,%.5f,%.2f,%.3f,%llu\n",
+    char line[384];
+    std::snprintf(line, sizeof line,
+                  "%s,%s,%s,%s,%d,%.5f,%.5f,%.4f,%.5f,%.2f,%.3f,%llu,%.5f,%.5f,%.4f\n",
                   s.name.c_str(), s.material.name.c_str(), lightName(s.light),
                   bounces == 0 ? "0" : "auto", ir.bounces, m.rmsAll, m.rmsConcave, m.ratioConcave,
                   predicted, predicted > 0 ? m.rmsAll / predicted : 0.0, out.report.totalSeconds,
-                  (unsigned long long)paths);
+                  (unsigned long long)paths, mc.rmsAll, mc.rmsConcave, mc.ratioConcave);
     csv << line;
     csv.flush();
     std::printf(
         "  bounces %-4s (%d done): rms all %.4f, concave %.4f, concave ratio %.3f, predicted "
-        "%.4f, %.2f s\n",
+        "%.4f, %.2f s; calibrated exit: rms all %.4f, concave %.4f\n",
         bounces == 0 ? "0" : "auto", ir.bounces, m.rmsAll, m.rmsConcave, m.ratioConcave, predicted,
-        out.report.totalSeconds);
+        out.report.totalSeconds, mc.rmsAll, mc.rmsConcave);
     std::fflush(stdout);
   }
 }
@@ -185,7 +202,8 @@ int run(int argc, char** argv) {
   }
   std::ofstream csv(outDir + "/concavity.csv");
   csv << "scene,material,light,bounces_asked,bounces_done,rms_all,rms_concave,ratio_concave,"
-         "predicted,measured_over_predicted,bake_s,ref_paths\n";
+         "predicted,measured_over_predicted,bake_s,ref_paths,rms_all_calibrated,"
+         "rms_concave_calibrated,ratio_concave_calibrated\n";
   for (const Shape& shape : shapes)
     for (const char* m : {"marble", "skimmilk"})
       for (Light light : {Light::Uniform, shape.name == "pit" ? Light::Sun : Light::Forest}) {

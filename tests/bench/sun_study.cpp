@@ -278,7 +278,8 @@ void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstre
   predictedAgainstMeasured(s, env, ref, outDir, predictedCsv);
   // Radiance along the normal per unit B: the normalized exit model (today's default), the
   // calibrated one, or "hybrid": calibrated for the profile's part of B, normalized for the escape
-  // model's excess (light that diffused deep; a candidate, not in the tools).
+  // model's excess or, with the far field, for B_far (light that diffused deep; a candidate, not in
+  // the tools).
   const float eta = float(s.material.eta);
   const glm::vec3 calibrated =
       calibratedExitRadiance(DirectionalAlbedoWeight(s.material), 1.0f, eta);
@@ -297,6 +298,7 @@ void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstre
                             {EnergyModel::Auto, EntryModel::Directional, Exit::Normalized, kOff},
                             {EnergyModel::Auto, EntryModel::Directional, Exit::Calibrated, kAuto},
                             {EnergyModel::Auto, EntryModel::Directional, Exit::Calibrated, kOff},
+                            {EnergyModel::Auto, EntryModel::Directional, Exit::Hybrid, kAuto},
                             {EnergyModel::Auto, EntryModel::Directional, Exit::Hybrid, kOff},
                             {EnergyModel::Auto, EntryModel::Diffuse, Exit::Normalized, kOff},
                             {EnergyModel::HalfSpace, EntryModel::Diffuse, Exit::Normalized, kOff}};

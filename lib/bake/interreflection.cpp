@@ -20,13 +20,10 @@ namespace sss {
 namespace {
 
 // The sky the gather's hits mirror is looked up at this face size (texels of ~11 degrees, the
-// flux of each kept: Cubemap::resized). A mirror direction finds a small sun only by chance: one
-// ray in ~1,000 under a 1-degree sun, bringing ~1,000x the sky when it does, so the bounces
-// spread a few bright vertices' fireflies. On the concavity study's pit box under a sun
-// (README, "Interreflection"), the bounces' relative RMS against the light tracer with the sky
-// at full resolution / at faces of 32, 16, 8, 4 texels: marble 0.35 / 0.10 / 0.095 / 0.093 /
-// 0.092, skim milk 0.26 / 0.12 / 0.118 / 0.119 / 0.119. The bias is a reflected sun's patch
-// blurred by the texels' width.
+// flux of each kept: Cubemap::resized). A mirror direction finds a small sun only by chance, and
+// brings far more than the sky when it does, so at full resolution the bounces spread a few
+// vertices' fireflies (the pit box under a sun: README, "Interreflection", where the face sizes
+// tried are measured). The bias is a reflected sun's patch blurred by the texels' width.
 constexpr int kMirrorSkyFaceSize = 8;
 
 // Where a ray meets the mesh, as the gather needs it: the hit triangle's vertices and barycentric

@@ -4,8 +4,8 @@
 // Why: a thin or small part of a low-density material (ketchup's red, sigma_t 0.24 /mm; skim milk)
 // lets part of the light through in straight lines: refracted in, attenuated by e^(-sigma_t d),
 // refracted out. No diffusion profile or exit model of B produces it, and it leaves collimated, so
-// it is not a diffuse exitance: against the forward light tracer it is 15 % of a 10 mm ketchup
-// sphere's exitance on its unlit half under a sun and 41 % at 5 mm (README, "Under a sun").
+// it is not a diffuse exitance. On small ketchup spheres under a sun it is a large share of the
+// unlit half's light (README, "Under a sun", has it measured).
 //
 // Model: geometric optics, traced from the environment (pathtrace/light_tracer.h with
 // unscatteredOnly: directions from the environment's importance distribution, so a sun is found

@@ -5,9 +5,10 @@
 // tests/bench/accuracy_study.cpp does (visibility rays, the energy plan, the auto profile and
 // diffusion method at 1 %) in four configurations (the `energy` column: energy/entry/exit):
 // today's defaults (the escape energy model that `auto` picks, the directional entry, the
-// normalized exit model, the far field and the unscattered light, both auto), the same with the calibrated exit model (sss-render --exit-model
-// calibrated; material/directional_albedo_weight.h), the defaults before issue 11's part 2
-// (diffuse entry), and the half-space energy with the diffuse entry.
+// normalized exit model, the far field and the unscattered light, both auto), the same with the
+// calibrated exit model (sss-render --exit-model calibrated; material/directional_albedo_weight.h),
+// the defaults before issue 11's part 2 (diffuse entry), and the half-space energy with the diffuse
+// entry.
 //
 //   sun_study OUT_DIR [--paths N] [--only NAME] [--cache DIR]
 //

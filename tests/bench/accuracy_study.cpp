@@ -225,6 +225,7 @@ void sceneStudy(const Scene& scene, int walks, int visibilitySamples, WalkEntry 
   options.vertices = ref.vertices;
   options.quiet = true;
   options.entry = entry;
+  options.seed = study::kReferenceSeed;  // apart from the bake's visibility rays (seed 1, per vertex)
   const PathTraceResult pt = pathTraceSubsurface(mesh, *scene.env, scene.material, options);
   ref.radiance = pt.radiance;
   ref.radianceSe = pt.radianceStdErr;

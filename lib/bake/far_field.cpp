@@ -9,6 +9,7 @@
 
 #include "bake/diffusion.h"
 #include "bake/finite_object_energy.h"
+#include "bake/surface_average.h"
 #include "bake/traced_round.h"
 #include "core/error.h"
 #include "core/format.h"
@@ -17,7 +18,6 @@
 #include "envmap/cubemap.h"
 #include "material/material.h"
 #include "mesh/triangle_mesh.h"
-#include "mesh/vertex_grid.h"
 #include "pathtrace/light_tracer.h"
 
 namespace sss {
@@ -35,38 +35,11 @@ constexpr double kRaysPerPath = 4.0;  // a path's work beside its scattering eve
 // vertex (~600 bytes a vertex), which the bake's memory estimate does not count.
 constexpr std::size_t kMaxVertices = 250000;
 
-// Per-vertex values averaged over the surface around each vertex i, sum_j w_ij v_j / sum_j w_ij
-// with w_ij = G(r_ij) A_j max(0, n_i . n_j): a Gaussian of sigma cut at 3 sigma, the normals
-// keeping the two faces of a thin part apart (light that crosses it is the tracer's to carry, not
-// the smoothing's).
-std::vector<glm::vec3> surfaceAverage(const FarFieldInput& in, std::span<const glm::vec3> values,
-                                      double sigma) {
-  const TriangleMesh& mesh = in.meshMm;
-  const double reach2 = 9.0 * sigma * sigma;
-  const VertexGrid grid(mesh.positions, 3.0 * sigma);
-  std::vector<glm::vec3> mean(values.begin(), values.end());
-  parallelFor(values.size(), in.options.threads, 64, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i) {
-      glm::dvec3 sum(0.0);
-      double weights = 0.0;
-      grid.forEachNear(mesh.positions[i], [&](uint32_t j) {
-        const glm::vec3 d = mesh.positions[j] - mesh.positions[i];
-        const double d2 = glm::dot(d, d), facing = glm::dot(mesh.normals[i], mesh.normals[j]);
-        if (d2 > reach2 || !(facing > 0.0)) return;
-        const double w = std::exp(-0.5 * d2 / (sigma * sigma)) * in.areasMm2[j] * facing;
-        sum += w * glm::dvec3(values[j]);
-        weights += w;
-      });
-      if (weights > 0.0) mean[i] = glm::vec3(sum / weights);
-    }
-  });
-  return mean;
-}
-
 // A round of traced paths, averaged over the surface: the mean of its batches' averages and that
 // mean's variance from their spread (which counts what neighbouring vertices share: an exit is
 // split between a triangle's vertices, and the averaging sums neighbours).
-TracedRound traceRound(const FarFieldInput& in, uint64_t firstPath, uint64_t paths, double sigma) {
+TracedRound traceRound(const FarFieldInput& in, const SurfaceAverage& average, uint64_t firstPath,
+                       uint64_t paths) {
   LightTraceOptions o;
   o.paths = paths;
   o.firstPath = firstPath;
@@ -89,8 +62,7 @@ TracedRound traceRound(const FarFieldInput& in, uint64_t firstPath, uint64_t pat
   TracedRound round{std::vector<glm::dvec3>(n, glm::dvec3(0.0)),
                     std::vector<glm::dvec3>(n, glm::dvec3(0.0)), paths};
   std::vector<glm::dvec3> sumSq(n, glm::dvec3(0.0));
-  for (const std::vector<glm::vec3>& batch : r.batchExitance) {
-    const std::vector<glm::vec3> averaged = surfaceAverage(in, batch, sigma);
+  for (const std::vector<glm::vec3>& averaged : average(r.batchExitance)) {
     for (std::size_t i = 0; i < n; ++i) {
       const glm::dvec3 v(averaged[i]);
       round.mean[i] += v / k;
@@ -120,12 +92,12 @@ double relativeNoise(const FarFieldInput& in, const TracedRound& round) {
 // Auto's test: the share of B the far field can move (far_field.h), with E averaged over the far
 // field's own smoothing first, so that the visibility rays' noise in E does not count as
 // variation (under uniform light it would, by its 0.3 % per vertex).
-double farFieldSensitivity(const FarFieldInput& in, double smoothingMm) {
+double farFieldSensitivity(const FarFieldInput& in, const SurfaceAverage& average) {
   const std::vector<glm::vec3>& p = in.energy.escape.probability;
   const std::vector<glm::vec3>& near = in.energy.escape.nearProbability;
   const glm::dvec3 tr = in.material.sigmaTr();
   const double length = 1.0 / std::min({tr.x, tr.y, tr.z});
-  const std::vector<glm::vec3> local = surfaceAverage(in, in.irradiance, smoothingMm);
+  const std::vector<glm::vec3> local = average(in.irradiance);
   DiffusionOptions o;
   o.threads = in.options.threads;
   o.quiet = true;
@@ -205,13 +177,14 @@ FarField traceFarField(const FarFieldInput& in) {
                     " kernels: more than " + format("%.3g", kPathsPerKernel * kernels) +
                     " light paths, cap " + format("%.3g", pathCap) + ")",
                 clock);
-  r.sensitivity = farFieldSensitivity(in, r.smoothingMm);
+  const SurfaceAverage average(in.meshMm, in.areasMm2, r.smoothingMm, o.threads);
+  r.sensitivity = farFieldSensitivity(in, average);
   if (automatic && r.sensitivity <= o.noiseBudget)
     return skip(std::move(out),
                 "irradiance even on the diffusion length's scale (far field moves " +
                     format("%.2g%%", 100.0 * r.sensitivity) + " of B)",
                 clock);
-  TracedRound round = traceRound(in, 0, o.pilotPaths, r.smoothingMm);
+  TracedRound round = traceRound(in, average, 0, o.pilotPaths);
   double noise = relativeNoise(in, round);
   const double ratio = noise / o.noiseBudget;
   const double needed = std::ceil(1.1 * double(o.pilotPaths) * ratio * ratio);
@@ -222,7 +195,7 @@ FarField traceFarField(const FarFieldInput& in) {
                 clock);
   const uint64_t total = static_cast<uint64_t>(std::min(needed, pathCap));
   if (total > round.paths) {
-    round = combineRounds(round, traceRound(in, round.paths, total - round.paths, r.smoothingMm));
+    round = combineRounds(round, traceRound(in, average, round.paths, total - round.paths));
     noise = relativeNoise(in, round);
   }
   out.exitance.assign(round.mean.size(), glm::vec3(0.0f));

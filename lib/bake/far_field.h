@@ -19,7 +19,8 @@
 //  - B_far the light tracer's exits weighted by 1 - W(d) (pathtrace/light_tracer.h: paths from
 //    the environment's importance distribution, refracted in, random walks, stopped at their first
 //    exit, light scattered at least once), averaged over the surface by a Gaussian of sigma = the
-//    longest channel's window (at least one mean edge) among vertices that face the same way:
+//    longest channel's window (at least one mean edge) among vertices that face the same way
+//    (surface_average.h):
 //    what leaves far. Light that crosses unscattered leaves collimated, which no exit model of B
 //    describes; it stays out (issue 11, part 5).
 // Cost and noise: a pilot round of paths estimates the smoothed far field's relative noise

@@ -1,6 +1,6 @@
 // Vertices sorted by grid cell, for the neighbours of a point within a radius: the diffusion
 // noise model's pilot sums (bake/visibility_noise_model.cpp) and the far field's smoothing
-// (bake/far_field.cpp).
+// (bake/surface_average.cpp).
 #pragma once
 
 #include <algorithm>

@@ -293,16 +293,19 @@ void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstre
     EntryModel entry;
     Exit exit;
     FarFieldMode far;
+    bool unscattered = true;  // with the far field: the unscattered light too
   };
   constexpr FarFieldMode kAuto = FarFieldMode::Auto, kOff = FarFieldMode::Off;
-  const Config configs[] = {{EnergyModel::Auto, EntryModel::Directional, Exit::Normalized, kAuto},
-                            {EnergyModel::Auto, EntryModel::Directional, Exit::Normalized, kOff},
-                            {EnergyModel::Auto, EntryModel::Directional, Exit::Calibrated, kAuto},
-                            {EnergyModel::Auto, EntryModel::Directional, Exit::Calibrated, kOff},
-                            {EnergyModel::Auto, EntryModel::Directional, Exit::Hybrid, kAuto},
-                            {EnergyModel::Auto, EntryModel::Directional, Exit::Hybrid, kOff},
-                            {EnergyModel::Auto, EntryModel::Diffuse, Exit::Normalized, kOff},
-                            {EnergyModel::HalfSpace, EntryModel::Diffuse, Exit::Normalized, kOff}};
+  const Config configs[] = {
+      {EnergyModel::Auto, EntryModel::Directional, Exit::Normalized, kAuto},
+      {EnergyModel::Auto, EntryModel::Directional, Exit::Normalized, kAuto, false},
+      {EnergyModel::Auto, EntryModel::Directional, Exit::Normalized, kOff},
+      {EnergyModel::Auto, EntryModel::Directional, Exit::Calibrated, kAuto},
+      {EnergyModel::Auto, EntryModel::Directional, Exit::Calibrated, kOff},
+      {EnergyModel::Auto, EntryModel::Directional, Exit::Hybrid, kAuto},
+      {EnergyModel::Auto, EntryModel::Directional, Exit::Hybrid, kOff},
+      {EnergyModel::Auto, EntryModel::Diffuse, Exit::Normalized, kOff},
+      {EnergyModel::HalfSpace, EntryModel::Diffuse, Exit::Normalized, kOff}};
   for (const Config& config : configs) {
     const EnergyModel model = config.energy;
     std::string chosen;
@@ -318,17 +321,20 @@ void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstre
                                              : (b[v] - excess) * calibrated + excess * normalized;
     }
     // Today's defaults also add the unscattered light (auto, as bake.cpp's unscatteredStage).
-    if (config.far == kAuto) addUnscatteredLight(s, env, areas, l, chosen, seconds);
+    if (config.far == kAuto && config.unscattered)
+      addUnscatteredLight(s, env, areas, l, chosen, seconds);
     const Metrics mL = compare(l, ref.radiance, ref.radianceStdErr, areas, sel);
     const Metrics mB = compare(b, ref.exitance, ref.exitanceStdErr, areas, sel);
     const Metrics mS = compare(l, scattered.radiance, scattered.radianceStdErr, areas, sel);
     const Metrics mSB = compare(b, scattered.exitance, scattered.exitanceStdErr, areas, sel);
-    const std::string energy = std::string(model == EnergyModel::Auto ? "auto" : "halfspace") +
-                               "/" + kEntryModelNames.name(config.entry) + "/" +
-                               (config.exit == Exit::Normalized   ? "normalized"
-                                : config.exit == Exit::Calibrated ? "calibrated"
-                                                                  : "hybrid") +
-                               (config.far == kOff ? "/far-off" : "");
+    const std::string energy =
+        std::string(model == EnergyModel::Auto ? "auto" : "halfspace") + "/" +
+        kEntryModelNames.name(config.entry) + "/" +
+        (config.exit == Exit::Normalized   ? "normalized"
+         : config.exit == Exit::Calibrated ? "calibrated"
+                                           : "hybrid") +
+        (config.far == kOff ? "/far-off" : "") +
+        (config.far == kAuto && !config.unscattered ? "/no-unscattered" : "");
     char line[512];
     std::snprintf(line, sizeof line,
                   "%s,%s,%s,%s,%zu,%.5f,%.5f,%.4f,%.5f,%.4f,%.4f,%.5f,%.4f,%.4f,%.3f,%llu,%.1f\n",

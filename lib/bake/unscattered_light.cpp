@@ -121,6 +121,7 @@ UnscatteredLight traceUnscatteredLight(const UnscatteredLightInput& in) {
   if (total > round.paths) {
     round = combineRounds(round, traceRound(in, round.paths, total - round.paths));
     sums = sumsOf(in, round);
+    r.share = sums.share();  // from all the paths now
   }
   out.radiance.reserve(round.mean.size());
   for (const glm::dvec3& l : round.mean) out.radiance.push_back(glm::vec3(l));

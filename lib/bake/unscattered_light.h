@@ -63,7 +63,7 @@ struct UnscatteredLightReport {
   UnscatteredMode requested = UnscatteredMode::Auto;
   bool traced = false;
   std::string reason;
-  double share = 0.0;  // of the radiance along the normal (relative RMS), from the pilot
+  double share = 0.0;  // of the radiance along the normal (relative RMS), from all its paths
   uint64_t paths = 0;
   double relativeStdError = 0.0;  // of the radiance along the normal, from L_u's noise
   double seconds = 0.0;

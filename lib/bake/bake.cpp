@@ -201,8 +201,7 @@ void estimateInterreflection(const BakeSettings& s, const PreparedMesh& mesh,
 // tracer too, whose B it converts. (The calibrated model is closer on a half-space under even
 // light, further on the study's objects: README, "Under a sun".)
 std::vector<glm::vec3> radianceAlongNormal(std::span<const glm::vec3> exitance, double eta) {
-  const float exitScale =
-      float(fresnelTransmittance(1.0f, float(eta)) * exitRadianceScale(float(eta)));
+  const float exitScale = float(normalExitRadianceScale(float(eta)));
   std::vector<glm::vec3> radiance;
   radiance.reserve(exitance.size());
   for (const glm::vec3& b : exitance) radiance.push_back(b * exitScale);

@@ -265,20 +265,18 @@ BounceResult iterateInterreflection(const InterreflectionGather& gather,
   const int limit = maxBounces > 0 ? maxBounces : kAutoBounceLimit;
   for (int bounce = 0; bounce < limit; ++bounce) {
     const std::vector<glm::vec3> light = gather.gather(added, nullptr, bounce == 0);
-    const double share = std::sqrt(squaredNorm(light) / std::max(directSquares, 1e-300));
+    lastLight = squaredNorm(light);
+    const double share = std::sqrt(lastLight / std::max(directSquares, 1e-300));
     const double looseness = std::max(1.0, std::ldexp(1.0, -(bounce + 2)) / share);
     added = increment(light, looseness);
     if (added.size() != n) fail("", "interreflection: one exitance per vertex needed");
-    double changed = 0.0, before = 0.0;  // squared norms of dB_k and B_(k-1)
+    const double before = squaredNorm(r.exitance);  // |B_(k-1)|^2
     for (std::size_t v = 0; v < n; ++v) {
-      changed += glm::dot(glm::dvec3(added[v]), glm::dvec3(added[v]));
-      before += glm::dot(glm::dvec3(r.exitance[v]), glm::dvec3(r.exitance[v]));
       r.irradiance[v] += light[v];
       r.exitance[v] += added[v];
     }
-    r.change = before > 0.0 ? std::sqrt(changed / before) : 0.0;
+    r.change = before > 0.0 ? std::sqrt(squaredNorm(added) / before) : 0.0;
     r.bounces = bounce + 1;
-    lastLight = squaredNorm(light);
     if (maxBounces <= 0 && r.change < tolerance) break;
   }
   if (r.bounces > 0 && lastLight > 0.0) {

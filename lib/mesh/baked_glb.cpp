@@ -100,7 +100,7 @@ struct DisplayColors {
 // along the normal (shaders/surface.vert, normalized exit model) under the bake's exposure.
 DisplayColors displayColors(const std::string& path, const BakedMesh& baked) {
   const float eta = static_cast<float>(baked.eta);
-  const double radiancePerExitance = fresnelTransmittance(1.0f, eta) * exitRadianceScale(eta);
+  const double radiancePerExitance = normalExitRadianceScale(eta);
   const double exposure = previewScaleFor(baked);
   const double scale = exposure * radiancePerExitance;
   DisplayColors out;

@@ -67,4 +67,10 @@ inline double exitRadianceScale(float eta) {
   return 1.0 / (M_PI * (1.0 - diffuseFresnelReflectance(eta)));
 }
 
+// The same along the normal (mu_o = 1): the radiance along the normal per unit B,
+// F_t(1, eta) / (pi (1 - 2 C_1(eta))).
+inline double normalExitRadianceScale(float eta) {
+  return fresnelTransmittance(1.0f, eta) * exitRadianceScale(eta);
+}
+
 }  // namespace sss

@@ -43,7 +43,7 @@ TEST(Interreflection, WhiteFurnaceSendsRadianceOneFromEveryVertex) {
   EXPECT_GT(r.bounces, 2);
   EXPECT_LT(r.change, 1e-5);
   // Radiance along the normal: the exit model of B plus the reflected sky, F_r(1) * 1.
-  const double exitScale = fresnelTransmittance(1.0f, eta) * exitRadianceScale(eta);
+  const double exitScale = normalExitRadianceScale(eta);
   const double reflected = fresnelDielectric(1.0f, eta);
   double pitDirect = 0.0, pitAfter = 0.0;
   int pit = 0;

@@ -167,7 +167,7 @@ void halfSpaceStudy(const std::string& outDir, int walks) {
       // from the Monte Carlo B, divided into the Monte Carlo radiance: of the multiply scattered
       // light (exit_ratio_normal), and of all scattered light (what the bake's B holds) for the
       // normalized and the calibrated exit model.
-      const double normalized = fresnelTransmittance(1.0f, eta) * exitRadianceScale(eta);
+      const double normalized = normalExitRadianceScale(eta);
       const double model = ms.exitance[0][c] * normalized;
       char line[512];
       std::snprintf(
@@ -225,7 +225,8 @@ void sceneStudy(const Scene& scene, int walks, int visibilitySamples, WalkEntry 
   options.vertices = ref.vertices;
   options.quiet = true;
   options.entry = entry;
-  options.seed = study::kReferenceSeed;  // apart from the bake's visibility rays (seed 1, per vertex)
+  options.seed =
+      study::kReferenceSeed;  // apart from the bake's visibility rays (seed 1, per vertex)
   const PathTraceResult pt = pathTraceSubsurface(mesh, *scene.env, scene.material, options);
   ref.radiance = pt.radiance;
   ref.radianceSe = pt.radianceStdErr;
@@ -266,7 +267,7 @@ void sceneStudy(const Scene& scene, int walks, int visibilitySamples, WalkEntry 
   const double visSeconds = visClock.seconds();
   const std::vector<float> areas = vertexAreas(mesh);
   DiffusionInput input{mesh.positions, mesh.normals, areas, e};
-  const glm::vec3 normalizedExit(float(fresnelTransmittance(1.0f, eta) * exitRadianceScale(eta)));
+  const glm::vec3 normalizedExit(float(normalExitRadianceScale(eta)));
   const glm::vec3 calibratedExit = calibratedExitRadiance(weight, 1.0f, eta);
 
   auto record = [&](const std::string& profile, const std::string& method,

@@ -146,7 +146,7 @@ void study(const Scene& s, const Shape& shape, uint64_t paths, const std::string
     const float eta = float(s.material.eta);
     const glm::vec3 calibrated =
         calibratedExitRadiance(DirectionalAlbedoWeight(s.material), 1.0f, eta);
-    const float normalized = float(fresnelTransmittance(1.0f, eta) * exitRadianceScale(eta));
+    const float normalized = float(normalExitRadianceScale(eta));
     std::vector<glm::vec3> l = out.baked.radianceNormal;
     for (std::size_t v = 0; v < l.size(); ++v)
       l[v] += out.baked.exitance[v] * (calibrated - glm::vec3(normalized));

@@ -284,7 +284,7 @@ void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstre
   const float eta = float(s.material.eta);
   const glm::vec3 calibrated =
       calibratedExitRadiance(DirectionalAlbedoWeight(s.material), 1.0f, eta);
-  const glm::vec3 normalized(float(fresnelTransmittance(1.0f, eta) * exitRadianceScale(eta)));
+  const glm::vec3 normalized(float(normalExitRadianceScale(eta)));
   // Today's defaults; the calibrated exit instead; the defaults before issue 11's part 2 (diffuse
   // entry); the half-space energy with those.
   enum class Exit { Normalized, Calibrated, Hybrid };

@@ -674,6 +674,8 @@ TEST_F(BakeTool, BadChoicesAreErrors) {
   expectUsageError(run(args("sphere.ply", "-m marble --unit mm --energy lots")), "lots");
   expectUsageError(run(args("sphere.ply", "-m marble --unit mm --entry sideways")), "sideways");
   expectUsageError(run(args("sphere.ply", "-m marble --unit mm --far-field maybe")), "maybe");
+  expectUsageError(run(args("sphere.ply", "-m marble --unit mm --unscattered sometimes")),
+                   "sometimes");
   expectUsageError(run(args("sphere.ply", "-m marble --unit mm --profile gaussian")), "gaussian");
   expectUsageError(run(args("sphere.ply", "-m marble --unit mm", 1)), "--samples");
   expectUsageError(run(path("sphere.ply") + " -e " + path("white.exr") + " -o " + path("out.ply") +

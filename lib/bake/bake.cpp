@@ -68,24 +68,46 @@ double diffusionTolerance(const BakeSettings& s, const ErrorBudget& budget,
 }
 
 // The path tracer's walks do not use E, so only their own error counts (and the unscattered
-// light's, which is added to both).
-BakeErrorReport errorReport(const BakeReport& r, double tolerance) {
+// light's, which is added to both). The model's error adds to either.
+BakeErrorReport errorReport(const BakeReport& r, const ModelErrorReport& model, double tolerance) {
   BakeErrorReport e;
   e.exitance = r.transport.estimatedError;
   e.tolerance = tolerance;
+  e.model = model;
   const UnscatteredLightReport& u = r.unscattered;
   e.unscattered = u.traced ? u.relativeStdError : u.share;
   if (r.transport.pathTrace) {
-    e.total = std::hypot(e.exitance, e.unscattered);
-    return e;
+    e.numerical = std::hypot(e.exitance, e.unscattered);
+  } else {
+    e.visibility = r.lighting.estimatedError;
+    e.energy = r.energy.walkError();
+    const InterreflectionReport& ir = r.interreflection;
+    e.interreflection = ir.enabled ? std::hypot(ir.gatherNoise, ir.remaining) : ir.estimatedMissing;
+    e.numerical = std::hypot(ErrorBudget::total(e.visibility, e.exitance, e.energy),
+                             e.interreflection, e.unscattered);
   }
-  e.visibility = r.lighting.estimatedError;
-  e.energy = r.energy.walkError();
-  const InterreflectionReport& ir = r.interreflection;
-  e.interreflection = ir.enabled ? std::hypot(ir.gatherNoise, ir.remaining) : ir.estimatedMissing;
-  e.total = std::hypot(ErrorBudget::total(e.visibility, e.exitance, e.energy), e.interreflection,
-                       e.unscattered);
+  e.total = std::hypot(e.numerical, e.model.total);
   return e;
+}
+
+// Stage 4d: the model's own error (model_error.h), from the output's radiance and E; said when it
+// is above the tolerance, which then bounds only the numerical part.
+ModelErrorReport modelErrorStage(const BakeSettings& s, const TriangleMesh& meshMm,
+                                 std::span<const glm::vec3> radianceNormal,
+                                 std::span<const glm::vec3> irradiance) {
+  const ModelErrorReport model =
+      estimateModelError({meshMm, radianceNormal, irradiance, exitModelSpread(s.material)});
+  if (model.total > s.tolerance) {
+    char line[240];
+    std::snprintf(
+        line, sizeof line,
+        "model error: about %.1f%% of the radiance here (exit model %.1f%%, facets "
+        "%.1f%%, light varying across vertices %.1f%%), beyond what --tolerance %g bounds",
+        100.0 * model.total, 100.0 * model.exitModel, 100.0 * model.facets,
+        100.0 * model.lightVariation, s.tolerance);
+    info(line, s.quiet);
+  }
+  return model;
 }
 
 // The gather's options from the settings: the bounces and the pilot trace the same rays, weighted
@@ -319,7 +341,9 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
   report.energy = std::move(energy.report);
   report.lighting = std::move(lighting.report);
   report.transport = std::move(exitance.report);
-  report.errors = errorReport(report, s.tolerance);
+  const ModelErrorReport model =
+      modelErrorStage(s, mesh.meshMm, radianceNormal, lighting.irradiance);
+  report.errors = errorReport(report, model, s.tolerance);
   out.baked = assembleBakedMesh(std::move(mesh.mesh), lighting, exitance, std::move(radianceNormal),
                                 s, report);
   report.totalSeconds = clock.seconds();

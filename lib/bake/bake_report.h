@@ -6,6 +6,7 @@
 
 #include "bake/far_field.h"
 #include "bake/light_vertices.h"
+#include "bake/model_error.h"
 #include "bake/plan_energy.h"
 #include "bake/prepare_mesh.h"
 #include "bake/transport.h"
@@ -22,7 +23,8 @@ struct EnvironmentStageReport {
   double seconds = 0.0;
 };
 
-// Predicted relative RMS errors of B, independent, so they add in quadrature (error_budget.h).
+// Predicted relative RMS errors of B, independent, so they add in quadrature (error_budget.h):
+// the numerical ones, which the tolerance controls, and the model's own (model_error.h).
 struct BakeErrorReport {
   double visibility = 0.0;  // from E (visibility noise or the irradiance cubemap)
   double exitance = 0.0;    // the transport method's own
@@ -34,7 +36,9 @@ struct BakeErrorReport {
   // Of the radiance along the normal: the traced unscattered light's noise, or the share of it
   // that auto found negligible and left out.
   double unscattered = 0.0;
-  double total = 0.0;
+  double numerical = 0.0;  // the five above in quadrature: what the tolerance bounds
+  ModelErrorReport model;  // of the radiance along the normal
+  double total = 0.0;      // numerical and model in quadrature
   double tolerance = 0.0;
 };
 

@@ -166,9 +166,18 @@ Json toJson(const UnscatteredLightReport& r) {
 }
 
 Json toJson(const BakeErrorReport& r) {
-  return {{"visibility", r.visibility},   {"exitance", r.exitance},
-          {"energy", r.energy},           {"interreflection", r.interreflection},
-          {"unscattered", r.unscattered}, {"total", r.total},
+  return {{"visibility", r.visibility},
+          {"exitance", r.exitance},
+          {"energy", r.energy},
+          {"interreflection", r.interreflection},
+          {"unscattered", r.unscattered},
+          {"numerical", r.numerical},
+          {"model",
+           {{"exit_model", r.model.exitModel},
+            {"facets", r.model.facets},
+            {"light_variation", r.model.lightVariation},
+            {"total", r.model.total}}},
+          {"total", r.total},
           {"tolerance", r.tolerance}};
 }
 

@@ -22,6 +22,7 @@
 //   ratio_concave  sum L / sum L_ref over the concave vertices,
 //   predicted    the bake's own predicted error (the JSON's estimated_error.total), and
 //   measured_over_predicted  rms_all / predicted: 1 when the bake's "1 %" holds;
+//   numerical, model_*  the predicted error's parts (estimated_error.numerical and .model);
 //   *_calibrated  the first three with the calibrated exit model for B's part (sss-render
 //                --exit-model calibrated).
 // Writes OUT_DIR/concavity.csv.
@@ -156,14 +157,17 @@ void study(const Scene& s, const Shape& shape, uint64_t paths, const std::string
                 u.traced ? "traced" : "not traced", u.reason.c_str(), u.share,
                 (unsigned long long)u.paths, u.relativeStdError, u.seconds);
     const InterreflectionReport& ir = out.report.interreflection;
-    const double predicted = out.report.errors.total;
-    char line[384];
+    const BakeErrorReport& e = out.report.errors;
+    const double predicted = e.total;
+    char line[512];
     std::snprintf(line, sizeof line,
-                  "%s,%s,%s,%s,%d,%.5f,%.5f,%.4f,%.5f,%.2f,%.3f,%llu,%.5f,%.5f,%.4f\n",
+                  "%s,%s,%s,%s,%d,%.5f,%.5f,%.4f,%.5f,%.2f,%.3f,%llu,%.5f,%.5f,%.4f,%.5f,%.5f,%.5f,"
+                  "%.5f\n",
                   s.name.c_str(), s.material.name.c_str(), lightName(s.light),
                   bounces == 0 ? "0" : "auto", ir.bounces, m.rmsAll, m.rmsConcave, m.ratioConcave,
                   predicted, predicted > 0 ? m.rmsAll / predicted : 0.0, out.report.totalSeconds,
-                  (unsigned long long)paths, mc.rmsAll, mc.rmsConcave, mc.ratioConcave);
+                  (unsigned long long)paths, mc.rmsAll, mc.rmsConcave, mc.ratioConcave, e.numerical,
+                  e.model.exitModel, e.model.facets, e.model.lightVariation);
     csv << line;
     csv.flush();
     std::printf(
@@ -203,7 +207,8 @@ int run(int argc, char** argv) {
   std::ofstream csv(outDir + "/concavity.csv");
   csv << "scene,material,light,bounces_asked,bounces_done,rms_all,rms_concave,ratio_concave,"
          "predicted,measured_over_predicted,bake_s,ref_paths,rms_all_calibrated,"
-         "rms_concave_calibrated,ratio_concave_calibrated\n";
+         "rms_concave_calibrated,ratio_concave_calibrated,numerical,model_exit,model_facets,"
+         "model_light_variation\n";
   for (const Shape& shape : shapes)
     for (const char* m : {"marble", "skimmilk"})
       for (Light light : {Light::Uniform, shape.name == "pit" ? Light::Sun : Light::Forest}) {

@@ -28,7 +28,8 @@
 // share of the reference's B on the unlit part that crossed without scattering, and the
 // _scattered columns compare with the reference that leaves that light out (minScatteringOrder 1).
 // OUT_DIR/sun_predicted.csv: sss-bake's own pipeline (lib/bake/bake.h, defaults at 1 %, 256
-// rays) per scene, its JSON's predicted error (estimated_error.total) beside the relative RMS of
+// rays) per scene, its JSON's predicted error (estimated_error.total; its numerical and model
+// parts in the last columns) beside the relative RMS of
 // its radiance along the normal over every vertex (the reference's noise removed; per vertex,
 // where the band metrics above average the bake's noise away). Resolving 1 % per vertex takes
 // about 8M paths (--paths 8000000): at the default 500K the reference's own noise is ~14 % per
@@ -232,10 +233,12 @@ void predictedAgainstMeasured(const Scene& s, const Cubemap& env, const LightTra
   const double measured =
       relativeRmsAgainst(out.baked.radianceNormal, ref.radiance, ref.radianceStdErr);
   const double predicted = out.report.errors.total;
+  const BakeErrorReport& e = out.report.errors;
   char line[256];
-  std::snprintf(line, sizeof line, "%s,%s,%.5f,%.5f,%.2f,%.3f\n", s.name.c_str(),
-                s.material.name.c_str(), measured, predicted,
-                predicted > 0.0 ? measured / predicted : 0.0, out.report.totalSeconds);
+  std::snprintf(line, sizeof line, "%s,%s,%.5f,%.5f,%.2f,%.5f,%.5f,%.5f,%.5f,%.3f\n",
+                s.name.c_str(), s.material.name.c_str(), measured, predicted,
+                predicted > 0.0 ? measured / predicted : 0.0, e.numerical, e.model.exitModel,
+                e.model.facets, e.model.lightVariation, out.report.totalSeconds);
   csv << line;
   csv.flush();
   std::printf("  sss-bake defaults: per-vertex RMS %.4f, predicted %.4f (%.2fx)\n", measured,
@@ -394,7 +397,8 @@ int run(int argc, char** argv) {
   bandsCsv << "scene,material,energy,band,cos_lo,cos_hi,ref_L_r,ref_L_g,ref_L_b,ratio_r,ratio_g,"
               "ratio_b\n";
   std::ofstream predictedCsv(outDir + "/sun_predicted.csv");
-  predictedCsv << "scene,material,rms_vertex_L,predicted,measured_over_predicted,bake_s\n";
+  predictedCsv << "scene,material,rms_vertex_L,predicted,measured_over_predicted,numerical,"
+                  "model_exit,model_facets,model_light_variation,bake_s\n";
   for (const Scene& s : scenes)
     if (only.empty() || s.name.find(only) != std::string::npos)
       study(s, paths, cache, csv, bandsCsv, outDir, predictedCsv);

@@ -1,0 +1,55 @@
+// The model's own error, beside the numerical error the tolerance controls (error_budget.h): what
+// no number of rays or walks removes, estimated from three approximations of the per-vertex model
+// and sized on the accuracy studies (README, "The bake's predicted error"):
+//  - exitModel: the exit model's spread. The radiance along the normal per unit B is the
+//    normalized model's (isotropic interior radiance at the boundary, optics/fresnel.h) or the
+//    calibrated one's (the half-space Monte Carlo's, material/directional_albedo_weight.h); the
+//    truth on an object lies around them, so their difference |c - 1| per channel (c = calibrated
+//    / normalized) sizes this error. It grows as the reduced albedo falls (skin, ketchup).
+//  - facets: a vertex stands for the facets around it, which tilt from its normal by theta
+//    (1 - cos theta, area-weighted over its faces): the light they receive and send differs from
+//    the smooth surface's by that order (edges of a box: 0.29; a 642-vertex sphere: 0.004).
+//  - lightVariation: a vertex's E stands for its one-ring; where the light changes across it (a
+//    shadow edge, a sun at a crease) the interpolated value errs by the contrast
+//    |E - mean over the ring| / max(E, mean), per channel.
+// Each is per vertex and channel, weighted by L^2 (the studies' metric: relative RMS of the
+// radiance along the normal over vertices and channels), and they add in quadrature with the
+// coefficients below.
+#pragma once
+
+#include <span>
+
+#include <glm/vec3.hpp>
+
+#include "material/material.h"
+#include "mesh/triangle_mesh.h"
+
+namespace sss {
+
+// Fitted on the 25 rows of tests/bench/sun_study.cpp and concavity_study.cpp (the worst ratio
+// of measured to predicted total error, minimized; tests/bench/results/accuracy/model_error.csv).
+inline constexpr double kExitModelWeight = 0.5;
+inline constexpr double kFacetWeight = 0.425;
+inline constexpr double kLightVariationWeight = 0.1;
+
+struct ModelErrorReport {
+  double exitModel = 0.0;       // weighted, relative RMS of the radiance along the normal
+  double facets = 0.0;          // likewise
+  double lightVariation = 0.0;  // likewise
+  double total = 0.0;           // the three in quadrature
+};
+
+struct ModelErrorInput {
+  const TriangleMesh& mesh;                        // positions, normals, triangles (any unit)
+  std::span<const glm::vec3> radianceAlongNormal;  // L per vertex (the output's)
+  std::span<const glm::vec3> irradiance;           // E per vertex (the output's)
+  glm::vec3 exitModelSpread{0.0f};                 // |c - 1| per channel (above)
+};
+
+ModelErrorReport estimateModelError(const ModelErrorInput& in);
+
+// The exit model's spread |calibrated / normalized - 1| per channel for a material's reduced
+// albedo and eta.
+glm::vec3 exitModelSpread(const Material& material);
+
+}  // namespace sss

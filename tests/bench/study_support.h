@@ -14,6 +14,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "bake/bake.h"
+#include "bake/bake_settings.h"
 #include "envmap/cubemap.h"
 #include "mesh/load_mesh.h"
 #include "mesh/triangle_mesh.h"
@@ -60,6 +62,22 @@ inline void writeAsciiPly(const std::string& path, const TriangleMesh& mesh) {
     out << p.x << ' ' << p.y << ' ' << p.z << ' ' << n.x << ' ' << n.y << ' ' << n.z << '\n';
   }
   for (const glm::uvec3& t : mesh.triangles) out << "3 " << t.x << ' ' << t.y << ' ' << t.z << '\n';
+}
+
+// sss-bake's own pipeline (lib/bake/bake.h) at its defaults (1 %) with `samples` visibility rays
+// on a mesh in mm: bake() reads the mesh from a file, written to `path` and removed after.
+inline BakeOutput bakeAtDefaults(const TriangleMesh& mesh, const Material& material,
+                                 const Cubemap& env, int samples, const std::string& path) {
+  writeAsciiPly(path, mesh);
+  BakeSettings settings;
+  settings.meshPath = path;
+  settings.material = material;
+  settings.mmPerUnit = 1.0;
+  settings.samples = samples;
+  settings.quiet = true;
+  BakeOutput out = bake(settings, BakeEnvironment{env, {}});
+  std::filesystem::remove(path);
+  return out;
 }
 
 // Relative RMS over vertices and channels of a - ref, the reference's noise (se) removed:

@@ -219,17 +219,9 @@ void addUnscatteredLight(const Scene& s, const Cubemap& env, const std::vector<f
 // sss-bake's pipeline on the scene: its predicted error against the measured one, per vertex.
 void predictedAgainstMeasured(const Scene& s, const Cubemap& env, const LightTraceResult& ref,
                               const std::string& outDir, std::ofstream& csv) {
-  const std::string meshPath = outDir + "/" + s.name + ".ply";
-  writeAsciiPly(meshPath, s.mesh);
-  BakeSettings settings;
-  settings.meshPath = meshPath;
-  settings.material = s.material;
-  settings.mmPerUnit = 1.0;
-  settings.samples = kVisibilityRays;
-  settings.tolerance = kTolerance;
-  settings.quiet = true;
-  const BakeOutput out = bake(settings, BakeEnvironment{env, {}});
-  std::filesystem::remove(meshPath);
+  // bakeAtDefaults bakes at the default tolerance, kTolerance.
+  const BakeOutput out =
+      bakeAtDefaults(s.mesh, s.material, env, kVisibilityRays, outDir + "/" + s.name + ".ply");
   const double measured =
       relativeRmsAgainst(out.baked.radianceNormal, ref.radiance, ref.radianceStdErr);
   const double predicted = out.report.errors.total;

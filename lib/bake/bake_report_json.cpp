@@ -176,7 +176,8 @@ Json toJson(const BakeErrorReport& r) {
            {{"exit_model", r.model.exitModel},
             {"facets", r.model.facets},
             {"light_variation", r.model.lightVariation},
-            {"total", r.model.total}}},
+            {"total", r.model.total},
+            {"seconds", r.model.seconds}}},
           {"total", r.total},
           {"tolerance", r.tolerance}};
 }

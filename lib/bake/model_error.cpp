@@ -6,6 +6,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "core/timer.h"
 #include "material/directional_albedo_weight.h"
 #include "material/material.h"
 #include "optics/fresnel.h"
@@ -50,6 +51,7 @@ OneRing oneRing(const TriangleMesh& m, std::span<const glm::vec3> irradiance) {
 }  // namespace
 
 ModelErrorReport estimateModelError(const ModelErrorInput& in) {
+  const Stopwatch clock;
   const OneRing ring = oneRing(in.mesh, in.irradiance);
   const glm::dvec3 spread2 = glm::dvec3(in.exitModelSpread) * glm::dvec3(in.exitModelSpread);
   double exit2 = 0.0, facets2 = 0.0, light2 = 0.0, weight = 0.0;
@@ -65,12 +67,13 @@ ModelErrorReport estimateModelError(const ModelErrorInput& in) {
       light2 += l2 * contrast * contrast;
     }
   ModelErrorReport r;
-  if (!(weight > 0.0)) return r;
+  if (!(weight > 0.0)) return r;  // a black environment
   r.exitModel = kExitModelWeight * std::sqrt(exit2 / weight);
   r.facets = kFacetWeight * std::sqrt(facets2 / weight);
   r.lightVariation = kLightVariationWeight * std::sqrt(light2 / weight);
   r.total = std::sqrt(r.exitModel * r.exitModel + r.facets * r.facets +
                       r.lightVariation * r.lightVariation);
+  r.seconds = clock.seconds();
   return r;
 }
 

@@ -37,6 +37,7 @@ struct ModelErrorReport {
   double facets = 0.0;          // likewise
   double lightVariation = 0.0;  // likewise
   double total = 0.0;           // the three in quadrature
+  double seconds = 0.0;
 };
 
 struct ModelErrorInput {

@@ -90,21 +90,21 @@ BakeErrorReport errorReport(const BakeReport& r, const ModelErrorReport& model, 
   return e;
 }
 
-// Stage 4d: the model's own error (model_error.h), from the output's radiance and E; said when it
-// is above the tolerance, which then bounds only the numerical part.
+// Stage 4d: the model's own error (model_error.h), from the output's radiance; said when it is
+// above the tolerance, which then bounds only the numerical part.
 ModelErrorReport modelErrorStage(const BakeSettings& s, const TriangleMesh& meshMm,
                                  std::span<const glm::vec3> radianceNormal,
-                                 std::span<const glm::vec3> irradiance) {
+                                 const Cubemap& radiance) {
   const ModelErrorReport model =
-      estimateModelError({meshMm, radianceNormal, irradiance, exitModelSpread(s.material)});
+      estimateModelError({meshMm, radianceNormal, radiance, float(s.material.eta),
+                          exitModelSpread(s.material), s.threads});
   if (model.total > s.tolerance) {
     char line[240];
-    std::snprintf(
-        line, sizeof line,
-        "model error: about %.1f%% of the radiance here (exit model %.1f%%, facets "
-        "%.1f%%, light varying across vertices %.1f%%), beyond what --tolerance %g bounds",
-        100.0 * model.total, 100.0 * model.exitModel, 100.0 * model.facets,
-        100.0 * model.lightVariation, s.tolerance);
+    std::snprintf(line, sizeof line,
+                  "model error: about %.1f%% of the radiance here (exit model %.1f%%, facets "
+                  "%.1f%%, light across facets %.1f%%), beyond what --tolerance %g bounds",
+                  100.0 * model.total, 100.0 * model.exitModel, 100.0 * model.facets,
+                  100.0 * model.facetLight, s.tolerance);
     info(line, s.quiet);
   }
   return model;
@@ -341,8 +341,7 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
   report.energy = std::move(energy.report);
   report.lighting = std::move(lighting.report);
   report.transport = std::move(exitance.report);
-  const ModelErrorReport model =
-      modelErrorStage(s, mesh.meshMm, radianceNormal, lighting.irradiance);
+  const ModelErrorReport model = modelErrorStage(s, mesh.meshMm, radianceNormal, radiance);
   report.errors = errorReport(report, model, s.tolerance);
   out.baked = assembleBakedMesh(std::move(mesh.mesh), lighting, exitance, std::move(radianceNormal),
                                 s, report);

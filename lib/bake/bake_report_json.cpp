@@ -175,7 +175,7 @@ Json toJson(const BakeErrorReport& r) {
           {"model",
            {{"exit_model", r.model.exitModel},
             {"facets", r.model.facets},
-            {"light_variation", r.model.lightVariation},
+            {"facet_light", r.model.facetLight},
             {"total", r.model.total},
             {"seconds", r.model.seconds}}},
           {"total", r.total},

@@ -7,44 +7,49 @@
 //    truth on an object lies around them, so their difference |c - 1| per channel (c = calibrated
 //    / normalized) sizes this error. It grows as the reduced albedo falls (skin, ketchup).
 //  - facets: a vertex stands for the facets around it, which tilt from its normal by theta
-//    (1 - cos theta, area-weighted over its faces): the light they receive and send differs from
-//    the smooth surface's by that order (edges of a box: 0.29; a 642-vertex sphere: 0.004).
-//  - lightVariation: a vertex's E stands for its one-ring; where the light changes across it (a
-//    shadow edge, a sun at a crease) the interpolated value errs by the contrast
-//    |E - mean over the ring| / max(E, mean), per channel.
+//    (1 - cos theta, area-weighted over its faces): the light they send differs from the smooth
+//    surface's by that order (edges of a box: 0.29; a 642-vertex sphere: 0.004).
+//  - facetLight: the light those facets receive differs from what the vertex normal receives,
+//    |E(n_f) - E(n)| area-weighted over the faces, relative to max(E(n), mean E(n_f)), per
+//    channel, with E the environment's transmitted irradiance without shadows: nothing under
+//    even light, most at a crease facing a sun.
 // Each is per vertex and channel, weighted by L^2 (the studies' metric: relative RMS of the
 // radiance along the normal over vertices and channels), and they add in quadrature with the
-// coefficients below.
+// weights below.
 #pragma once
 
 #include <span>
 
 #include <glm/vec3.hpp>
 
+#include "envmap/cubemap.h"
 #include "material/material.h"
 #include "mesh/triangle_mesh.h"
 
 namespace sss {
 
 // Fitted on the 25 rows of tests/bench/sun_study.cpp and concavity_study.cpp (the worst ratio
-// of measured to predicted total error, minimized; tests/bench/results/accuracy/model_error.csv).
-inline constexpr double kExitModelWeight = 0.5;
-inline constexpr double kFacetWeight = 0.425;
-inline constexpr double kLightVariationWeight = 0.1;
+// of measured to predicted total error, minimized: tests/bench/model_error_fit.py, results in
+// tests/bench/results/accuracy/model_error.csv).
+inline constexpr double kExitModelWeight = 0.35;
+inline constexpr double kFacetWeight = 0.375;
+inline constexpr double kFacetLightWeight = 0.175;
 
 struct ModelErrorReport {
-  double exitModel = 0.0;       // weighted, relative RMS of the radiance along the normal
-  double facets = 0.0;          // likewise
-  double lightVariation = 0.0;  // likewise
-  double total = 0.0;           // the three in quadrature
+  double exitModel = 0.0;   // weighted, relative RMS of the radiance along the normal
+  double facets = 0.0;      // likewise
+  double facetLight = 0.0;  // likewise
+  double total = 0.0;       // the three in quadrature
   double seconds = 0.0;
 };
 
 struct ModelErrorInput {
   const TriangleMesh& mesh;                        // positions, normals, triangles (any unit)
   std::span<const glm::vec3> radianceAlongNormal;  // L per vertex (the output's)
-  std::span<const glm::vec3> irradiance;           // E per vertex (the output's)
+  const Cubemap& radiance;                         // the environment
+  float eta = 1.3f;                                // the surface's relative index
   glm::vec3 exitModelSpread{0.0f};                 // |c - 1| per channel (above)
+  int threads = 0;
 };
 
 ModelErrorReport estimateModelError(const ModelErrorInput& in);

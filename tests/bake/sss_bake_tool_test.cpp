@@ -429,7 +429,7 @@ TEST_F(BakeTool, AutoSamplesFollowTheTolerance) {
     EXPECT_GT(model["exit_model"].get<double>(), 0.03);
     EXPECT_NEAR(model["total"].get<double>(),
                 std::hypot(model["exit_model"].get<double>(), model["facets"].get<double>(),
-                           model["light_variation"].get<double>()),
+                           model["facet_light"].get<double>()),
                 1e-12);
     EXPECT_NEAR(report["estimated_error"]["total"].get<double>(),
                 std::hypot(numerical, model["total"].get<double>()), 1e-12);

@@ -167,7 +167,7 @@ void study(const Scene& s, const Shape& shape, uint64_t paths, const std::string
                   bounces == 0 ? "0" : "auto", ir.bounces, m.rmsAll, m.rmsConcave, m.ratioConcave,
                   predicted, predicted > 0 ? m.rmsAll / predicted : 0.0, out.report.totalSeconds,
                   (unsigned long long)paths, mc.rmsAll, mc.rmsConcave, mc.ratioConcave, e.numerical,
-                  e.model.exitModel, e.model.facets, e.model.lightVariation);
+                  e.model.exitModel, e.model.facets, e.model.facetLight);
     csv << line;
     csv.flush();
     std::printf(
@@ -208,7 +208,7 @@ int run(int argc, char** argv) {
   csv << "scene,material,light,bounces_asked,bounces_done,rms_all,rms_concave,ratio_concave,"
          "predicted,measured_over_predicted,bake_s,ref_paths,rms_all_calibrated,"
          "rms_concave_calibrated,ratio_concave_calibrated,numerical,model_exit,model_facets,"
-         "model_light_variation\n";
+         "model_facet_light\n";
   for (const Shape& shape : shapes)
     for (const char* m : {"marble", "skimmilk"})
       for (Light light : {Light::Uniform, shape.name == "pit" ? Light::Sun : Light::Forest}) {

@@ -17,8 +17,8 @@ import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-NAMES = ("kExitModelWeight", "kFacetWeight", "kLightVariationWeight")
-COLUMNS = ("model_exit", "model_facets", "model_light_variation")
+NAMES = ("kExitModelWeight", "kFacetWeight", "kFacetLightWeight")
+COLUMNS = ("model_exit", "model_facets", "model_facet_light")
 
 
 def current_weights():

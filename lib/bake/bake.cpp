@@ -93,18 +93,19 @@ BakeErrorReport errorReport(const BakeReport& r, const ModelErrorReport& model, 
 // Stage 4d: the model's own error (model_error.h), from the output's radiance; said when it is
 // above the tolerance, which then bounds only the numerical part.
 ModelErrorReport modelErrorStage(const BakeSettings& s, const TriangleMesh& meshMm,
-                                 std::span<const glm::vec3> radianceNormal,
-                                 const Cubemap& radiance) {
-  const ModelErrorReport model =
-      estimateModelError({meshMm, radianceNormal, radiance, float(s.material.eta),
-                          exitModelSpread(s.material), s.threads});
+                                 std::span<const glm::vec3> radianceNormal, const Cubemap& radiance,
+                                 const FarFieldReport& farField) {
+  const ModelErrorReport model = estimateModelError(
+      {meshMm, radianceNormal, radiance, float(s.material.eta), exitModelSpread(s.material),
+       farField.traced ? 0.0 : farField.sensitivity, s.threads});
   if (model.total > s.tolerance) {
-    char line[240];
+    char line[300];
     std::snprintf(line, sizeof line,
                   "model error: about %.1f%% of the radiance here (exit model %.1f%%, facets "
-                  "%.1f%%, light across facets %.1f%%), beyond what --tolerance %g bounds",
+                  "%.1f%%, light across facets %.1f%%, far field left out %.1f%%), beyond what "
+                  "--tolerance %g bounds",
                   100.0 * model.total, 100.0 * model.exitModel, 100.0 * model.facets,
-                  100.0 * model.facetLight, s.tolerance);
+                  100.0 * model.facetLight, 100.0 * model.farField, s.tolerance);
     info(line, s.quiet);
   }
   return model;
@@ -341,7 +342,8 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
   report.energy = std::move(energy.report);
   report.lighting = std::move(lighting.report);
   report.transport = std::move(exitance.report);
-  const ModelErrorReport model = modelErrorStage(s, mesh.meshMm, radianceNormal, radiance);
+  const ModelErrorReport model =
+      modelErrorStage(s, mesh.meshMm, radianceNormal, radiance, report.farField);
   report.errors = errorReport(report, model, s.tolerance);
   out.baked = assembleBakedMesh(std::move(mesh.mesh), lighting, exitance, std::move(radianceNormal),
                                 s, report);

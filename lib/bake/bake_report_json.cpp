@@ -176,6 +176,7 @@ Json toJson(const BakeErrorReport& r) {
            {{"exit_model", r.model.exitModel},
             {"facets", r.model.facets},
             {"facet_light", r.model.facetLight},
+            {"far_field", r.model.farField},
             {"total", r.model.total},
             {"seconds", r.model.seconds}}},
           {"total", r.total},

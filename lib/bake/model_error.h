@@ -13,6 +13,9 @@
 //    |E(n_f) - E(n)| area-weighted over the faces, relative to max(E(n), mean E(n_f)), per
 //    channel, with E the environment's transmitted irradiance without shadows: nothing under
 //    even light, most at a crease facing a sun.
+//  - farField: where the far field (far_field.h) was not traced, the escape model's excess is
+//    spread by a geometry-blind kernel (README, "No geometry-blind kernel"); its error scales
+//    with the share of B the far field would move (its sensitivity, auto's test).
 // Each is per vertex and channel, weighted by L^2 (the studies' metric: relative RMS of the
 // radiance along the normal over vertices and channels), and they add in quadrature with the
 // weights below.
@@ -34,12 +37,14 @@ namespace sss {
 inline constexpr double kExitModelWeight = 0.35;
 inline constexpr double kFacetWeight = 0.375;
 inline constexpr double kFacetLightWeight = 0.175;
+inline constexpr double kFarFieldWeight = 0.125;
 
 struct ModelErrorReport {
   double exitModel = 0.0;   // weighted, relative RMS of the radiance along the normal
   double facets = 0.0;      // likewise
   double facetLight = 0.0;  // likewise
-  double total = 0.0;       // the three in quadrature
+  double farField = 0.0;    // of B, so of the radiance along the normal alike
+  double total = 0.0;       // the four in quadrature
   double seconds = 0.0;
 };
 
@@ -49,6 +54,7 @@ struct ModelErrorInput {
   const Cubemap& radiance;                         // the environment
   float eta = 1.3f;                                // the surface's relative index
   glm::vec3 exitModelSpread{0.0f};                 // |c - 1| per channel (above)
+  double farFieldLeftOut = 0.0;  // the far field's sensitivity where it was not traced, else 0
   int threads = 0;
 };
 

@@ -55,6 +55,12 @@ TEST(ModelError, FlatPlaneHasOnlyTheExitModelsSpread) {
   // Weighted by L^2: only the red channel carries radiance.
   EXPECT_NEAR(r.exitModel, kExitModelWeight * 0.04, 1e-7);
   EXPECT_NEAR(r.total, r.exitModel, 1e-12);
+  // Where the far field was left out, its sensitivity scales its term.
+  ModelErrorInput withFar{plane, red, sun, 1.3f, spread};
+  withFar.farFieldLeftOut = 0.2;
+  const ModelErrorReport f = estimateModelError(withFar);
+  EXPECT_NEAR(f.farField, kFarFieldWeight * 0.2, 1e-12);
+  EXPECT_NEAR(f.total, std::hypot(f.exitModel, f.farField), 1e-7);
   // Grey radiance: the RMS of the three spreads.
   const std::vector<glm::vec3> grey(n, glm::vec3(1.0f));
   const ModelErrorReport g = estimateModelError({plane, grey, sun, 1.3f, spread});

@@ -1,24 +1,27 @@
 #!/usr/bin/env python3
-"""Fits the model error's three weights (lib/bake/model_error.h) on the study rows.
+"""Fits the model error's four weights (lib/bake/model_error.h) on the study rows.
 
-  tests/bench/model_error_fit.py RESULTS_DIR
+  tests/bench/model_error_fit.py RESULTS_DIR        (Python 3 with numpy)
 
 Reads RESULTS_DIR/sun_predicted.csv (sun_study) and RESULTS_DIR/concavity.csv (concavity_study),
 whose model_* columns are the bake's terms at the weights in model_error.h, so that the features
-are model_* / weight. Chooses the weights that minimize the worst |log(measured / predicted)| over
-every row (predicted = sqrt(numerical^2 + sum (weight * feature)^2)), prints them with each row's
-ratio and the leave-one-out ratios (each row predicted with weights fitted without it), and writes
-RESULTS_DIR/model_error.csv. Pure Python, a few seconds.
+are model_* / weight. Chooses, on a grid, the weights that minimize the worst
+|log(measured / predicted)| over every row (predicted = sqrt(numerical^2 + sum (weight *
+feature)^2)), prints them with each row's ratio and the leave-one-out ratio (each row predicted
+with weights fitted without it), and writes RESULTS_DIR/model_error.csv. About a minute.
 """
 import csv
-import math
 import re
 import sys
 from pathlib import Path
 
+import numpy as np
+
 ROOT = Path(__file__).resolve().parents[2]
-NAMES = ("kExitModelWeight", "kFacetWeight", "kFacetLightWeight")
-COLUMNS = ("model_exit", "model_facets", "model_facet_light")
+NAMES = ("kExitModelWeight", "kFacetWeight", "kFacetLightWeight", "kFarFieldWeight")
+COLUMNS = ("model_exit", "model_facets", "model_facet_light", "model_far_field")
+GRID = (np.arange(0, 1.0001, 0.05), np.arange(0, 1.0001, 0.025), np.arange(0, 0.5001, 0.025),
+        np.arange(0, 0.5001, 0.0125))
 
 
 def current_weights():
@@ -33,50 +36,50 @@ def load_rows(results):
     for r in csv.DictReader(open(results / "concavity.csv")):
         rows.append((r["scene"] + "-bounces-" + r["bounces_asked"], float(r["rms_all"]), r))
     weights = current_weights()
-    out = []
-    for name, measured, r in rows:
-        features = [float(r[c]) / w for c, w in zip(COLUMNS, weights)]
-        out.append((name, measured, float(r["numerical"]), features))
-    return out
+    names = [name for name, _, _ in rows]
+    measured = np.array([m for _, m, _ in rows])
+    numerical = np.array([float(r["numerical"]) for _, _, r in rows])
+    features = np.array([[float(r[c]) / w for c, w in zip(COLUMNS, weights)] for _, _, r in rows])
+    return names, measured, numerical, features
 
 
-def predicted(row, weights):
-    _, _, numerical, features = row
-    return math.sqrt(numerical**2 + sum((w * f) ** 2 for w, f in zip(weights, features)))
+def predicted(numerical, features, weights):
+    return np.sqrt(numerical**2 + ((np.asarray(weights) * features) ** 2).sum(-1))
 
 
-def grid():
-    for a in range(31):
-        for b in range(41):
-            for c in range(41):
-                yield (0.05 * a, 0.025 * b, 0.025 * c)
-
-
-def fit(rows):
-    best = None
-    for weights in grid():
-        worst = max(abs(math.log(m / predicted(r, weights))) for r in rows for m in [r[1]])
-        if best is None or worst < best[0]:
-            best = (worst, weights)
+def fit(measured, numerical, features):
+    """The grid point with the smallest worst |log ratio|, searched one exit weight at a time."""
+    best = (np.inf, None)
+    b, c, d = np.meshgrid(*GRID[1:], indexing="ij")
+    rest = np.stack([b.ravel(), c.ravel(), d.ravel()], 1)  # (K, 3)
+    for a in GRID[0]:
+        w2 = np.concatenate([np.full((len(rest), 1), a), rest], 1) ** 2  # (K, 4)
+        p = np.sqrt(numerical[None, :] ** 2 + w2 @ (features**2).T)  # (K, rows)
+        worst = np.abs(np.log(measured[None, :] / p)).max(1)
+        k = worst.argmin()
+        if worst[k] < best[0]:
+            best = (worst[k], np.sqrt(w2[k]))
     return best
 
 
 def main():
     results = Path(sys.argv[1] if len(sys.argv) > 1 else ROOT / "tests/bench/results/accuracy")
-    rows = load_rows(results)
-    worst, weights = fit(rows)
-    print("weights exit %.3f facets %.3f light %.3f: worst ratio %.2f" % (*weights, math.exp(worst)))
+    names, measured, numerical, features = load_rows(results)
+    worst, weights = fit(measured, numerical, features)
+    print("weights exit %.3f facets %.3f facet light %.3f far field %.4f: worst ratio %.2f"
+          % (*weights, np.exp(worst)))
+    p = predicted(numerical, features, weights)
     with open(results / "model_error.csv", "w") as f:
         f.write("scene,measured,numerical,predicted,measured_over_predicted,"
                 "measured_over_numerical,leave_one_out_ratio\n")
-        for i, row in enumerate(rows):
-            others = rows[:i] + rows[i + 1:]
-            loo = row[1] / predicted(row, fit(others)[1])
-            p = predicted(row, weights)
-            f.write("%s,%.5f,%.5f,%.5f,%.2f,%.2f,%.2f\n" %
-                    (row[0], row[1], row[2], p, row[1] / p, row[1] / row[2], loo))
-            print("%-34s measured %.4f predicted %.4f (%.2fx; numerical only %.2fx; "
-                  "left out %.2fx)" % (row[0], row[1], p, row[1] / p, row[1] / row[2], loo))
+        for i, name in enumerate(names):
+            keep = np.arange(len(names)) != i
+            _, w = fit(measured[keep], numerical[keep], features[keep])
+            loo = measured[i] / predicted(numerical[i], features[i], w)
+            f.write("%s,%.5f,%.5f,%.5f,%.2f,%.2f,%.2f\n" % (name, measured[i], numerical[i], p[i],
+                    measured[i] / p[i], measured[i] / numerical[i], loo))
+            print("%-34s measured %.4f predicted %.4f (%.2fx; numerical only %.2fx; left out %.2fx)"
+                  % (name, measured[i], p[i], measured[i] / p[i], measured[i] / numerical[i], loo))
 
 
 if __name__ == "__main__":

@@ -227,10 +227,10 @@ void predictedAgainstMeasured(const Scene& s, const Cubemap& env, const LightTra
   const double predicted = out.report.errors.total;
   const BakeErrorReport& e = out.report.errors;
   char line[256];
-  std::snprintf(line, sizeof line, "%s,%s,%.5f,%.5f,%.2f,%.5f,%.5f,%.5f,%.5f,%.3f\n",
+  std::snprintf(line, sizeof line, "%s,%s,%.5f,%.5f,%.2f,%.5f,%.5f,%.5f,%.5f,%.5f,%.3f\n",
                 s.name.c_str(), s.material.name.c_str(), measured, predicted,
                 predicted > 0.0 ? measured / predicted : 0.0, e.numerical, e.model.exitModel,
-                e.model.facets, e.model.facetLight, out.report.totalSeconds);
+                e.model.facets, e.model.facetLight, e.model.farField, out.report.totalSeconds);
   csv << line;
   csv.flush();
   std::printf("  sss-bake defaults: per-vertex RMS %.4f, predicted %.4f (%.2fx)\n", measured,
@@ -390,7 +390,7 @@ int run(int argc, char** argv) {
               "ratio_b\n";
   std::ofstream predictedCsv(outDir + "/sun_predicted.csv");
   predictedCsv << "scene,material,rms_vertex_L,predicted,measured_over_predicted,numerical,"
-                  "model_exit,model_facets,model_facet_light,bake_s\n";
+                  "model_exit,model_facets,model_facet_light,model_far_field,bake_s\n";
   for (const Scene& s : scenes)
     if (only.empty() || s.name.find(only) != std::string::npos)
       study(s, paths, cache, csv, bandsCsv, outDir, predictedCsv);

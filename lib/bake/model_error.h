@@ -1,5 +1,5 @@
 // The model's own error, beside the numerical error the tolerance controls (error_budget.h): what
-// no number of rays or walks removes, estimated from three approximations of the per-vertex model
+// no number of rays or walks removes, estimated from four approximations of the per-vertex model
 // and sized on the accuracy studies (README, "The bake's predicted error"):
 //  - exitModel: the exit model's spread. The radiance along the normal per unit B is the
 //    normalized model's (isotropic interior radiance at the boundary, optics/fresnel.h) or the
@@ -16,9 +16,9 @@
 //  - farField: where the far field (far_field.h) was not traced, the escape model's excess is
 //    spread by a geometry-blind kernel (README, "No geometry-blind kernel"); its error scales
 //    with the share of B the far field would move (its sensitivity, auto's test).
-// Each is per vertex and channel, weighted by L^2 (the studies' metric: relative RMS of the
-// radiance along the normal over vertices and channels), and they add in quadrature with the
-// weights below.
+// The first three are per vertex and channel, weighted by L^2 (the studies' metric: relative RMS
+// of the radiance along the normal over vertices and channels); the four add in quadrature with
+// the weights below.
 #pragma once
 
 #include <span>

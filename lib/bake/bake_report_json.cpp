@@ -214,11 +214,15 @@ Json toJson(const BakeReport& r) {
   j["unscattered"] = toJson(r.unscattered);
   j["estimated_error"] = toJson(r.errors);
   j["threads"] = r.threads;
-  j["stages"] = {
-      {"load_mesh_s", r.mesh.seconds},          {"load_environment_s", r.environment.seconds},
-      {"energy_s", r.energy.seconds},           {"irradiance_s", r.lighting.seconds},
-      {"far_field_s", r.farField.seconds},      {"exitance_s", r.transport.seconds},
-      {"unscattered_s", r.unscattered.seconds}, {"total_s", r.totalSeconds}};
+  j["stages"] = {{"load_mesh_s", r.mesh.seconds},
+                 {"load_environment_s", r.environment.seconds},
+                 {"energy_s", r.energy.seconds},
+                 {"irradiance_s", r.lighting.seconds},
+                 {"far_field_s", r.farField.seconds},
+                 {"exitance_s", r.transport.seconds},
+                 {"unscattered_s", r.unscattered.seconds},
+                 {"model_error_s", r.errors.model.seconds},
+                 {"total_s", r.totalSeconds}};
   return j;
 }
 

@@ -1,6 +1,7 @@
-// The model's error estimate (lib/bake/model_error.h) on meshes whose three terms are known in
+// The model's error estimate (lib/bake/model_error.h) on meshes whose terms are known in
 // closed form: a flat plane (only the exit models' spread), the apex of a pyramid (its facets'
-// tilt; under even light no facet light, under a sun overhead the facets' cosine).
+// tilt; under even light no facet light, under a sun overhead the facets' cosine), and the far
+// field's term where it was left out.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -223,8 +223,8 @@ AutoChoice autoChoice(const TriangleMesh& mesh, const std::vector<float>& areas,
 void predictedAgainstMeasured(const Scene& scene, const Reference& ref, int visibilitySamples,
                               const std::string& outDir, std::ofstream& csv) {
   const BakeOutput out =
-      study::bakeAtDefaults(scene.mesh, scene.material, *scene.env, visibilitySamples,
-                            outDir + "/" + scene.name + ".ply");
+      study::bakeAtDefaults(scene.mesh, scene.material, BakeEnvironment{*scene.env, {}},
+                            visibilitySamples, outDir + "/" + scene.name + ".ply");
   std::vector<glm::vec3> l;
   for (uint32_t v : ref.vertices) l.push_back(out.baked.radianceNormal[v]);
   const ErrorPair err = relativeRms(l, ref, ref.radiance, ref.radianceSe);

@@ -60,7 +60,7 @@ const char* lightName(Light l) {
   return l == Light::Uniform ? "uniform" : l == Light::Sun ? "sun" : "forest";
 }
 
-// A closed mesh in mm, written where the bake reads it, and its concave vertices.
+// A closed mesh in mm, the file the bake reads it from, and its concave vertices.
 struct Shape {
   std::string name;
   TriangleMesh mesh;
@@ -134,14 +134,8 @@ void study(const Scene& s, const Shape& shape, uint64_t paths, const std::string
   std::printf("%s: reference %llu paths, %.1f s, %llu re-entries\n", s.name.c_str(),
               (unsigned long long)paths, ref.seconds, (unsigned long long)ref.reentries);
   for (int bounces : {0, kAutoBounces}) {
-    BakeSettings settings;
-    settings.meshPath = shape.meshPath;
-    settings.material = s.material;
-    settings.mmPerUnit = 1.0;
-    settings.samples = kVisibilityRays;
-    settings.bounces = bounces;
-    settings.quiet = true;
-    const BakeOutput out = bake(settings, env);
+    const BakeOutput out =
+        bakeAtDefaults(mesh, s.material, env, kVisibilityRays, shape.meshPath, bounces);
     const Metrics m = compare(out.baked.radianceNormal, ref, shape.concave);
     // The same with the calibrated exit model (sss-render --exit-model calibrated) for B's part.
     const float eta = float(s.material.eta);
@@ -197,7 +191,6 @@ int run(int argc, char** argv) {
   bunny.normals = computeVertexNormals(bunny);
   shapes.push_back({"bunny", std::move(bunny), outDir + "/bunny_50mm.ply", {}});
   for (Shape& shape : shapes) {
-    writeAsciiPly(shape.meshPath, shape.mesh);
     shape.concave = concaveVertices(shape.mesh, 1.3f);
     std::size_t count = 0;
     for (char c : shape.concave) count += c;
@@ -216,7 +209,6 @@ int run(int argc, char** argv) {
         if (only.empty() || s.name.find(only) != std::string::npos)
           study(s, shape, paths, cache, csv);
       }
-  for (const Shape& shape : shapes) std::filesystem::remove(shape.meshPath);
   return 0;
 }
 

@@ -65,17 +65,20 @@ inline void writeAsciiPly(const std::string& path, const TriangleMesh& mesh) {
 }
 
 // sss-bake's own pipeline (lib/bake/bake.h) at its defaults (1 %) with `samples` visibility rays
-// on a mesh in mm: bake() reads the mesh from a file, written to `path` and removed after.
+// and `bounces` on a mesh in mm: bake() reads the mesh from a file, written to `path` and removed
+// after.
 inline BakeOutput bakeAtDefaults(const TriangleMesh& mesh, const Material& material,
-                                 const Cubemap& env, int samples, const std::string& path) {
+                                 const BakeEnvironment& env, int samples, const std::string& path,
+                                 int bounces = 0) {
   writeAsciiPly(path, mesh);
   BakeSettings settings;
   settings.meshPath = path;
   settings.material = material;
   settings.mmPerUnit = 1.0;
   settings.samples = samples;
+  settings.bounces = bounces;
   settings.quiet = true;
-  BakeOutput out = bake(settings, BakeEnvironment{env, {}});
+  BakeOutput out = bake(settings, env);
   std::filesystem::remove(path);
   return out;
 }

@@ -220,8 +220,8 @@ void addUnscatteredLight(const Scene& s, const Cubemap& env, const std::vector<f
 void predictedAgainstMeasured(const Scene& s, const Cubemap& env, const LightTraceResult& ref,
                               const std::string& outDir, std::ofstream& csv) {
   // bakeAtDefaults bakes at the default tolerance, kTolerance.
-  const BakeOutput out =
-      bakeAtDefaults(s.mesh, s.material, env, kVisibilityRays, outDir + "/" + s.name + ".ply");
+  const BakeOutput out = bakeAtDefaults(s.mesh, s.material, BakeEnvironment{env, {}},
+                                        kVisibilityRays, outDir + "/" + s.name + ".ply");
   const double measured =
       relativeRmsAgainst(out.baked.radianceNormal, ref.radiance, ref.radianceStdErr);
   const double predicted = out.report.errors.total;

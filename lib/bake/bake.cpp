@@ -144,13 +144,19 @@ void addInterreflection(const BakeSettings& s, const PreparedMesh& mesh, const C
   const InterreflectionGather gather(m.positions, m.normals, m.triangles, radiance,
                                      float(s.material.eta), options);
   // What the bounces add goes through the transport's linear part: the method the first transport
-  // chose, its sums with E = 1 (transportIn.weightSums), and no far field (traced from the
-  // environment, it does not change with the light the object sends itself).
+  // chose and its sums with E = 1 (transportIn.weightSums). The traced far field came from the
+  // environment and carries none of the light the object sends itself: with it, the first
+  // transport spread only P's near share, so the bounces go through the escape model's own
+  // kernel for all of P (with their own sums), as without a far field: the near share alone
+  // dropped the rest of their light (README, "Light the object sends itself").
   TransportInput in = transportIn;
   in.method = bakeMethodOf(exitance.report.diffusion.method);
   in.quiet = true;
-  const std::vector<glm::vec3> noFarField(in.farExitance.size(), glm::vec3(0.0f));
-  in.farExitance = noFarField;
+  EnergyWeightSums wholeEscapeSums;
+  if (!in.farExitance.empty()) {
+    in.farExitance = {};
+    if (in.weightSums) in.weightSums = &wholeEscapeSums;
+  }
   const auto increment = [&](std::span<const glm::vec3> e, double looseness) {
     in.irradiance = e;
     in.diffusionTolerance =

@@ -72,7 +72,10 @@ Json toJson(const EnergyStageReport& r) {
     j["mean_scattering_events"] = plan.escape.meanScatteringEvents;
     j["smoothing_sigma_mm"] = toJson(plan.escape.smoothingSigmaMm);
     j["estimated_error"] = r.walkError();
-    if (r.farField) j["near_share_error"] = plan.escape.nearRelativeStdError;
+    if (r.farField) {
+      j["near_share"] = plan.escape.nearShare;
+      j["near_share_error"] = r.nearShareError();
+    }
   }
   return j;
 }

@@ -34,7 +34,8 @@
 // Gaussian of the longest diffusion length), exceeds the noise budget; and the paths it needs
 // stay under the caps (a large object needs many: its far field stays the escape model's kernel,
 // finite_object_energy.h; a first check from the surface's count of smoothing kernels skips it
-// before any tracing). Under uniform light s = 0.
+// before any tracing), or, past them, the noise left at the caps is below the kernel's model
+// error it removes (a measured share of s), and it traces to the cap. Under uniform light s = 0.
 #pragma once
 
 #include <cstdint>

@@ -35,9 +35,9 @@ namespace sss {
 // of measured to predicted total error, minimized: tests/bench/model_error_fit.py, results in
 // tests/bench/results/accuracy/model_error.csv).
 inline constexpr double kExitModelWeight = 0.35;
-inline constexpr double kFacetWeight = 0.375;
-inline constexpr double kFacetLightWeight = 0.175;
-inline constexpr double kFarFieldWeight = 0.125;
+inline constexpr double kFacetWeight = 0.2;
+inline constexpr double kFacetLightWeight = 0.2;
+inline constexpr double kFarFieldWeight = 0.45;
 
 struct ModelErrorReport {
   double exitModel = 0.0;   // weighted, relative RMS of the radiance along the normal

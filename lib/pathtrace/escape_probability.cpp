@@ -391,8 +391,17 @@ EscapeResult EscapeWalks::result() const {
     result.nearProbability = std::move(smoothed[1].value);
   }
   glm::dvec3 weighted(0.0);
-  for (std::size_t i = 0; i < result.probability.size(); ++i)
-    weighted += glm::dvec3(result.probability[i]) * double(st.areas[i]);
+  double allSq = 0.0, nearSq = 0.0;
+  for (std::size_t i = 0; i < result.probability.size(); ++i) {
+    const glm::dvec3 p(result.probability[i]);
+    weighted += p * double(st.areas[i]);
+    allSq += st.areas[i] * glm::dot(p, p);
+    if (st.hasNearWindow()) {
+      const glm::dvec3 near(result.nearProbability[i]);
+      nearSq += st.areas[i] * glm::dot(near, near);
+    }
+  }
+  if (allSq > 0.0) result.nearShare = std::sqrt(nearSq / allSq);
   result.mean = totalArea > 0.0 ? weighted / totalArea : glm::dvec3(0.0);
   result.probes = st.probes;
   result.walks = uint64_t(st.probes) * 3u * uint64_t(st.walks);

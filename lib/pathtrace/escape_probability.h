@@ -72,6 +72,9 @@ struct EscapeResult {
   // error (as relativeStdError); empty and 0 without.
   std::vector<glm::vec3> nearProbability;
   double nearRelativeStdError = 0.0;
+  // |P_near| / |P| (area-weighted RMS over vertices and channels): what the near share's noise
+  // weighs in B, the rest being the far field's (bake/far_field.h); 0 without a window.
+  double nearShare = 0.0;
 };
 
 // Walks added in rounds: walk s of vertex v in channel c always draws from its own stream, so a

@@ -4,16 +4,24 @@
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
+#include <unistd.h>
+
 #include <cmath>
+#include <filesystem>
+#include <string>
 #include <utility>
 #include <vector>
 
+#include "bake/bake.h"
+#include "bake/bake_settings.h"
 #include "bake/diffusion.h"
 #include "bake/far_field.h"
 #include "bake/finite_object_energy.h"
 #include "bake/visibility.h"
 #include "bench/study_support.h"
+#include "box_with_pit.h"
 #include "core/error.h"
+#include "core/luminance.h"
 #include "envmap/cubemap.h"
 #include "material/diffusion_profile.h"
 #include "material/directional_albedo_weight.h"
@@ -176,6 +184,47 @@ TEST(FarField, ReportedNoiseMatchesTheSpreadOverSeeds) {
   const double reported = 0.5 * (a.report.relativeStdError + b.report.relativeStdError);
   EXPECT_GT(measured / reported, 0.6);
   EXPECT_LT(measured / reported, 1.5);
+}
+
+// The light the object sends itself has no traced far field (that came from the environment):
+// with the far field on, the bounces still carry all of P, through the escape model's kernel as
+// without it, so that a pit lit mostly by the box's own light keeps its brightness. The near
+// share alone, as the bounces once took, left the pit's floor 15 % dark (marble's near share is a
+// small part of P).
+TEST(FarField, BouncesCarryAllTheLightTheObjectSendsItself) {
+  const TriangleMesh box = boxWithPit();
+  const Cubemap uniform(16, glm::vec3(1.0f));
+  const auto bakePit = [&](FarFieldMode mode) {
+    const std::string path = (std::filesystem::temp_directory_path() /
+                              ("far_field_pit_" + std::to_string(::getpid()) + ".ply"))
+                                 .string();
+    study::writeAsciiPly(path, box);
+    BakeSettings settings;
+    settings.meshPath = path;
+    settings.material = findMaterialPreset("marble");
+    settings.mmPerUnit = 1.0;
+    settings.samples = 64;
+    settings.bounces = kAutoBounces;
+    settings.farField = mode;
+    settings.quiet = true;
+    BakeOutput out = bake(settings, BakeEnvironment{uniform, {}});
+    std::filesystem::remove(path);
+    return out;
+  };
+  const BakeOutput off = bakePit(FarFieldMode::Off), on = bakePit(FarFieldMode::On);
+  ASSERT_TRUE(on.report.farField.traced) << on.report.farField.reason;
+  ASSERT_GE(on.report.interreflection.bounces, 2);
+  double pitOff = 0.0, pitOn = 0.0;
+  int pit = 0;
+  for (std::size_t v = 0; v < box.positions.size(); ++v) {
+    if (std::hypot(box.positions[v].x, box.positions[v].y) > 3.0f || box.normals[v].z < 0.5f)
+      continue;  // the pit's floor
+    ++pit;
+    pitOff += luminance(glm::dvec3(off.baked.exitance[v]));
+    pitOn += luminance(glm::dvec3(on.baked.exitance[v]));
+  }
+  ASSERT_GT(pit, 5);
+  EXPECT_NEAR(pitOn / pitOff, 1.0, 0.03);
 }
 
 TEST(FarField, SameResultForAnyThreadCount) {

@@ -189,7 +189,8 @@ DiffusionResult bakeExitance(const Scene& s, const Cubemap& env, const std::vect
   dopt.quiet = true;
   const double energyError =
       plan.model != EnergyModel::Escape ? 0.0
-      : far.traced() ? std::hypot(plan.escape.nearRelativeStdError, far.report.relativeStdError)
+      : far.traced() ? std::hypot(plan.escape.nearRelativeStdError * plan.escape.nearShare,
+                                                far.report.relativeStdError)
                      : plan.escape.relativeStdError;
   dopt.tolerance =
       budget.diffusionTolerance(plan.model == EnergyModel::Escape, energyError, std::nullopt);

@@ -383,6 +383,13 @@ TEST(EscapeProbability, NearShareLimits) {
       EXPECT_LE(mid.nearProbability[v][c], wider.nearProbability[v][c]);
     }
   EXPECT_GT(mid.nearRelativeStdError, 0.0);
+  // The share |P_near| / |P| follows: 1, 0, and growing with the window in between.
+  EXPECT_EQ(plain.nearShare, 0.0);
+  EXPECT_NEAR(wide.nearShare, 1.0, 1e-6);
+  EXPECT_LT(narrow.nearShare, 1e-6);
+  EXPECT_GT(mid.nearShare, 0.0);
+  EXPECT_LT(mid.nearShare, wider.nearShare);
+  EXPECT_LT(wider.nearShare, 1.0);
   options.nearWindowMm = glm::dvec3(1.0, 0.0, 1.0);
   EXPECT_THROW(estimateEscapeProbability(sphere, areas, skin, options), Error);
   options.nearWindowMm = glm::dvec3(-1.0);

@@ -31,7 +31,18 @@ command_line_only='SssIrrmap\.BadOptions|SssIrrmap\.FaceSizesAndEtaAreCheckedAsI
 command_line_only+='|SssRenderTool\.BadOptionsAreRejectedBeforeAnyOutput'
 command_line_only+='|BakeTool\.BadChoicesAreErrors'
 command_line_only+='|BakeTool\.EveryToolHasVersionAndHelpEndsWithExamples'
-left_out="^(workflow_test|$command_line_only)\$"
+# And the statistical checks of a model against its reference at many samples (5-11 s each under
+# ASan, ~55 of the suite's summed seconds): the same code runs under the sanitizers in the quicker
+# tests of each subject (UnscatteredLight.*, FarField.*, Diffusion.*, EscapeProbability.*,
+# LightTracer.*); the Release suite runs these.
+statistical='UnscatteredLight\.BackLitSlabMatchesTheClosedForm'
+statistical+='|UnscatteredLight\.ReportedNoiseMatchesTheSpreadOverSeeds'
+statistical+='|FarField\.SunLitSphereUnlitHalfMatchesTheLightTracer'
+statistical+='|Diffusion\.OtherProfilesMatchExact'
+statistical+='|EscapeProbability\.HalfSpaceMatchesTabulatedAlbedoAndPathTracer'
+statistical+='|EscapeProbability\.ThinSlabCountsLightReflectedBeforeItsFirstScattering'
+statistical+='|LightTracer\.ReportedStandardErrorsMatchTheSpreadOverSeeds'
+left_out="^(workflow_test|$command_line_only|$statistical)\$"
 ctest --test-dir "$build" --output-on-failure --no-tests=error -j "$(nproc)" -E "$left_out" \
   -LE '^opengl$'
 LD_PRELOAD="$driver" ctest --test-dir "$build" --output-on-failure --no-tests=error \

@@ -205,6 +205,7 @@ TEST(FarField, BouncesCarryAllTheLightTheObjectSendsItself) {
     settings.mmPerUnit = 1.0;
     settings.samples = 64;
     settings.bounces = kAutoBounces;
+    settings.tolerance = 0.03;  // a ninth of the default's paths: the effect is 15 %
     settings.farField = mode;
     settings.quiet = true;
     BakeOutput out = bake(settings, BakeEnvironment{uniform, {}});
@@ -224,7 +225,7 @@ TEST(FarField, BouncesCarryAllTheLightTheObjectSendsItself) {
     pitOn += luminance(glm::dvec3(on.baked.exitance[v]));
   }
   ASSERT_GT(pit, 5);
-  EXPECT_NEAR(pitOn / pitOff, 1.0, 0.03);
+  EXPECT_NEAR(pitOn / pitOff, 1.0, 0.04);
 }
 
 TEST(FarField, SameResultForAnyThreadCount) {

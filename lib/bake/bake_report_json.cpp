@@ -74,7 +74,7 @@ Json toJson(const EnergyStageReport& r) {
     j["estimated_error"] = r.walkError();
     if (r.farField) {
       j["near_share"] = plan.escape.nearShare;
-      j["near_share_error"] = r.nearShareError();
+      j["near_share_error"] = plan.escape.nearErrorInB();
     }
   }
   return j;

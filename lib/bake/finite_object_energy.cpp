@@ -190,9 +190,9 @@ EnergyPlan planFiniteObjectEnergy(const TriangleMesh& meshMm, std::span<const fl
 
 void refineNearShare(EnergyPlan& plan, const TriangleMesh& meshMm, std::span<const float> areas,
                      const Material& material, const EnergyOptions& options) {
-  // Its noise as it weighs in B (EnergyStageReport::nearShareError): on a thin part under a sun
-  // most of B is the far field's, and the near share's own relative noise overstates it.
-  const double error = plan.escape.nearRelativeStdError * plan.escape.nearShare;
+  // Its noise as it weighs in B: on a thin part under a sun most of B is the far field's, and the
+  // near share's own relative noise overstates it.
+  const double error = plan.escape.nearErrorInB();
   if (plan.model != EnergyModel::Escape || plan.walks >= options.maxWalks ||
       !(error > options.noiseBudget))
     return;

@@ -44,12 +44,11 @@ struct EnergyStageReport {
   // field's own noise adds to the walks'.
   bool farField = false;
   double farFieldError = 0.0;
-  // The near share's noise relative to B: its own relative noise times its weight in B.
-  double nearShareError() const { return plan.escape.nearRelativeStdError * plan.escape.nearShare; }
   // The relative noise the escape model's Monte Carlo leaves in B (0 without it).
   double walkError() const {
     if (!escape()) return 0.0;
-    return farField ? std::hypot(nearShareError(), farFieldError) : plan.escape.relativeStdError;
+    return farField ? std::hypot(plan.escape.nearErrorInB(), farFieldError)
+                    : plan.escape.relativeStdError;
   }
 };
 

@@ -75,6 +75,8 @@ struct EscapeResult {
   // |P_near| / |P| (area-weighted RMS over vertices and channels): what the near share's noise
   // weighs in B, the rest being the far field's (bake/far_field.h); 0 without a window.
   double nearShare = 0.0;
+  // The near share's noise relative to B: its own relative noise times its weight in B.
+  double nearErrorInB() const { return nearRelativeStdError * nearShare; }
 };
 
 // Walks added in rounds: walk s of vertex v in channel c always draws from its own stream, so a

@@ -189,8 +189,7 @@ DiffusionResult bakeExitance(const Scene& s, const Cubemap& env, const std::vect
   dopt.quiet = true;
   const double energyError =
       plan.model != EnergyModel::Escape ? 0.0
-      : far.traced() ? std::hypot(plan.escape.nearRelativeStdError * plan.escape.nearShare,
-                                                far.report.relativeStdError)
+      : far.traced() ? std::hypot(plan.escape.nearErrorInB(), far.report.relativeStdError)
                      : plan.escape.relativeStdError;
   dopt.tolerance =
       budget.diffusionTolerance(plan.model == EnergyModel::Escape, energyError, std::nullopt);

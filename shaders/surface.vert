@@ -1,12 +1,16 @@
 // Shading of the baked surface (Li & Guo's CubeMapping.vert/.frag, made physically consistent):
-//   L = B F_t(mu_o, eta) w(mu_o) * exitScale + F_r(mu_o, eta) * L_env(reflect(-w_o, n))
+//   L = ((B - B_far) w(mu_o) + B_far lobe(mu_o)) F_t(mu_o, eta) * exitScale
+//       + F_r(mu_o, eta) * L_env(reflect(-w_o, n))
 // B: exitance baked per vertex (MODE_SSS), or albedo * E(n) from the diffuse irradiance cubemap
 // (MODE_BRDF: a Lambertian surface, the paper's Figure 3 comparison, so that the two modes differ
 // only by light transport). exitScale is 1 / (pi (1 - 2 C_1(eta))) for the normalized exit model
 // (the emitted flux equals B; d'Eon 2012) or 1 / pi (Jensen et al. 2001). The paper writes F_r for
 // the factor that lets light out; that is the transmittance F_t = 1 - F_r. w(mu_o) per channel is
 // the calibrated exit model's angular weight (material/directional_albedo_weight.h: the half-space
-// Monte Carlo's shape across albedo, flux-preserving), all 1 for the other two models.
+// Monte Carlo's shape across albedo, flux-preserving), all 1 for the other models. B_far (0 but
+// for the auto exit model on a bake with a traced far field) leaves through the exit lobe of
+// optics/exit_lobe.h: lobe = (1 + k mu_i) A_0 / (A_0 + k A_1), mu_i the cosine inside, k the
+// vertex's slope, A_n the lobe's moments (so that with exitScale = 1 / (pi A_0) its flux is B_far).
 // REFLECT_MIX reproduces the paper's constant mix(base, cube, reflect_factor) instead.
 // MODE_IRRADIANCE shows the baked E as a white Lambertian surface (E / pi); MODE_NORMALS shows
 // n * 0.5 + 0.5.
@@ -19,12 +23,15 @@
 layout(location = 0) in vec3 aPosition;
 layout(location = 1) in vec3 aNormal;
 layout(location = 2) in vec3 aValue;
+layout(location = 3) in vec3 aFarValue;
+layout(location = 4) in vec3 aFarSlope;
 
 uniform mat4 uViewProjection;
 uniform vec3 uEye;
 uniform float uEta;
 uniform float uExitScale;
 uniform vec3 uExitWeight[17];  // w(mu) at mu = k / 16
+uniform vec2 uLobeMoments;     // A_0, A_1
 uniform vec3 uAlbedo;
 uniform samplerCube uIrradiance;
 
@@ -36,6 +43,13 @@ vec3 exitWeight(float mu) {
   float t = clamp(mu, 0.0, 1.0) * 16.0;
   int k = min(int(t), 15);
   return mix(uExitWeight[k], uExitWeight[k + 1], t - float(k));
+}
+
+// B_far's radiance over the normalized model's: the exit lobe over its value at slope 0.
+vec3 farLobe(float mu) {
+  float muI = sqrt(max(0.0, 1.0 - (1.0 - mu * mu) / (uEta * uEta)));
+  return (vec3(1.0) + aFarSlope * muI) * uLobeMoments.x /
+         (vec3(uLobeMoments.x) + aFarSlope * uLobeMoments.y);
 }
 
 void main() {
@@ -56,6 +70,7 @@ void main() {
 #elif defined(MODE_BRDF)
   vBase = uAlbedo * textureLod(uIrradiance, n, 0.0).rgb * ((1.0 - vFresnel) * uExitScale);
 #else
-  vBase = aValue * exitWeight(mu) * ((1.0 - vFresnel) * uExitScale);
+  vBase = ((aValue - aFarValue) * exitWeight(mu) + aFarValue * farLobe(mu)) *
+          ((1.0 - vFresnel) * uExitScale);
 #endif
 }

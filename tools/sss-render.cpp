@@ -109,7 +109,7 @@ LoadedMesh loadMesh(const Arguments& a) {
   if (m.shading.albedoIsFallback) {
     warn(noMaterial + format("albedo %g (set --albedo)", m.shading.albedo.x));
   }
-  m.renderMesh = renderMeshFor(m.contents.baked, a.request.mode);
+  m.renderMesh = renderMeshFor(m.contents.baked, a.request.mode, m.shading.farField);
   m.bounds = boundingSphere(m.contents.baked.mesh.positions);
   return m;
 }
@@ -125,6 +125,8 @@ ShadingOptions shadingOptions(const Arguments& a, const ShadingParameters& p) {
   s.eta = p.eta;
   s.exitScale = p.exitScale;
   s.exitWeight = p.exitWeight;
+  s.lobeMoment0 = p.lobeMoment0;
+  s.lobeMoment1 = p.lobeMoment1;
   s.albedo = p.albedo;
   s.cullBackFaces = p.cullBackFaces;
   return s;
@@ -401,8 +403,10 @@ void addShadingOptions(CLI::App& app, Arguments& a) {
                      "baked irradiance or normals");
   cli::addEnumOption(app, "--fresnel", a.fresnel, kFresnelModelNames, "Fresnel terms");
   cli::addEnumOption(app, "--exit-model", a.request.exitModel, kExitModelNames,
-                     "normalized: B F_t / (pi (1 - 2 C_1)), flux = B; calibrated: times w, the "
-                     "half-space Monte Carlo's angular shape for the material; jensen: B F_t / pi");
+                     "auto: normalized, and the bake's traced far field through the exit lobe its "
+                     "light paths measured (where the file has one); normalized: B F_t / (pi "
+                     "(1 - 2 C_1)), flux = B; calibrated: times w, the half-space Monte Carlo's "
+                     "angular shape for the material; jensen: B F_t / pi");
   app.add_option("--reflect-factor", a.reflectFactor,
                  "The paper's constant mix(base, reflection, F) instead of Fresnel weights")
       ->check(cli::finiteIn(0.0, 1.0));

@@ -13,6 +13,7 @@
 #include "core/tool.h"
 #include "envmap/environment.h"
 #include "material/directional_albedo_weight.h"
+#include "optics/exit_lobe.h"
 #include "optics/fresnel.h"
 
 namespace sss {
@@ -225,15 +226,25 @@ void estimateInterreflection(const BakeSettings& s, const PreparedMesh& mesh,
   }
 }
 
-// The radiance leaving along the normal under the exit model sss-render uses by default (the
-// normalized one, optics/fresnel.h): L = B F_t(1, eta) / (pi (1 - 2 C_1(eta))); for the path
-// tracer too, whose B it converts. (The calibrated model is closer on a half-space under even
-// light, further on the study's objects: README, "Under a sun".)
-std::vector<glm::vec3> radianceAlongNormal(std::span<const glm::vec3> exitance, double eta) {
+// The radiance leaving along the normal under the exit model sss-render uses by default: the
+// normalized one (optics/fresnel.h), L = B F_t(1, eta) / (pi (1 - 2 C_1(eta))), for B less its
+// traced far field, and the far field's own exit lobe (optics/exit_lobe.h, the slope its paths
+// measured) for B_far; for the path tracer too, whose B it converts. (The calibrated model is
+// closer on a half-space under even light, further on the study's objects: README, "Under a
+// sun".)
+std::vector<glm::vec3> radianceAlongNormal(std::span<const glm::vec3> exitance, const FarField& far,
+                                           double eta) {
   const float exitScale = float(normalExitRadianceScale(float(eta)));
+  const ExitLobe lobe{float(eta)};
   std::vector<glm::vec3> radiance;
   radiance.reserve(exitance.size());
-  for (const glm::vec3& b : exitance) radiance.push_back(b * exitScale);
+  for (std::size_t i = 0; i < exitance.size(); ++i) {
+    glm::vec3 l = exitance[i] * exitScale;
+    if (far.traced())
+      for (int c = 0; c < 3; ++c)
+        l[c] += far.exitance[i][c] * (float(lobe.radiance(far.slope[i][c], 1.0f)) - exitScale);
+    radiance.push_back(l);
+  }
   return radiance;
 }
 
@@ -258,13 +269,15 @@ UnscatteredLight unscatteredStage(const BakeSettings& s, const PreparedMesh& mes
 
 // Stage 5: the baked mesh in the file's units, with what made it in a comment.
 BakedMesh assembleBakedMesh(TriangleMesh mesh, VertexLighting& lighting, VertexExitance& exitance,
-                            std::vector<glm::vec3> radianceNormal, const BakeSettings& s,
-                            const BakeReport& r) {
+                            std::vector<glm::vec3> radianceNormal, FarField far,
+                            const BakeSettings& s, const BakeReport& r) {
   BakedMesh baked;
   baked.mesh = std::move(mesh);
   baked.irradiance = std::move(lighting.irradiance);
   baked.exitance = std::move(exitance.exitance);
   baked.radianceNormal = std::move(radianceNormal);
+  baked.farExitance = std::move(far.exitance);
+  baked.farExitSlope = std::move(far.slope);
   baked.materialName = s.material.name;
   baked.sigmaA = s.material.sigmaA;
   baked.sigmaSPrime = s.material.sigmaSPrime;
@@ -339,7 +352,8 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
   }
 
   // The radiance along the normal: B's through the exit model, and the unscattered light's.
-  std::vector<glm::vec3> radianceNormal = radianceAlongNormal(exitance.exitance, s.material.eta);
+  std::vector<glm::vec3> radianceNormal =
+      radianceAlongNormal(exitance.exitance, far, s.material.eta);
   const UnscatteredLight unscattered = unscatteredStage(s, mesh, radiance, radianceNormal, budget);
   for (std::size_t i = 0; i < unscattered.radiance.size(); ++i)
     radianceNormal[i] += unscattered.radiance[i];
@@ -352,7 +366,7 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
       modelErrorStage(s, mesh.meshMm, radianceNormal, radiance, report.farField);
   report.errors = errorReport(report, model, s.tolerance);
   out.baked = assembleBakedMesh(std::move(mesh.mesh), lighting, exitance, std::move(radianceNormal),
-                                s, report);
+                                std::move(far), s, report);
   report.totalSeconds = clock.seconds();
   return out;
 }

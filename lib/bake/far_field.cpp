@@ -18,6 +18,7 @@
 #include "envmap/cubemap.h"
 #include "material/material.h"
 #include "mesh/triangle_mesh.h"
+#include "optics/exit_lobe.h"
 #include "pathtrace/light_tracer.h"
 
 namespace sss {
@@ -58,6 +59,7 @@ TracedRound traceRound(const FarFieldInput& in, const SurfaceAverage& average, u
   o.batches = 16;  // enough for the noise estimate
   o.tallyRadiance = false;
   o.keepBatches = true;
+  o.tallyExitCosine = true;
   const TriangleMesh& mesh = in.meshMm;
   const LightTraceResult r = lightTraceSubsurface(mesh.positions, mesh.normals, mesh.triangles,
                                                   DistantLight::environment(in.radiance),
@@ -65,9 +67,15 @@ TracedRound traceRound(const FarFieldInput& in, const SurfaceAverage& average, u
   const std::size_t n = mesh.positions.size();
   const double k = double(r.batchExitance.size());
   TracedRound round{std::vector<glm::dvec3>(n, glm::dvec3(0.0)),
-                    std::vector<glm::dvec3>(n, glm::dvec3(0.0)), paths};
+                    std::vector<glm::dvec3>(n, glm::dvec3(0.0)), paths, {}};
   std::vector<glm::dvec3> sumSq(n, glm::dvec3(0.0));
-  for (const std::vector<glm::vec3>& averaged : average(r.batchExitance)) {
+  // The batches and the cosine-weighted exits averaged at once (the weights computed once).
+  std::vector<std::vector<glm::vec3>> sets = r.batchExitance;
+  sets.push_back(r.exitCosine);
+  std::vector<std::vector<glm::vec3>> averagedSets = average(sets);
+  round.cosineMean.assign(averagedSets.back().begin(), averagedSets.back().end());
+  averagedSets.pop_back();
+  for (const std::vector<glm::vec3>& averaged : averagedSets) {
     for (std::size_t i = 0; i < n; ++i) {
       const glm::dvec3 v(averaged[i]);
       round.mean[i] += v / k;
@@ -135,8 +143,33 @@ double smoothingSigmaMm(const FarFieldInput& in, const glm::dvec3& window) {
   return std::max({window.x, window.y, window.z, kSmoothingMinEdges * edge});
 }
 
+// Per vertex and channel, the exit lobe's slope (optics/exit_lobe.h) whose mean internal cosine
+// is the traced exits' (their cosine-weighted B over their B, both averaged alike); 0, the
+// normalized exit model, where nothing left.
+std::vector<glm::vec3> exitLobeSlopes(const TracedRound& round, float eta) {
+  const ExitLobe lobe(eta);
+  std::vector<glm::vec3> slopes(round.mean.size(), glm::vec3(0.0f));
+  for (std::size_t i = 0; i < round.mean.size(); ++i)
+    for (int c = 0; c < 3; ++c)
+      if (round.mean[i][c] > 0.0)
+        slopes[i][c] = float(lobe.slopeFor(round.cosineMean[i][c] / round.mean[i][c]));
+  return slopes;
+}
+
+glm::dvec3 weightedMeanSlope(const FarField& far, std::span<const float> areas) {
+  glm::dvec3 sum(0.0), weight(0.0);
+  for (std::size_t i = 0; i < far.slope.size(); ++i) {
+    const glm::dvec3 w = double(areas[i]) * glm::dvec3(far.exitance[i]);
+    sum += w * glm::dvec3(far.slope[i]);
+    weight += w;
+  }
+  return glm::dvec3(weight.x > 0.0 ? sum.x / weight.x : 0.0, weight.y > 0.0 ? sum.y / weight.y : 0.0,
+                    weight.z > 0.0 ? sum.z / weight.z : 0.0);
+}
+
 FarField skip(FarField out, std::string reason, const Stopwatch& clock) {
   out.exitance.clear();
+  out.slope.clear();
   out.report.traced = false;
   out.report.reason = std::move(reason);
   out.report.seconds = clock.seconds();
@@ -211,6 +244,8 @@ FarField traceFarField(const FarFieldInput& in) {
   }
   out.exitance.assign(round.mean.size(), glm::vec3(0.0f));
   for (std::size_t i = 0; i < round.mean.size(); ++i) out.exitance[i] = glm::vec3(round.mean[i]);
+  out.slope = exitLobeSlopes(round, float(in.material.eta));
+  r.meanExitSlope = weightedMeanSlope(out, in.areasMm2);
   r.traced = true;
   r.paths = round.paths;
   r.relativeStdError = noise;

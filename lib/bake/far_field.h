@@ -87,11 +87,17 @@ struct FarFieldReport {
   double smoothingMm = 0.0;
   uint64_t paths = 0;
   double relativeStdError = 0.0;  // of B, from the far field's noise
+  // The exit lobe's slope averaged over the surface, weighted by B_far times the area: 0 for
+  // light that left as diffusion does, below 0 for light that leaves towards grazing angles.
+  glm::dvec3 meanExitSlope{0.0};
   double seconds = 0.0;
 };
 
 struct FarField {
   std::vector<glm::vec3> exitance;  // B_far per vertex; empty when not traced
+  // The exit lobe's slope k per vertex and channel (optics/exit_lobe.h): the radiance B_far
+  // leaves with, from the traced exits' mean internal cosine; empty when not traced.
+  std::vector<glm::vec3> slope;
   FarFieldReport report;
   bool traced() const { return report.traced; }
 };

@@ -15,6 +15,7 @@
 #include "core/atomic_output.h"
 #include "core/error.h"
 #include "core/tool.h"
+#include "optics/exit_lobe.h"
 #include "optics/fresnel.h"
 
 namespace sss {
@@ -96,19 +97,26 @@ struct DisplayColors {
   Json description;
 };
 
-// scale * B, with scale = exposure * F_t(1, eta) / (pi (1 - 2 C_1(eta))): sss-render's exit term
-// along the normal (shaders/surface.vert, normalized exit model) under the bake's exposure.
+// exposure * the radiance sss-render draws along the normal under its default exit model: B F_t(1,
+// eta) / (pi (1 - 2 C_1(eta))) (shaders/surface.vert, normalized), with a traced far field B_far
+// through its exit lobe instead (optics/exit_lobe.h).
 DisplayColors displayColors(const std::string& path, const BakedMesh& baked) {
   const float eta = static_cast<float>(baked.eta);
   const double radiancePerExitance = normalExitRadianceScale(eta);
   const double exposure = previewScaleFor(baked);
   const double scale = exposure * radiancePerExitance;
+  const ExitLobe lobe(eta);
   DisplayColors out;
   std::size_t clamped = 0;
   float peak = 0.0f;
   out.colors.reserve(baked.exitance.size());
-  for (const glm::vec3& b : baked.exitance) {
-    const glm::vec3 c = glm::vec3(scale * glm::dvec3(b));
+  for (std::size_t i = 0; i < baked.exitance.size(); ++i) {
+    glm::dvec3 radiance = radiancePerExitance * glm::dvec3(baked.exitance[i]);
+    if (!baked.farExitance.empty())
+      for (int c = 0; c < 3; ++c)
+        radiance[c] += baked.farExitance[i][c] *
+                       (lobe.radiance(baked.farExitSlope[i][c], 1.0f) - radiancePerExitance);
+    const glm::vec3 c = glm::vec3(exposure * radiance);
     const float high = std::max({c.x, c.y, c.z});
     peak = std::max(peak, high);
     clamped += high > 1.0f;
@@ -120,7 +128,7 @@ DisplayColors displayColors(const std::string& path, const BakedMesh& baked) {
          " under the exposure " + std::to_string(exposure) + "); _EXITANCE holds them unclamped");
   }
   out.description = {{"exposure", exposure},
-                     {"exit_model", "normalized"},
+                     {"exit_model", baked.farExitance.empty() ? "normalized" : "auto"},
                      {"radiance_per_exitance", radiancePerExitance},
                      {"scale", scale},
                      {"clamped_vertices", clamped}};
@@ -156,6 +164,10 @@ Json gltfDocument(const BakedMesh& baked, BinaryBuilder& bin, const DisplayColor
   if (!baked.exitance.empty()) attributes["COLOR_0"] = bin.addVec3(colors.colors, false);
   if (!baked.irradiance.empty()) attributes["_IRRADIANCE"] = bin.addVec3(baked.irradiance, false);
   if (!baked.exitance.empty()) attributes["_EXITANCE"] = bin.addVec3(baked.exitance, false);
+  if (!baked.farExitance.empty()) {
+    attributes["_FAR_EXITANCE"] = bin.addVec3(baked.farExitance, false);
+    attributes["_FAR_EXIT_SLOPE"] = bin.addVec3(baked.farExitSlope, false);
+  }
   const int indices = bin.addIndices(baked.mesh.triangles);
   const std::string name = baked.materialName.empty() ? "baked" : baked.materialName;
   return {{"asset",
@@ -399,7 +411,7 @@ BakedPlyContents readBakedGlb(const std::string& path) {
   BakedPlyContents contents;
   BakedMesh& baked = contents.baked;
   RawMesh raw;
-  std::vector<glm::vec3> irradiance, exitance;
+  BakedVertexValues values;
   try {
     const Json document = Json::parse(chunks.json);
     if (!document.is_object()) fail(path, "glTF: the JSON chunk is not an object");
@@ -418,13 +430,24 @@ BakedPlyContents readBakedGlb(const std::string& path) {
     raw.positions = readVec3(path, document, bin, index(path, attributes, "POSITION"), "POSITION");
     raw.normals = readVec3(path, document, bin, index(path, attributes, "NORMAL"), "NORMAL");
     if (attributes.contains("_IRRADIANCE")) {
-      irradiance =
+      values.irradiance =
           readVec3(path, document, bin, index(path, attributes, "_IRRADIANCE"), "_IRRADIANCE");
       contents.hasIrradiance = true;
     }
     if (attributes.contains("_EXITANCE")) {
-      exitance = readVec3(path, document, bin, index(path, attributes, "_EXITANCE"), "_EXITANCE");
+      values.exitance =
+          readVec3(path, document, bin, index(path, attributes, "_EXITANCE"), "_EXITANCE");
       contents.hasExitance = true;
+    }
+    const bool far = attributes.contains("_FAR_EXITANCE");
+    if (far != attributes.contains("_FAR_EXIT_SLOPE"))
+      fail(path, "glTF: _FAR_EXITANCE without _FAR_EXIT_SLOPE or the other way round");
+    if (far) {
+      values.farExitance =
+          readVec3(path, document, bin, index(path, attributes, "_FAR_EXITANCE"), "_FAR_EXITANCE");
+      values.farExitSlope = readVec3(path, document, bin, index(path, attributes, "_FAR_EXIT_SLOPE"),
+                                     "_FAR_EXIT_SLOPE");
+      contents.hasFarField = true;
     }
     raw.faceCorners = readIndices(path, document, bin, index(path, primitive, "indices"));
     const auto extras = document.at("asset").find("extras");
@@ -435,8 +458,9 @@ BakedPlyContents readBakedGlb(const std::string& path) {
     fail(path, std::string("glTF JSON: ") + e.what());
   }
   const std::size_t n = raw.positions.size();
-  for (const auto* values : {&raw.normals, &irradiance, &exitance}) {
-    if (!values->empty() && values->size() != n) {
+  for (const auto* set : {&raw.normals, &values.irradiance, &values.exitance, &values.farExitance,
+                          &values.farExitSlope}) {
+    if (!set->empty() && set->size() != n) {
       fail(path, "glTF: the attributes have different counts");
     }
   }
@@ -445,7 +469,7 @@ BakedPlyContents readBakedGlb(const std::string& path) {
   contents.hasUnits = true;  // glTF positions are metres
   baked.mmPerUnit = 1000.0;
   contents.report.format = "glb";
-  cleanBakedMesh(path, std::move(raw), irradiance, exitance, {}, contents);
+  cleanBakedMesh(path, std::move(raw), values, contents);
   return contents;
 }
 

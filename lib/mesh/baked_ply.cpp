@@ -13,6 +13,7 @@
 #include "core/file_extension.h"
 #include "core/srgb.h"
 #include "mesh/ply_format.h"
+#include "optics/exit_lobe.h"
 
 namespace sss {
 
@@ -82,6 +83,26 @@ void checkVertexValues(const std::string& path, const std::vector<glm::vec3>& va
   }
 }
 
+namespace {
+
+// The far field's values: both or neither, one per vertex, finite, slopes where the exit lobe is
+// defined (a slope below -1 would make the interior radiance negative along the normal).
+void checkFarField(const std::string& path, const BakedMesh& baked, std::size_t n) {
+  checkVertexValues(path, baked.farExitance, n, "far_exitance");
+  checkVertexValues(path, baked.farExitSlope, n, "far_exit_slope");
+  if (baked.farExitance.empty() != baked.farExitSlope.empty())
+    fail(path, "has far_exitance without far_exit_slope or the other way round");
+  for (std::size_t i = 0; i < baked.farExitSlope.size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      const double k = baked.farExitSlope[i][c];
+      if (k < ExitLobe::kMinSlope || k > ExitLobe::kMaxSlope)
+        fail(path, "far_exit_slope of vertex " + std::to_string(i) + " is outside [" +
+                       number(ExitLobe::kMinSlope) + ", " + number(ExitLobe::kMaxSlope) + "]");
+    }
+}
+
+}  // namespace
+
 void checkBakedMesh(const std::string& path, const BakedMesh& baked) {
   const TriangleMesh& mesh = baked.mesh;
   const std::size_t nv = mesh.positions.size();
@@ -94,6 +115,7 @@ void checkBakedMesh(const std::string& path, const BakedMesh& baked) {
   checkVertexValues(path, baked.irradiance, nv, "irradiance");
   checkVertexValues(path, baked.exitance, nv, "exitance");
   checkVertexValues(path, baked.radianceNormal, nv, "radiance_normal");
+  checkFarField(path, baked, nv);
 }
 
 namespace {
@@ -119,6 +141,7 @@ void writeBakedPly(const std::string& path, const BakedMesh& baked) {
   }
   const bool hasE = !baked.irradiance.empty(), hasB = !baked.exitance.empty();
   const bool hasL = !baked.radianceNormal.empty();
+  const bool hasFar = !baked.farExitance.empty();
   const double scale = previewScaleFor(baked);
 
   std::string out;
@@ -148,10 +171,16 @@ void writeBakedPly(const std::string& path, const BakedMesh& baked) {
     out +=
         "property float radiance_normal_r\nproperty float radiance_normal_g\n"
         "property float radiance_normal_b\n";
+  if (hasFar)
+    out +=
+        "property float far_exitance_r\nproperty float far_exitance_g\n"
+        "property float far_exitance_b\nproperty float far_exit_slope_r\n"
+        "property float far_exit_slope_g\nproperty float far_exit_slope_b\n";
   out += "element face " + std::to_string(mesh.triangles.size()) + "\n";
   out += "property list uchar int vertex_indices\nend_header\n";
 
-  const std::size_t vertexBytes = 24 + (hasE ? 12 : 0) + (hasB ? 15 : 0) + (hasL ? 12 : 0);
+  const std::size_t vertexBytes =
+      24 + (hasE ? 12 : 0) + (hasB ? 15 : 0) + (hasL ? 12 : 0) + (hasFar ? 24 : 0);
   out.reserve(out.size() + nv * vertexBytes + mesh.triangles.size() * 13);
   for (std::size_t i = 0; i < nv; ++i) {
     for (int k = 0; k < 3; ++k) put(out, mesh.positions[i][k]);
@@ -167,6 +196,10 @@ void writeBakedPly(const std::string& path, const BakedMesh& baked) {
     }
     if (hasL) {
       for (int k = 0; k < 3; ++k) put(out, baked.radianceNormal[i][k]);
+    }
+    if (hasFar) {
+      for (int k = 0; k < 3; ++k) put(out, baked.farExitance[i][k]);
+      for (int k = 0; k < 3; ++k) put(out, baked.farExitSlope[i][k]);
     }
   }
   for (const glm::uvec3& t : mesh.triangles) {
@@ -283,31 +316,39 @@ BakedPlyContents readBakedPly(const std::string& path) {
   BakedMesh& baked = result.baked;
   Keys keys = sssKeys(ply.comments, baked.extraComments);
   readKeys(path, keys, result);
-  const std::vector<glm::vec3> irradiance =
-      readChannels(path, ply, "irradiance", result.hasIrradiance);
-  const std::vector<glm::vec3> exitance = readChannels(path, ply, "exitance", result.hasExitance);
-  const std::vector<glm::vec3> radianceNormal =
-      readChannels(path, ply, "radiance_normal", result.hasRadianceNormal);
+  BakedVertexValues values;
+  values.irradiance = readChannels(path, ply, "irradiance", result.hasIrradiance);
+  values.exitance = readChannels(path, ply, "exitance", result.hasExitance);
+  values.radianceNormal = readChannels(path, ply, "radiance_normal", result.hasRadianceNormal);
+  bool hasFarExitance = false, hasFarSlope = false;
+  values.farExitance = readChannels(path, ply, "far_exitance", hasFarExitance);
+  values.farExitSlope = readChannels(path, ply, "far_exit_slope", hasFarSlope);
+  if (hasFarExitance != hasFarSlope)
+    fail(path, "has far_exitance without far_exit_slope or the other way round");
+  result.hasFarField = hasFarExitance;
 
-  cleanBakedMesh(path, ply::takeMesh(ply, result.report), irradiance, exitance, radianceNormal,
-                 result);
+  cleanBakedMesh(path, ply::takeMesh(ply, result.report), values, result);
   return result;
 }
 
-void cleanBakedMesh(const std::string& path, RawMesh raw, const std::vector<glm::vec3>& irradiance,
-                    const std::vector<glm::vec3>& exitance,
-                    const std::vector<glm::vec3>& radianceNormal, BakedPlyContents& contents) {
+void cleanBakedMesh(const std::string& path, RawMesh raw, const BakedVertexValues& values,
+                    BakedPlyContents& contents) {
   BakedMesh& baked = contents.baked;
   std::vector<unsigned> origin;
   baked.mesh = cleanMesh(path, std::move(raw), &contents.report, &origin);
   for (unsigned o : origin) {
-    if (contents.hasIrradiance) baked.irradiance.push_back(irradiance[o]);
-    if (contents.hasExitance) baked.exitance.push_back(exitance[o]);
-    if (contents.hasRadianceNormal) baked.radianceNormal.push_back(radianceNormal[o]);
+    if (contents.hasIrradiance) baked.irradiance.push_back(values.irradiance[o]);
+    if (contents.hasExitance) baked.exitance.push_back(values.exitance[o]);
+    if (contents.hasRadianceNormal) baked.radianceNormal.push_back(values.radianceNormal[o]);
+    if (contents.hasFarField) {
+      baked.farExitance.push_back(values.farExitance[o]);
+      baked.farExitSlope.push_back(values.farExitSlope[o]);
+    }
   }
   checkVertexValues(path, baked.irradiance, origin.size(), "irradiance");
   checkVertexValues(path, baked.exitance, origin.size(), "exitance");
   checkVertexValues(path, baked.radianceNormal, origin.size(), "radiance_normal");
+  checkFarField(path, baked, origin.size());
   if (baked.meshChecked) contents.report.warnings.clear();  // sss-bake showed them
 }
 

@@ -25,6 +25,12 @@
 //   property float radiance_normal_r, radiance_normal_g, radiance_normal_b
 //                  (when given: the radiance leaving along the vertex normal, under the exit
 //                  model of the bake, so that a bake compares with a reference in radiance)
+//   property float far_exitance_r, far_exitance_g, far_exitance_b
+//   property float far_exit_slope_r, far_exit_slope_g, far_exit_slope_b
+//                  (both or neither, when the bake traced its far field, bake/far_field.h: the
+//                  part of B that light paths carried from afar, and the slope k of the exit
+//                  lobe it leaves with, optics/exit_lobe.h; sss-render draws B - B_far through
+//                  the exit model and B_far through that lobe)
 //   element face M
 //   property list uchar int vertex_indices
 //   end_header
@@ -48,6 +54,8 @@ struct BakedMesh {
   std::vector<glm::vec3> irradiance;      // E per vertex (empty: not written/not present)
   std::vector<glm::vec3> exitance;        // B per vertex (empty: not written/not present)
   std::vector<glm::vec3> radianceNormal;  // L along the normal per vertex (idem)
+  // The traced far field's part of B and its exit lobe's slope k, per vertex (both or neither).
+  std::vector<glm::vec3> farExitance, farExitSlope;
   std::string materialName;               // no spaces or '='
   glm::dvec3 sigmaA{0.0};                 // absorption, per mm
   glm::dvec3 sigmaSPrime{0.0};            // reduced scattering, per mm
@@ -85,6 +93,7 @@ struct BakedPlyContents {
   bool hasIrradiance = false;      // irradiance_r/g/b present
   bool hasExitance = false;        // exitance_r/g/b present
   bool hasRadianceNormal = false;  // radiance_normal_r/g/b present
+  bool hasFarField = false;        // far_exitance_r/g/b and far_exit_slope_r/g/b present
   bool hasMaterial = false;        // "sss material/sigma_a/sigma_s_prime/eta" comments present
   bool hasUnits = false;           // "sss mm_per_unit" comment present
   MeshReport report;               // cleanup of the mesh part; no warnings when baked.meshChecked
@@ -96,11 +105,15 @@ struct BakedPlyContents {
 // their vertices); a file that sss-bake wrote comes back unchanged.
 BakedPlyContents readBakedPly(const std::string& path);
 
+// Per-vertex values as a reader found them, in the file's vertex order (empty: absent).
+struct BakedVertexValues {
+  std::vector<glm::vec3> irradiance, exitance, radianceNormal, farExitance, farExitSlope;
+};
+
 // The end of every baked-mesh reader: `raw` through cleanMesh into contents.baked.mesh, the
 // per-vertex values (those the has* flags say are present) following their vertices, and no
 // cleanup warnings when contents.baked.meshChecked (sss-bake showed them).
-void cleanBakedMesh(const std::string& path, RawMesh raw, const std::vector<glm::vec3>& irradiance,
-                    const std::vector<glm::vec3>& exitance,
-                    const std::vector<glm::vec3>& radianceNormal, BakedPlyContents& contents);
+void cleanBakedMesh(const std::string& path, RawMesh raw, const BakedVertexValues& values,
+                    BakedPlyContents& contents);
 
 }  // namespace sss

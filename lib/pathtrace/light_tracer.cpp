@@ -15,6 +15,7 @@
 #include "core/timer.h"
 #include "envmap/environment_sampler.h"
 #include "mesh/triangle_mesh.h"
+#include "optics/exit_lobe.h"
 #include "optics/fresnel.h"
 #include "pathtrace/medium_walk.h"
 #include "raytrace/triangle_scene.h"
@@ -65,7 +66,7 @@ namespace {
 // One batch's tallies: per vertex sum of Phi l_k (exitance) and of Phi l_k over the cone
 // (radiance), and the power bookkeeping.
 struct BatchTally {
-  std::vector<glm::dvec3> exitance, radiance;
+  std::vector<glm::dvec3> exitance, radiance, exitCosine;
   glm::dvec3 source{0.0}, hit{0.0}, entered{0.0}, exited{0.0}, escaped{0.0};
   uint64_t reentries = 0, truncatedWalks = 0, lostWalks = 0, truncatedPaths = 0, events = 0;
 };
@@ -125,9 +126,14 @@ void LightTracer::tallyExit(const MediumExit& exit, const glm::vec3& entry, glm:
   const glm::uvec3 tri = triangles_[exit.triangle];
   const glm::dvec3 l =
       barycentricWeights(exit.point, positions_[tri.x], positions_[tri.y], positions_[tri.z]);
+  const double muI =
+      tally.exitCosine.empty()
+          ? 0.0
+          : double(ExitLobe::internalCosine(glm::dot(exit.direction, exit.normal), eta_));
   for (int k = 0; k < 3; ++k) {
     const uint32_t v = tri[k];
     tally.exitance[v] += l[k] * power;
+    if (!tally.exitCosine.empty()) tally.exitCosine[v] += (l[k] * muI) * power;
     if (!tally.radiance.empty() && glm::dot(exit.direction, normals_[v]) >= cosCone_)
       tally.radiance[v] += l[k] * power;
   }
@@ -221,6 +227,8 @@ void combineBatches(const std::vector<BatchTally>& batches, const std::vector<ui
   result.radiance.assign(n, glm::vec3(0.0f));
   result.radianceStdErr.assign(n, glm::vec3(0.0f));
   if (keepBatches) result.batchExitance.assign(batches.size(), std::vector<glm::vec3>(n));
+  const bool cosine = !batches.empty() && !batches[0].exitCosine.empty();
+  if (cosine) result.exitCosine.assign(n, glm::vec3(0.0f));
   for (std::size_t v = 0; v < n; ++v) {
     const double perArea = areas[v] > 0.0f ? 1.0 / double(areas[v]) : 0.0;
     const double perProjectedArea =
@@ -232,6 +240,7 @@ void combineBatches(const std::vector<BatchTally>& batches, const std::vector<ui
       if (!result.batchExitance.empty()) result.batchExitance[b][v] = glm::vec3(eb);
       sb += eb;
       sb2 += eb * eb;
+      if (cosine) result.exitCosine[v] += glm::vec3(batches[b].exitCosine[v] * (scale / k));
       if (batches[b].radiance.empty()) continue;
       const glm::dvec3 el =
           batches[b].radiance[v] * (perProjectedArea / double(sizes[b]) / coneProjectedSolidAngle);
@@ -290,6 +299,7 @@ LightTraceResult lightTraceSubsurface(const std::vector<glm::vec3>& positions,
       BatchTally& tally = batches[b];
       tally.exitance.assign(positions.size(), glm::dvec3(0.0));
       if (options.tallyRadiance) tally.radiance.assign(positions.size(), glm::dvec3(0.0));
+      if (options.tallyExitCosine) tally.exitCosine.assign(positions.size(), glm::dvec3(0.0));
       tracer.trace(options.firstPath + first, options.firstPath + last, tally);
       sizes[b] = last - first;
       progress.advance();

@@ -115,6 +115,9 @@ struct LightTraceOptions {
   // Also return each batch's B (LightTraceResult::batchExitance): the far field averages it over
   // the surface per batch, so that its noise counts the paths that neighbouring vertices share.
   bool keepBatches = false;
+  // Also tally B times the internal cosine of each exit (LightTraceResult::exitCosine: the far
+  // field's exit lobe, optics/exit_lobe.h).
+  bool tallyExitCosine = false;
   int maxSurfaceInteractions = 64;    // reflections and refractions at the surface, per path
   int maxScatteringEvents = 1 << 20;  // per medium walk (safety cap; counted)
 };
@@ -124,6 +127,10 @@ struct LightTraceResult {
   std::vector<glm::vec3> exitance, exitanceStdErr;    // B
   std::vector<glm::vec3> radiance, radianceStdErr;    // along the vertex normal
   std::vector<std::vector<glm::vec3>> batchExitance;  // per batch, with keepBatches
+  // With tallyExitCosine: B weighted by the cosine inside the medium of each exit (the cosine of
+  // the refracted exit direction with the face normal, taken back through Snell's law), so that
+  // exitCosine / exitance is the exits' flux-weighted mean internal cosine.
+  std::vector<glm::vec3> exitCosine;
   // Power bookkeeping per channel (summed over all paths, divided by the path count: the same
   // units as B times mm^2).
   glm::dvec3 sourcePower{0.0};   // leaving the source disc

@@ -4,6 +4,7 @@
 
 #include "material/directional_albedo_weight.h"
 #include "material/halfspace_albedo.h"
+#include "optics/exit_lobe.h"
 #include "optics/fresnel.h"
 
 namespace sss {
@@ -43,6 +44,13 @@ ShadingParameters shadingFor(const BakedPlyContents& contents, const ShadingRequ
                     : static_cast<float>(exitRadianceScale(p.eta));
   if (request.exitModel == ExitModel::Calibrated && contents.hasMaterial)
     p.exitWeight = exitWeightTable(contents.baked, p.eta);
+  p.farField = request.exitModel == ExitModel::Auto && request.mode == ShadingMode::Sss &&
+               contents.hasFarField;
+  if (p.farField) {
+    const ExitLobe lobe(p.eta);
+    p.lobeMoment0 = float(lobe.moment(0));
+    p.lobeMoment1 = float(lobe.moment(1));
+  }
   if (request.mode == ShadingMode::Brdf) {
     if (request.albedo) {
       p.albedo = *request.albedo;
@@ -67,11 +75,15 @@ std::string missingBakedValues(const BakedPlyContents& contents, ShadingMode mod
   return {};
 }
 
-RenderMesh renderMeshFor(const BakedMesh& baked, ShadingMode mode) {
+RenderMesh renderMeshFor(const BakedMesh& baked, ShadingMode mode, bool farField) {
   RenderMesh mesh;
   mesh.positions = baked.mesh.positions;
   mesh.normals = baked.mesh.normals;
   if (mode == ShadingMode::Sss) mesh.values = baked.exitance;
+  if (mode == ShadingMode::Sss && farField) {
+    mesh.farValues = baked.farExitance;
+    mesh.farSlopes = baked.farExitSlope;
+  }
   if (mode == ShadingMode::Irradiance) mesh.values = baked.irradiance;
   mesh.indices.reserve(baked.mesh.triangles.size() * 3);
   for (const glm::uvec3& t : baked.mesh.triangles)

@@ -15,15 +15,19 @@
 namespace sss {
 
 // How exitance B leaves the surface as radiance (ShadingOptions::exitScale, exitWeight):
-// normalized (default), L = B F_t / (pi (1 - 2 C_1)), whose flux is B (d'Eon 2012,
+// auto (default), B - B_far through the normalized model and the bake's traced far field B_far
+// through its own exit lobe (optics/exit_lobe.h, the slope its light paths measured; the file's
+// far_exitance and far_exit_slope), the normalized model alone where the file has no far field;
+// normalized, L = B F_t / (pi (1 - 2 C_1)) for all of B, whose flux is B (d'Eon 2012,
 // optics/fresnel.h); calibrated, the same times w(mu), the material's directional albedo weight
 // (material/directional_albedo_weight.h: the half-space Monte Carlo's angular shape across
 // albedo, flux-preserving), exact for a half-space under even light where normalized is 5-12 %
 // high along the normal at alpha' <= 0.75, but further from the reference on the study's finite
 // objects (README, "Under a sun"); jensen, L = B F_t / pi (Jensen et al. 2001).
-enum class ExitModel { Normalized, Calibrated, Jensen };
-inline constexpr EnumNames<ExitModel, 3> kExitModelNames{"exit model",
-                                                         {{{ExitModel::Normalized, "normalized"},
+enum class ExitModel { Auto, Normalized, Calibrated, Jensen };
+inline constexpr EnumNames<ExitModel, 4> kExitModelNames{"exit model",
+                                                         {{{ExitModel::Auto, "auto"},
+                                                           {ExitModel::Normalized, "normalized"},
                                                            {ExitModel::Calibrated, "calibrated"},
                                                            {ExitModel::Jensen, "jensen"}}}};
 
@@ -40,7 +44,7 @@ inline constexpr float kFallbackAlbedo = 0.8f;
 // What the caller asks for; an unset value comes from the bake.
 struct ShadingRequest {
   ShadingMode mode = ShadingMode::Sss;
-  ExitModel exitModel = ExitModel::Normalized;
+  ExitModel exitModel = ExitModel::Auto;
   CullMode cull = CullMode::Auto;
   std::optional<float> eta;         // default: the material's, else kFallbackEta
   std::optional<glm::vec3> albedo;  // brdf; default: the material's half-space albedo
@@ -53,6 +57,8 @@ struct ShadingParameters {
   float eta = kFallbackEta;
   float exitScale = 0.0f;
   ExitWeightTable exitWeight = flatExitWeight();  // calibrated: the material's w at mu = k / 16
+  bool farField = false;  // auto with a far field in the file: B_far through its exit lobe
+  float lobeMoment0 = 1.0f, lobeMoment1 = 0.0f;  // with farField: ShadingOptions' (renderer.h)
   glm::vec3 albedo = glm::vec3(1.0f);             // set in the brdf mode only
   bool cullBackFaces = false;
   bool etaIsFallback = false;     // sss mode, no material in the file, none asked
@@ -67,8 +73,8 @@ ExitWeightTable exitWeightTable(const BakedMesh& baked, float eta);
 // exitance_b" for sss, the irradiance ones for the irradiance view); empty when none is missing.
 std::string missingBakedValues(const BakedPlyContents& contents, ShadingMode mode);
 
-// Positions, normals, triangles, and the values `mode` draws: exitance (sss), irradiance
-// (irradiance view), none otherwise.
-RenderMesh renderMeshFor(const BakedMesh& baked, ShadingMode mode);
+// Positions, normals, triangles, and the values `mode` draws: exitance (sss; with farField, the
+// far field's exitance and exit slopes too), irradiance (irradiance view), none otherwise.
+RenderMesh renderMeshFor(const BakedMesh& baked, ShadingMode mode, bool farField = false);
 
 }  // namespace sss

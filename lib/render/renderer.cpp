@@ -20,6 +20,9 @@
 namespace sss {
 namespace {
 
+// Per vertex: position, normal, value, far value, far slope (RenderMesh; shaders/surface.vert).
+constexpr GLuint kVertexAttributes = 5;
+
 void checkGl(const char* what) {
   const GLenum e = glGetError();
   if (e != GL_NO_ERROR) {
@@ -171,17 +174,23 @@ Renderer::~Renderer() {
 
 void Renderer::setMesh(const RenderMesh& mesh) {
   const std::size_t n = mesh.positions.size();
-  if (mesh.normals.size() != n || (!mesh.values.empty() && mesh.values.size() != n)) {
+  const auto sized = [n](const std::vector<glm::vec3>& v) { return v.empty() || v.size() == n; };
+  if (mesh.normals.size() != n || !sized(mesh.values) || !sized(mesh.farValues) ||
+      !sized(mesh.farSlopes) || mesh.farValues.size() != mesh.farSlopes.size()) {
     throw Error("render mesh: attribute arrays differ in length");
   }
-  // Interleaved position, normal, value: 36 bytes per vertex.
-  std::vector<float> interleaved(n * 9);
+  // Interleaved position, normal, value, far value, far slope: 60 bytes per vertex.
+  constexpr std::size_t kFloats = 3 * kVertexAttributes;
+  std::vector<float> interleaved(n * kFloats);
+  const auto at = [](const std::vector<glm::vec3>& v, std::size_t i) {
+    return v.empty() ? glm::vec3(0.0f) : v[i];
+  };
   for (std::size_t i = 0; i < n; ++i) {
-    float* v = &interleaved[i * 9];
-    std::memcpy(v, &mesh.positions[i], 12);
-    std::memcpy(v + 3, &mesh.normals[i], 12);
-    const glm::vec3 value = mesh.values.empty() ? glm::vec3(0.0f) : mesh.values[i];
-    std::memcpy(v + 6, &value, 12);
+    float* v = &interleaved[i * kFloats];
+    const glm::vec3 attributes[kVertexAttributes] = {mesh.positions[i], mesh.normals[i],
+                                                     at(mesh.values, i), at(mesh.farValues, i),
+                                                     at(mesh.farSlopes, i)};
+    std::memcpy(v, attributes, sizeof attributes);
   }
   glDeleteVertexArrays(1, &gl_->meshVao);
   glDeleteBuffers(1, &gl_->vertexBuffer);
@@ -193,8 +202,8 @@ void Renderer::setMesh(const RenderMesh& mesh) {
   glNamedBufferStorage(gl_->indexBuffer, mesh.indices.size() * sizeof(uint32_t),
                        mesh.indices.data(), 0);
   glCreateVertexArrays(1, &gl_->meshVao);
-  glVertexArrayVertexBuffer(gl_->meshVao, 0, gl_->vertexBuffer, 0, 9 * sizeof(float));
-  for (GLuint attrib = 0; attrib < 3; ++attrib) {
+  glVertexArrayVertexBuffer(gl_->meshVao, 0, gl_->vertexBuffer, 0, kFloats * sizeof(float));
+  for (GLuint attrib = 0; attrib < kVertexAttributes; ++attrib) {
     glEnableVertexArrayAttrib(gl_->meshVao, attrib);
     glVertexArrayAttribFormat(gl_->meshVao, attrib, 3, GL_FLOAT, GL_FALSE,
                               attrib * 3 * sizeof(float));
@@ -236,6 +245,8 @@ void Renderer::setCamera(const Camera& camera) {
   glProgramUniform1f(s, glGetUniformLocation(s, "uExitScale"), shading_.exitScale);
   glProgramUniform3fv(s, glGetUniformLocation(s, "uExitWeight"), kExitWeightNodes,
                       glm::value_ptr(shading_.exitWeight[0]));
+  glProgramUniform2f(s, glGetUniformLocation(s, "uLobeMoments"), shading_.lobeMoment0,
+                     shading_.lobeMoment1);
   glProgramUniform1f(s, glGetUniformLocation(s, "uReflectFactor"),
                      shading_.reflectFactor.value_or(0.0f));
   glProgramUniform3fv(s, glGetUniformLocation(s, "uAlbedo"), 1, glm::value_ptr(shading_.albedo));

@@ -31,9 +31,11 @@ inline ExitWeightTable flatExitWeight() {
 class Cubemap;
 
 // World-space triangles with unit vertex normals (CCW front faces) and one value per vertex:
-// exitance B (sss), irradiance E (irradiance view); brdf and normals ignore it.
+// exitance B (sss), irradiance E (irradiance view); brdf and normals ignore it. farValues and
+// farSlopes (sss, both or neither): the part of B the bake's far field traced and the slope of
+// the exit lobe it leaves with (optics/exit_lobe.h); empty: B_far = 0.
 struct RenderMesh {
-  std::vector<glm::vec3> positions, normals, values;
+  std::vector<glm::vec3> positions, normals, values, farValues, farSlopes;
   std::vector<uint32_t> indices;  // three per triangle
 };
 
@@ -67,6 +69,10 @@ struct ShadingOptions {
   float exitScale = 0.31830988f;
   // w_c(mu) at mu = k / 16 multiplying the exit term (ExitModel::Calibrated); all 1 otherwise.
   ExitWeightTable exitWeight = flatExitWeight();
+  // The exit lobe's moments A_0, A_1 at eta (optics/exit_lobe.h) for the far field's part of B,
+  // whose radiance is exitScale B_far F_t (1 + k mu_i) A_0 / (A_0 + k A_1) (exitScale that of
+  // the normalized model, 1 / (pi A_0)).
+  float lobeMoment0 = 1.0f, lobeMoment1 = 0.0f;
   // Set: the paper's constant mix(base, reflection, f) instead of the Fresnel-weighted sum.
   std::optional<float> reflectFactor;
   glm::vec3 albedo = glm::vec3(1.0f);  // brdf: total diffuse reflectance of the material

@@ -3,12 +3,14 @@
 // and of radius 5 mm per material under a sun of 1 degree angular radius, and a 40 x 40 x 2 mm
 // slab lit from behind at 30 degrees. Measures the bake stage by stage as
 // tests/bench/accuracy_study.cpp does (visibility rays, the energy plan, the auto profile and
-// diffusion method at 1 %) in four configurations (the `energy` column: energy/entry/exit):
+// diffusion method at 1 %) in several configurations (the `energy` column: energy/entry/exit):
 // today's defaults (the escape energy model that `auto` picks, the directional entry, the
-// normalized exit model, the far field and the unscattered light, both auto), the same with the
-// calibrated exit model (sss-render --exit-model calibrated; material/directional_albedo_weight.h),
-// the defaults before issue 11's part 2 (diffuse entry), and the half-space energy with the diffuse
-// entry.
+// far field and the unscattered light, both auto, the normalized exit model for B less the far
+// field and the far field's own exit lobe for B_far: "lobe", optics/exit_lobe.h), the normalized
+// exit for all of B (the defaults before the lobe), the calibrated exit model (sss-render
+// --exit-model calibrated; material/directional_albedo_weight.h), the hybrid (calibrated for B
+// less the far field), the defaults before issue 11's part 2 (diffuse entry), and the half-space
+// energy with the diffuse entry.
 //
 //   sun_study OUT_DIR [--paths N] [--only NAME] [--cache DIR]
 //
@@ -16,8 +18,8 @@
 // count) and reuses them: the bake can then be re-measured in seconds.
 //
 // Writes OUT_DIR/sun.csv (one row per scene and configuration) and OUT_DIR/sun_bands.csv (per
-// band). Metrics, on the radiance along the normal (the bake's through its exit model L = B F_t(1)
-// / (pi (1 - 2 C_1))), all three channels:
+// band). Metrics, on the radiance along the normal (the bake's through its exit model), all three
+// channels:
 //  - bands: 8 equal-area bands of the polar angle from the sun direction (cos theta in steps of
 //    0.25); each band's mean is area-weighted over its vertices;
 //    band_rms = sqrt(sum_bands,c (bake - ref)^2 / sum ref^2), the reference's noise removed
@@ -60,6 +62,7 @@
 #include "material/directional_albedo_weight.h"
 #include "material/material.h"
 #include "mesh/primitives.h"
+#include "optics/exit_lobe.h"
 #include "optics/fresnel.h"
 #include "pathtrace/light_tracer.h"
 #include "study_support.h"
@@ -157,7 +160,8 @@ Metrics compare(const std::vector<glm::vec3>& bake, const std::vector<glm::vec3>
 // The bake with the given energy and entry models: B per vertex and the seconds it took.
 DiffusionResult bakeExitance(const Scene& s, const Cubemap& env, const std::vector<float>& areas,
                              EnergyModel model, EntryModel entryModel, FarFieldMode farMode,
-                             std::string& chosen, double& seconds) {
+                             std::string& chosen, double& seconds,
+                             std::vector<glm::vec3>* farSlope = nullptr) {
   const Stopwatch clock;
   const DirectionalAlbedoWeight entry(s.material);
   VisibilityOptions vis;
@@ -179,6 +183,7 @@ DiffusionResult bakeExitance(const Scene& s, const Cubemap& env, const std::vect
   farOptions.mode = farMode;
   farOptions.noiseBudget = budget.walkBudget() / std::sqrt(2.0);
   const FarField far = traceFarField({s.mesh, areas, env, s.material, plan, e, farOptions});
+  if (farSlope) *farSlope = far.slope;
   if (far.traced()) {
     energyOptions.noiseBudget = farOptions.noiseBudget;
     refineNearShare(plan, s.mesh, areas, s.material, energyOptions);
@@ -280,9 +285,12 @@ void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstre
   const glm::vec3 calibrated =
       calibratedExitRadiance(DirectionalAlbedoWeight(s.material), 1.0f, eta);
   const glm::vec3 normalized(float(normalExitRadianceScale(eta)));
-  // Today's defaults; the calibrated exit instead; the defaults before issue 11's part 2 (diffuse
-  // entry); the half-space energy with those.
-  enum class Exit { Normalized, Calibrated, Hybrid };
+  // Today's defaults (the far field's own exit lobe for B_far); the same without the unscattered
+  // light; the normalized exit for all of B (the defaults before the lobe), and without the far
+  // field; the calibrated exit and the hybrid instead; the defaults before issue 11's part 2
+  // (diffuse entry); the half-space energy with those.
+  enum class Exit { Normalized, Calibrated, Hybrid, Lobe };
+  const ExitLobe lobe(eta);
   struct Config {
     EnergyModel energy;
     EntryModel entry;
@@ -292,8 +300,9 @@ void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstre
   };
   constexpr FarFieldMode kAuto = FarFieldMode::Auto, kOff = FarFieldMode::Off;
   const Config configs[] = {
+      {EnergyModel::Auto, EntryModel::Directional, Exit::Lobe, kAuto},
+      {EnergyModel::Auto, EntryModel::Directional, Exit::Lobe, kAuto, false},
       {EnergyModel::Auto, EntryModel::Directional, Exit::Normalized, kAuto},
-      {EnergyModel::Auto, EntryModel::Directional, Exit::Normalized, kAuto, false},
       {EnergyModel::Auto, EntryModel::Directional, Exit::Normalized, kOff},
       {EnergyModel::Auto, EntryModel::Directional, Exit::Calibrated, kAuto},
       {EnergyModel::Auto, EntryModel::Directional, Exit::Calibrated, kOff},
@@ -305,15 +314,21 @@ void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstre
     const EnergyModel model = config.energy;
     std::string chosen;
     double seconds = 0.0;
+    std::vector<glm::vec3> slope;
     const DiffusionResult r =
-        bakeExitance(s, env, areas, model, config.entry, config.far, chosen, seconds);
+        bakeExitance(s, env, areas, model, config.entry, config.far, chosen, seconds, &slope);
     const std::vector<glm::vec3>& b = r.exitance;
     std::vector<glm::vec3> l(b.size());
+    const bool lobes = config.exit == Exit::Lobe;
+    const bool split = config.exit == Exit::Hybrid || config.exit == Exit::Lobe;
     for (std::size_t v = 0; v < b.size(); ++v) {
-      const glm::vec3 excess =
-          config.exit == Exit::Hybrid && !r.escapeExcess.empty() ? r.escapeExcess[v] : glm::vec3(0);
-      l[v] = config.exit == Exit::Normalized ? b[v] * normalized
-                                             : (b[v] - excess) * calibrated + excess * normalized;
+      const glm::vec3 excess = split && !r.escapeExcess.empty() ? r.escapeExcess[v] : glm::vec3(0);
+      glm::vec3 farScale = normalized;
+      if (lobes && !slope.empty())
+        for (int c = 0; c < 3; ++c) farScale[c] = float(lobe.radiance(slope[v][c], 1.0f));
+      const glm::vec3 nearScale =
+          config.exit == Exit::Calibrated || config.exit == Exit::Hybrid ? calibrated : normalized;
+      l[v] = (b[v] - excess) * nearScale + excess * farScale;
     }
     // Today's defaults also add the unscattered light (auto, as bake.cpp's unscatteredStage).
     if (config.far == kAuto && config.unscattered)
@@ -327,7 +342,8 @@ void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstre
         kEntryModelNames.name(config.entry) + "/" +
         (config.exit == Exit::Normalized   ? "normalized"
          : config.exit == Exit::Calibrated ? "calibrated"
-                                           : "hybrid") +
+         : config.exit == Exit::Hybrid     ? "hybrid"
+                                           : "lobe") +
         (config.far == kOff ? "/far-off" : "") +
         (config.far == kAuto && !config.unscattered ? "/no-unscattered" : "");
     char line[512];

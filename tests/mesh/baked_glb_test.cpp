@@ -14,6 +14,7 @@
 #include "mesh/baked_glb.h"
 #include "mesh/baked_mesh.h"
 #include "mesh/primitives.h"
+#include "optics/exit_lobe.h"
 #include "optics/fresnel.h"
 #include "support/glb_test.h"
 #include "test_util.h"
@@ -137,6 +138,39 @@ TEST(MeshBakedGlb, Color0IsTheExposedRadianceAlongTheNormal) {
   EXPECT_EQ(glb.sssExtras()["material"]["sigma_s_prime_per_mm"][2].get<double>(), 3.0);
   EXPECT_EQ(glb.sssExtras()["report"]["tolerance"].get<double>(), 0.01);
   EXPECT_EQ(glb.sssExtras()["checked"], true);
+  test::expectValidGltf(path);
+}
+
+// A traced far field travels as _FAR_EXITANCE and _FAR_EXIT_SLOPE (so that sss-render draws the
+// same picture from the GLB as from the PLY), and COLOR_0 takes B_far through its exit lobe, as
+// sss-render's default exit model does.
+TEST(MeshBakedGlb, FarFieldRoundTripsAndColor0LeavesThroughItsLobe) {
+  ScratchDir dir;
+  BakedMesh b = sampleBake(1.0);
+  Pcg32 rng(5, 0);
+  for (const glm::vec3& e : b.exitance) {
+    b.farExitance.push_back(e * rng.uniform());
+    b.farExitSlope.push_back({rng.uniform() * 2 - 1, rng.uniform() * 4, rng.uniform()});
+  }
+  const std::string path = dir.path("far.glb");
+  writeBakedGlb(path, b);
+  const BakedPlyContents r = readBakedGlb(path);
+  EXPECT_TRUE(r.hasFarField);
+  EXPECT_TRUE(bitEqual(r.baked.farExitance, b.farExitance));
+  EXPECT_TRUE(bitEqual(r.baked.farExitSlope, b.farExitSlope));
+  const GlbFile glb(path);
+  EXPECT_EQ(glb.sssExtras()["color"]["exit_model"], "auto");
+  const std::vector<glm::vec3> colors = glb.vec3("COLOR_0");
+  const ExitLobe lobe(1.3f);
+  const double normal = normalExitRadianceScale(1.3f);
+  for (std::size_t i = 0; i < colors.size(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      const double far = b.farExitance[i][k];
+      const double expected =
+          previewScaleFor(b) * ((b.exitance[i][k] - far) * normal +
+                                far * lobe.radiance(b.farExitSlope[i][k], 1.0f));
+      ASSERT_NEAR(colors[i][k], expected, 1e-5 * expected + 1e-30) << i;
+    }
   test::expectValidGltf(path);
 }
 

@@ -2,6 +2,7 @@
 // so that every pixel can be predicted from the camera ray.
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <ostream>
 #include <string>
 
@@ -14,6 +15,7 @@
 #include "envmap/equirect.h"
 #include "material/directional_albedo_weight.h"
 #include "mesh/primitives.h"
+#include "optics/exit_lobe.h"
 #include "optics/fresnel.h"
 #include "render/camera.h"
 #include "render/gl_context.h"
@@ -73,11 +75,18 @@ Cubemap directionColouredCubemap(int size) {
 
 // One frame of the unit icosphere at `subdivisions`, with the constant value `exitance`, under
 // `env`, seen by `camera`.
+// With farExitance set, that constant part of B leaves through the exit lobe of slope farSlope.
 RenderedImage renderUnitSphere(const ShadingOptions& shading, const FrameOptions& frame,
                                int subdivisions, glm::vec3 exitance, const Cubemap& env,
-                               const Camera& camera) {
+                               const Camera& camera, std::optional<glm::vec3> farExitance = {},
+                               glm::vec3 farSlope = glm::vec3(0.0f)) {
   Renderer renderer(ShaderSources(), frame, shading);
-  renderer.setMesh(toRenderMesh(makeIcosphere(subdivisions, 1.0f), exitance));
+  RenderMesh mesh = toRenderMesh(makeIcosphere(subdivisions, 1.0f), exitance);
+  if (farExitance) {
+    mesh.farValues.assign(mesh.positions.size(), *farExitance);
+    mesh.farSlopes.assign(mesh.positions.size(), farSlope);
+  }
+  renderer.setMesh(mesh);
   renderer.setEnvironment(env, nullptr);
   renderer.setCamera(camera);
   renderer.draw();
@@ -102,13 +111,15 @@ struct ExitCase {
   FresnelModel fresnel;
   bool normalized;  // exit scale F_t-normalized (exitRadianceScale) rather than 1/pi
   bool calibrated;  // and the angular weights of a skin-like material (ExitModel::Calibrated)
+  bool farLobe = false;  // part of B a far field leaving through its exit lobe (ExitModel::Auto)
 };
 
 // The test name's suffix (exact_normalized, schlick_over_pi, exact_calibrated), also what
 // ctest -N and a failure print.
 std::string exitCaseName(const ExitCase& c) {
   return std::string(c.fresnel == FresnelModel::Exact ? "exact" : "schlick") +
-         (c.calibrated   ? "_calibrated"
+         (c.farLobe      ? "_far_lobe"
+          : c.calibrated ? "_calibrated"
           : c.normalized ? "_normalized"
                          : "_over_pi");
 }
@@ -120,7 +131,8 @@ void PrintTo(const ExitCase& c, std::ostream* out) {
 class ExitModelTest : public RenderTest, public ::testing::WithParamInterface<ExitCase> {};
 
 // L = B F_t(mu) w(mu) s + F_r(mu) L_env for a sphere with constant B under a uniform environment
-// (w = 1 but for the calibrated case).
+// (w = 1 but for the calibrated case); with a far field, (B - B_far) F_t(mu) s + B_far times the
+// exit lobe's radiance per unit exitance (optics/exit_lobe.h) instead of the first term.
 TEST_P(ExitModelTest, SphereWithConstantExitanceMatchesTheExitModel) {
   const float eta = 1.4f;
   const glm::vec3 exitance(2.0f, 1.0f, 0.5f), envRadiance(0.7f, 0.5f, 0.3f);
@@ -134,12 +146,21 @@ TEST_P(ExitModelTest, SphereWithConstantExitanceMatchesTheExitModel) {
     for (int k = 0; k < kExitWeightNodes; ++k)
       shading.exitWeight[k] = weight.at(float(k) / (kExitWeightNodes - 1));
   }
+  // A far field of slopes from grazing (-0.6) to forward (2) light.
+  const ExitLobe lobe(eta);
+  const glm::vec3 farExitance = 0.6f * exitance, farSlope(-0.6f, 0.3f, 2.0f);
+  std::optional<glm::vec3> far;
+  if (GetParam().farLobe) {
+    far = farExitance;
+    shading.lobeMoment0 = float(lobe.moment(0));
+    shading.lobeMoment1 = float(lobe.moment(1));
+  }
   shading.tonemap = Tonemap::None;
   shading.backgroundColor = glm::vec3(0.0f);
   const FrameOptions frame = linearFrame(128);
   const Camera camera = unitSphereCamera(20.0f, 10.0f);
-  const RenderedImage image =
-      renderUnitSphere(shading, frame, 5, exitance, Cubemap(16, envRadiance), camera);
+  const RenderedImage image = renderUnitSphere(shading, frame, 5, exitance,
+                                               Cubemap(16, envRadiance), camera, far, farSlope);
 
   int checked = 0;
   for (int y = 0; y < frame.height; ++y) {
@@ -160,7 +181,12 @@ TEST_P(ExitModelTest, SphereWithConstantExitanceMatchesTheExitModel) {
       const float fr = GetParam().fresnel == FresnelModel::Exact ? fresnelDielectric(mu, eta)
                                                                  : fresnelSchlick(mu, eta);
       const glm::vec3 w = GetParam().calibrated ? weight.at(mu) : glm::vec3(1.0f);
-      const glm::vec3 expected = exitance * w * (1.0f - fr) * shading.exitScale + fr * envRadiance;
+      glm::vec3 expected = exitance * w * (1.0f - fr) * shading.exitScale + fr * envRadiance;
+      if (far) {
+        expected = (exitance - farExitance) * (1.0f - fr) * shading.exitScale + fr * envRadiance;
+        for (int c = 0; c < 3; ++c)
+          expected[c] += farExitance[c] * float(lobe.radiance(farSlope[c], mu));
+      }
       for (int c = 0; c < 3; ++c) {
         EXPECT_NEAR(got[c], expected[c], 0.01f * expected[c]) << "pixel " << x << "," << y;
       }
@@ -173,7 +199,8 @@ TEST_P(ExitModelTest, SphereWithConstantExitanceMatchesTheExitModel) {
 INSTANTIATE_TEST_SUITE_P(FresnelAndExit, ExitModelTest,
                          ::testing::Values(ExitCase{FresnelModel::Exact, true, false},
                                            ExitCase{FresnelModel::Schlick, false, false},
-                                           ExitCase{FresnelModel::Exact, true, true}),
+                                           ExitCase{FresnelModel::Exact, true, true},
+                                           ExitCase{FresnelModel::Exact, true, false, true}),
                          [](const auto& info) { return exitCaseName(info.param); });
 
 // The paper's constant mix with factor 1 is a perfect mirror: each pixel shows the environment

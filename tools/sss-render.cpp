@@ -254,6 +254,7 @@ void writeReport(const Arguments& a, const LoadedMesh& mesh, const Environment& 
                            {"eta", mesh.shading.eta},
                            {"fresnel", kFresnelModelNames.name(a.fresnel)},
                            {"exit_model", kExitModelNames.name(a.request.exitModel)},
+                           {"far_field_lobe", mesh.shading.farField},
                            {"environment", a.environment},
                            {"environment_face_size", env.radiance.size()},
                            {"gl", glJson(context)},

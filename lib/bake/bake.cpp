@@ -93,12 +93,17 @@ BakeErrorReport errorReport(const BakeReport& r, const ModelErrorReport& model, 
 
 // Stage 4d: the model's own error (model_error.h), from the output's radiance; said when it is
 // above the tolerance, which then bounds only the numerical part.
+// With a traced far field only exitModelPart (B - B_far's radiance) leaves through the exit model
+// whose spread the model error counts (B_far through the lobe its paths measured); without it,
+// all of the radiance.
 ModelErrorReport modelErrorStage(const BakeSettings& s, const TriangleMesh& meshMm,
-                                 std::span<const glm::vec3> radianceNormal, const Cubemap& radiance,
-                                 const FarFieldReport& farField) {
+                                 std::span<const glm::vec3> radianceNormal,
+                                 std::span<const glm::vec3> exitModelPart, const Cubemap& radiance,
+                                 const FarField& far) {
   const ModelErrorReport model = estimateModelError(
       {meshMm, radianceNormal, radiance, float(s.material.eta), exitModelSpread(s.material),
-       farField.traced ? 0.0 : farField.sensitivity, s.threads});
+       far.traced() ? 0.0 : far.report.sensitivity, s.threads,
+       far.traced() ? exitModelPart : std::span<const glm::vec3>()});
   if (model.total > s.tolerance) {
     char line[300];
     std::snprintf(line, sizeof line,
@@ -226,25 +231,31 @@ void estimateInterreflection(const BakeSettings& s, const PreparedMesh& mesh,
   }
 }
 
-// The radiance leaving along the normal under the exit model sss-render uses by default: the
-// normalized one (optics/fresnel.h), L = B F_t(1, eta) / (pi (1 - 2 C_1(eta))), for B less its
-// traced far field, and the far field's own exit lobe (optics/exit_lobe.h, the slope its paths
-// measured) for B_far; for the path tracer too, whose B it converts. (The calibrated model is
-// closer on a half-space under even light, further on the study's objects: README, "Under a
-// sun".)
-std::vector<glm::vec3> radianceAlongNormal(std::span<const glm::vec3> exitance, const FarField& far,
-                                           double eta) {
+// The radiance along the normal of the part of B that leaves through the exit model sss-render
+// uses by default, the normalized one (optics/fresnel.h): L = B F_t(1, eta) / (pi (1 - 2 C_1)),
+// for B less its traced far field (for the path tracer too, whose B it converts). (The calibrated
+// model is closer on a half-space under even light, further on the study's objects: README, "Under
+// a sun".)
+std::vector<glm::vec3> exitModelRadiance(std::span<const glm::vec3> exitance, const FarField& far,
+                                         double eta) {
   const float exitScale = float(normalExitRadianceScale(float(eta)));
-  const ExitLobe lobe{float(eta)};
   std::vector<glm::vec3> radiance;
   radiance.reserve(exitance.size());
-  for (std::size_t i = 0; i < exitance.size(); ++i) {
-    glm::vec3 l = exitance[i] * exitScale;
-    if (far.traced())
-      for (int c = 0; c < 3; ++c)
-        l[c] += far.exitance[i][c] * (float(lobe.radiance(far.slope[i][c], 1.0f)) - exitScale);
-    radiance.push_back(l);
-  }
+  for (std::size_t i = 0; i < exitance.size(); ++i)
+    radiance.push_back((far.traced() ? exitance[i] - far.exitance[i] : exitance[i]) * exitScale);
+  return radiance;
+}
+
+// All of B's radiance along the normal: the exit model's part, and the traced far field's through
+// its own exit lobe (optics/exit_lobe.h, the slope its paths measured).
+std::vector<glm::vec3> radianceAlongNormal(std::span<const glm::vec3> exitModelPart,
+                                           const FarField& far, double eta) {
+  std::vector<glm::vec3> radiance(exitModelPart.begin(), exitModelPart.end());
+  if (!far.traced()) return radiance;
+  const ExitLobe lobe{float(eta)};
+  for (std::size_t i = 0; i < radiance.size(); ++i)
+    for (int c = 0; c < 3; ++c)
+      radiance[i][c] += far.exitance[i][c] * float(lobe.radiance(far.slope[i][c], 1.0f));
   return radiance;
 }
 
@@ -352,8 +363,9 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
   }
 
   // The radiance along the normal: B's through the exit model, and the unscattered light's.
-  std::vector<glm::vec3> radianceNormal =
-      radianceAlongNormal(exitance.exitance, far, s.material.eta);
+  const std::vector<glm::vec3> exitModelPart =
+      exitModelRadiance(exitance.exitance, far, s.material.eta);
+  std::vector<glm::vec3> radianceNormal = radianceAlongNormal(exitModelPart, far, s.material.eta);
   const UnscatteredLight unscattered = unscatteredStage(s, mesh, radiance, radianceNormal, budget);
   for (std::size_t i = 0; i < unscattered.radiance.size(); ++i)
     radianceNormal[i] += unscattered.radiance[i];
@@ -363,7 +375,7 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
   report.lighting = std::move(lighting.report);
   report.transport = std::move(exitance.report);
   const ModelErrorReport model =
-      modelErrorStage(s, mesh.meshMm, radianceNormal, radiance, report.farField);
+      modelErrorStage(s, mesh.meshMm, radianceNormal, exitModelPart, radiance, far);
   report.errors = errorReport(report, model, s.tolerance);
   out.baked = assembleBakedMesh(std::move(mesh.mesh), lighting, exitance, std::move(radianceNormal),
                                 std::move(far), s, report);

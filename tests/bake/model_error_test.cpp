@@ -66,6 +66,12 @@ TEST(ModelError, FlatPlaneHasOnlyTheExitModelsSpread) {
   const std::vector<glm::vec3> grey(n, glm::vec3(1.0f));
   const ModelErrorReport g = estimateModelError({plane, grey, sun, 1.3f, spread});
   EXPECT_NEAR(g.exitModel, kExitModelWeight * std::sqrt((0.0016 + 0.01 + 0.04) / 3.0), 1e-7);
+  // A quarter of the radiance through the exit model (the rest a traced far field's, through its
+  // measured lobe): a quarter of the term.
+  const std::vector<glm::vec3> quarter(n, glm::vec3(0.25f, 0.0f, 0.0f));
+  ModelErrorInput withLobe{plane, red, sun, 1.3f, spread};
+  withLobe.exitModelRadiance = quarter;
+  EXPECT_NEAR(estimateModelError(withLobe).exitModel, kExitModelWeight * 0.04 * 0.25, 1e-7);
 }
 
 TEST(ModelError, PyramidApexUnderEvenLightHasOnlyItsFacetsTilt) {

@@ -153,30 +153,51 @@ TEST_F(SssRenderTool, BrdfAndSssAgreeOnAFlatUniformRegionAndDifferInAShadow) {
 
 // The GLB's COLOR_0 divided by its exposure is the radiance sss-render draws along the normal: a
 // plane facing the camera in a black environment (no reflection) shows only the exit term. The
-// GLB and the PLY of the same bake render alike.
+// GLB and the PLY of the same bake render alike, with a traced far field too (its lobe, by
+// default; --exit-model normalized leaves it out).
 TEST_F(SssRenderTool, GlbColorIsTheRenderedRadianceAlongTheNormal) {
   writeUniformEnvironment("black.exr", glm::vec3(0.0f));
-  BakedMesh baked = marbleBake(makeGridPlane(8, 2.0f), glm::vec3(0.8f, 0.5f, 0.3f));
-  baked.mmPerUnit = 1000.0;  // metres: the GLB and the PLY hold the same positions
-  writeBakedGlb(path("plane.glb"), baked);
-  writeBakedPly(path("plane.ply"), baked);
-  const std::string common = " -e " + path("black.exr") +
-                             " --eye 0,0,3 --target 0,0,0 --fov 30 --size 32x32 --samples 1"
-                             " --tonemap none --background 0,0,0 --quiet -o ";
-  ToolRun r = run(path("plane.glb") + common + path("glb.exr"));
-  ASSERT_EQ(r.exitCode, 0) << r.output;
-  r = run(path("plane.ply") + common + path("ply.exr"));
-  ASSERT_EQ(r.exitCode, 0) << r.output;
-  const test::GlbFile glb(path("plane.glb"));
-  const double exposure = glb.sssExtras()["color"]["exposure"].get<double>();
-  const glm::vec3 color = glb.vec3("COLOR_0")[0];
-  const ImageRgb fromGlb = readImage(path("glb.exr")), fromPly = readImage(path("ply.exr"));
-  for (int c = 0; c < 3; ++c) {
-    const double radiance = color[c] / exposure;
-    EXPECT_GT(radiance, 0.05);
-    // Per-vertex Fresnel at the plane's corners (25 degrees off the normal) moves it by 2e-4.
-    EXPECT_NEAR(fromGlb.at(16, 16)[c], radiance, 1e-3 * radiance) << c;
-    EXPECT_NEAR(fromGlb.at(16, 16)[c], fromPly.at(16, 16)[c], 1e-5) << c;
+  for (bool far : {false, true}) {
+    BakedMesh baked = marbleBake(makeGridPlane(8, 2.0f), glm::vec3(0.8f, 0.5f, 0.3f));
+    baked.mmPerUnit = 1000.0;  // metres: the GLB and the PLY hold the same positions
+    if (far) {
+      baked.farExitance.assign(baked.exitance.size(), glm::vec3(0.4f, 0.25f, 0.15f));
+      baked.farExitSlope.assign(baked.exitance.size(), glm::vec3(-0.8f, 0.2f, 3.0f));
+    }
+    writeBakedGlb(path("plane.glb"), baked);
+    writeBakedPly(path("plane.ply"), baked);
+    const std::string common = " -e " + path("black.exr") +
+                               " --eye 0,0,3 --target 0,0,0 --fov 30 --size 32x32 --samples 1"
+                               " --tonemap none --background 0,0,0 --quiet -o ";
+    ToolRun r = run(path("plane.glb") + common + path("glb.exr") + " --json " + path("r.json"));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_EQ(nlohmann::json::parse(test::readFile(path("r.json")))["far_field_lobe"], far);
+    r = run(path("plane.ply") + common + path("ply.exr"));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    r = run(path("plane.ply") + common + path("normalized.exr") + " --exit-model normalized");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const test::GlbFile glb(path("plane.glb"));
+    const double exposure = glb.sssExtras()["color"]["exposure"].get<double>();
+    const glm::vec3 color = glb.vec3("COLOR_0")[0];
+    const ImageRgb fromGlb = readImage(path("glb.exr")), fromPly = readImage(path("ply.exr"));
+    const ImageRgb normalized = readImage(path("normalized.exr"));
+    for (int c = 0; c < 3; ++c) {
+      const double radiance = color[c] / exposure;
+      EXPECT_GT(radiance, 0.05);
+      // Per-vertex Fresnel at the plane's corners (25 degrees off the normal) moves it by 2e-4.
+      EXPECT_NEAR(fromGlb.at(16, 16)[c], radiance, 1e-3 * radiance) << c << " far " << far;
+      EXPECT_NEAR(fromGlb.at(16, 16)[c], fromPly.at(16, 16)[c], 1e-5) << c << " far " << far;
+      // The lobes of slope -0.8 (grazing) and 3 (forward) take the half of B they carry to 0.61x
+      // and 1.14x along the normal (0.2: 1.03x); without a far field nothing changes.
+      const double ratio = fromPly.at(16, 16)[c] / normalized.at(16, 16)[c];
+      if (!far || c == 1) {
+        EXPECT_NEAR(ratio, 1.0, 0.03) << c << " far " << far;
+      } else if (c == 0) {
+        EXPECT_LT(ratio, 0.85);
+      } else {
+        EXPECT_GT(ratio, 1.05);
+      }
+    }
   }
 }
 

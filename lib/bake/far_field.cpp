@@ -27,6 +27,12 @@ namespace {
 // The smoothing is never narrower than a mean edge: a vertex needs its neighbours' exits (wider
 // spreads the lit side into the unlit one near the terminator: README, "Under a sun").
 constexpr double kSmoothingMinEdges = 1.0;
+// The exit lobe's moments are averaged over this many times the far field's smoothing: the slope
+// amplifies the mean cosine's noise (the mean spans only 0.78-0.85 at eta 1.3, and 0.01 more of
+// it is 16 % more radiance along the normal at slope 0), while the lobe's shape varies slowly
+// over the surface; wider blurs a thin part's faces into each other (README, "The far field's
+// exit lobe", has the widths measured).
+constexpr double kLobeSmoothing = 6.0;
 // Paths the far field needs per smoothing kernel at a 0.42 % budget, at the least (the study's
 // cheapest object needs this many; README, "Under a sun"): auto skips objects that would exceed
 // the cap before tracing a pilot.
@@ -44,8 +50,8 @@ constexpr std::size_t kMaxVertices = 250000;
 // A round of traced paths, averaged over the surface: the mean of its batches' averages and that
 // mean's variance from their spread (which counts what neighbouring vertices share: an exit is
 // split between a triangle's vertices, and the averaging sums neighbours).
-TracedRound traceRound(const FarFieldInput& in, const SurfaceAverage& average, uint64_t firstPath,
-                       uint64_t paths) {
+TracedRound traceRound(const FarFieldInput& in, const SurfaceAverage& average,
+                       const SurfaceAverage& lobeAverage, uint64_t firstPath, uint64_t paths) {
   LightTraceOptions o;
   o.paths = paths;
   o.firstPath = firstPath;
@@ -67,15 +73,14 @@ TracedRound traceRound(const FarFieldInput& in, const SurfaceAverage& average, u
   const std::size_t n = mesh.positions.size();
   const double k = double(r.batchExitance.size());
   TracedRound round{std::vector<glm::dvec3>(n, glm::dvec3(0.0)),
-                    std::vector<glm::dvec3>(n, glm::dvec3(0.0)), paths, {}};
+                    std::vector<glm::dvec3>(n, glm::dvec3(0.0)), paths, {}, {}};
   std::vector<glm::dvec3> sumSq(n, glm::dvec3(0.0));
-  // The batches and the cosine-weighted exits averaged at once (the weights computed once).
-  std::vector<std::vector<glm::vec3>> sets = r.batchExitance;
-  sets.push_back(r.exitCosine);
-  std::vector<std::vector<glm::vec3>> averagedSets = average(sets);
-  round.cosineMean.assign(averagedSets.back().begin(), averagedSets.back().end());
-  averagedSets.pop_back();
-  for (const std::vector<glm::vec3>& averaged : averagedSets) {
+  // The exit lobe's moments over a wider kernel: the lobe's shape varies slowly over the surface,
+  // and its slope amplifies the mean cosine's noise.
+  const std::vector<std::vector<glm::vec3>> lobeSets = lobeAverage({r.exitCosine, r.exitance});
+  round.cosineMean.assign(lobeSets[0].begin(), lobeSets[0].end());
+  round.lobeExitance.assign(lobeSets[1].begin(), lobeSets[1].end());
+  for (const std::vector<glm::vec3>& averaged : average(r.batchExitance)) {
     for (std::size_t i = 0; i < n; ++i) {
       const glm::dvec3 v(averaged[i]);
       round.mean[i] += v / k;
@@ -151,8 +156,8 @@ std::vector<glm::vec3> exitLobeSlopes(const TracedRound& round, float eta) {
   std::vector<glm::vec3> slopes(round.mean.size(), glm::vec3(0.0f));
   for (std::size_t i = 0; i < round.mean.size(); ++i)
     for (int c = 0; c < 3; ++c)
-      if (round.mean[i][c] > 0.0)
-        slopes[i][c] = float(lobe.slopeFor(round.cosineMean[i][c] / round.mean[i][c]));
+      if (round.lobeExitance[i][c] > 0.0)
+        slopes[i][c] = float(lobe.slopeFor(round.cosineMean[i][c] / round.lobeExitance[i][c]));
   return slopes;
 }
 
@@ -222,7 +227,9 @@ FarField traceFarField(const FarFieldInput& in) {
                 "irradiance even on the diffusion length's scale (far field moves " +
                     format("%.2g%%", 100.0 * r.sensitivity) + " of B)",
                 clock);
-  TracedRound round = traceRound(in, average, 0, o.pilotPaths);
+  const SurfaceAverage lobeAverage(in.meshMm, in.areasMm2, kLobeSmoothing * r.smoothingMm,
+                                   o.threads);
+  TracedRound round = traceRound(in, average, lobeAverage, 0, o.pilotPaths);
   double noise = relativeNoise(in, round);
   const double ratio = noise / o.noiseBudget;
   const double needed = std::ceil(1.1 * double(o.pilotPaths) * ratio * ratio);
@@ -239,7 +246,8 @@ FarField traceFarField(const FarFieldInput& in) {
                 clock);
   const uint64_t total = static_cast<uint64_t>(std::min(needed, pathCap));
   if (total > round.paths) {
-    round = combineRounds(round, traceRound(in, average, round.paths, total - round.paths));
+    round = combineRounds(round,
+                          traceRound(in, average, lobeAverage, round.paths, total - round.paths));
     noise = relativeNoise(in, round);
   }
   out.exitance.assign(round.mean.size(), glm::vec3(0.0f));

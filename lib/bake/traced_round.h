@@ -13,9 +13,9 @@ namespace sss {
 struct TracedRound {
   std::vector<glm::dvec3> mean, variance;  // per vertex and channel
   uint64_t paths = 0;
-  // The far field's exits weighted by their internal cosine (light_tracer.h, exitCosine), averaged
-  // like the mean; empty where not tallied.
-  std::vector<glm::dvec3> cosineMean;
+  // The far field's exits weighted by their internal cosine (light_tracer.h, exitCosine) and
+  // unweighted, both averaged over the exit lobe's kernel (far_field.cpp); empty where not tallied.
+  std::vector<glm::dvec3> cosineMean, lobeExitance;
 };
 
 // Two independent rounds as one: means weighted by their paths, variances accordingly.
@@ -30,8 +30,10 @@ inline TracedRound combineRounds(const TracedRound& a, const TracedRound& b) {
     out.variance.push_back(wa * wa * a.variance[i] + wb * wb * b.variance[i]);
   }
   if (!a.cosineMean.empty() && !b.cosineMean.empty())
-    for (std::size_t i = 0; i < a.cosineMean.size(); ++i)
+    for (std::size_t i = 0; i < a.cosineMean.size(); ++i) {
       out.cosineMean.push_back(wa * a.cosineMean[i] + wb * b.cosineMean[i]);
+      out.lobeExitance.push_back(wa * a.lobeExitance[i] + wb * b.lobeExitance[i]);
+    }
   return out;
 }
 

@@ -129,9 +129,9 @@ TEST(FarField, SunLitSphereUnlitHalfMatchesTheLightTracer) {
 // A 20 x 20 x 2 mm ketchup slab lit from behind by a sun 30 degrees off its normal: its red light
 // (mean free path 4 mm) leaves the unlit face after a few scatterings, towards grazing angles more
 // than diffusion gives. The far field's exit lobe (optics/exit_lobe.h, the slope its own exits
-// measured) brings the radiance along the normal there within 10 % of the light tracer's (0.93-0.95
-// over two reference seeds; issue 11's target for a back-lit slab), where the normalized exit
-// model for all of B (the bake before the lobe) reads 1.15-1.17x.
+// measured) brings the radiance along the normal there within 8 % of the light tracer's (0.96-0.98
+// over two reference seeds; issue 11's target for a back-lit slab is 10 %), where the normalized
+// exit model for all of B (the bake before the lobe) reads 1.15-1.17x.
 TEST(FarField, ExitLobeGivesTheRadianceLeavingAThinSlab) {
   const TriangleMesh slab = makeSlab(20.0f, 2.0f, 20);
   const Material ketchup = findMaterialPreset("ketchup");
@@ -160,7 +160,7 @@ TEST(FarField, ExitLobeGivesTheRadianceLeavingAThinSlab) {
     withLobe += areas[v] * ((b - far) * normalScale + far * lobe.radiance(baked.farSlope[v].r, 1));
     normalized += areas[v] * b * normalScale;
   }
-  EXPECT_NEAR(withLobe / reference, 1.0, 0.1);
+  EXPECT_NEAR(withLobe / reference, 1.0, 0.08);
   EXPECT_GT(normalized / reference, 1.12);
 }
 

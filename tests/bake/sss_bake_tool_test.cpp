@@ -425,10 +425,16 @@ TEST_F(BakeTool, AutoSamplesFollowTheTolerance) {
         std::hypot(std::hypot(visibility, exitance, energy), interreflection, unscattered);
     EXPECT_NEAR(report["estimated_error"]["numerical"].get<double>(), numerical, 1e-12);
     // Beside it the model's own error (model_error.h): ketchup's exit models part by 7-12 %, of
-    // which the exit term takes kExitModelWeight (0.35).
+    // which the exit term takes kExitModelWeight (0.35), for the radiance that leaves through
+    // them: with a traced far field B_far leaves through its measured lobe instead, and the term
+    // shrinks with B - B_far.
     const auto& model = report["estimated_error"]["model"];
     const auto term = [&](const char* name) { return model[name].get<double>(); };
-    EXPECT_GT(term("exit_model"), 0.02);
+    EXPECT_GT(term("exit_model"), 0.0);
+    if (report["far_field"]["traced"].get<bool>())
+      EXPECT_LT(term("exit_model"), 0.02);
+    else
+      EXPECT_GT(term("exit_model"), 0.02);
     EXPECT_NEAR(term("total"),
                 std::sqrt(std::pow(term("exit_model"), 2) + std::pow(term("facets"), 2) +
                           std::pow(term("facet_light"), 2) + std::pow(term("far_field"), 2)),

@@ -47,6 +47,41 @@ constexpr double kKernelErrorPerSensitivity = 0.125;
 // vertex (~600 bytes a vertex), which the bake's memory estimate does not count.
 constexpr std::size_t kMaxVertices = 250000;
 
+// The exit lobe's moments (far_field.h) over their wider kernel, per batch: the batches' mean of
+// the cosine-weighted and of the plain exitance, and the variance of their ratio, the mean cosine
+// m = C / B, from the batches' spread (delta method: var m = var(C_b - m B_b) / (K B^2)).
+void addLobeMoments(const LightTraceResult& r, const SurfaceAverage& lobeAverage,
+                    TracedRound& round) {
+  std::vector<std::vector<glm::vec3>> sets = r.batchExitCosine;
+  sets.insert(sets.end(), r.batchExitance.begin(), r.batchExitance.end());
+  const std::vector<std::vector<glm::vec3>> averaged = lobeAverage(sets);
+  const std::size_t k = r.batchExitance.size(), n = r.exitance.size();
+  round.cosineMean.assign(n, glm::dvec3(0.0));
+  round.lobeExitance.assign(n, glm::dvec3(0.0));
+  round.meanCosineVariance.assign(n, glm::dvec3(0.0));
+  for (std::size_t i = 0; i < n; ++i) {
+    glm::dvec3 c(0.0), b(0.0);
+    for (std::size_t j = 0; j < k; ++j) {
+      c += glm::dvec3(averaged[j][i]);
+      b += glm::dvec3(averaged[k + j][i]);
+    }
+    c /= double(k);
+    b /= double(k);
+    round.cosineMean[i] = c;
+    round.lobeExitance[i] = b;
+    for (int ch = 0; ch < 3; ++ch) {
+      if (!(b[ch] > 0.0)) continue;
+      const double m = c[ch] / b[ch];
+      double spread = 0.0;
+      for (std::size_t j = 0; j < k; ++j) {
+        const double d = double(averaged[j][i][ch]) - m * double(averaged[k + j][i][ch]);
+        spread += d * d;
+      }
+      round.meanCosineVariance[i][ch] = spread / (double(k) * double(k - 1) * b[ch] * b[ch]);
+    }
+  }
+}
+
 // A round of traced paths, averaged over the surface: the mean of its batches' averages and that
 // mean's variance from their spread (which counts what neighbouring vertices share: an exit is
 // split between a triangle's vertices, and the averaging sums neighbours).
@@ -73,13 +108,9 @@ TracedRound traceRound(const FarFieldInput& in, const SurfaceAverage& average,
   const std::size_t n = mesh.positions.size();
   const double k = double(r.batchExitance.size());
   TracedRound round{std::vector<glm::dvec3>(n, glm::dvec3(0.0)),
-                    std::vector<glm::dvec3>(n, glm::dvec3(0.0)), paths, {}, {}};
+                    std::vector<glm::dvec3>(n, glm::dvec3(0.0)), paths, {}, {}, {}};
   std::vector<glm::dvec3> sumSq(n, glm::dvec3(0.0));
-  // The exit lobe's moments over a wider kernel: the lobe's shape varies slowly over the surface,
-  // and its slope amplifies the mean cosine's noise.
-  const std::vector<std::vector<glm::vec3>> lobeSets = lobeAverage({r.exitCosine, r.exitance});
-  round.cosineMean.assign(lobeSets[0].begin(), lobeSets[0].end());
-  round.lobeExitance.assign(lobeSets[1].begin(), lobeSets[1].end());
+  addLobeMoments(r, lobeAverage, round);
   for (const std::vector<glm::vec3>& averaged : average(r.batchExitance)) {
     for (std::size_t i = 0; i < n; ++i) {
       const glm::dvec3 v(averaged[i]);
@@ -149,15 +180,16 @@ double smoothingSigmaMm(const FarFieldInput& in, const glm::dvec3& window) {
 }
 
 // Per vertex and channel, the exit lobe's slope (optics/exit_lobe.h) whose mean internal cosine
-// is the traced exits' (their cosine-weighted B over their B, both averaged alike); 0, the
-// normalized exit model, where nothing left.
+// is the traced exits' (their cosine-weighted B over their B, both averaged alike), shrunk by
+// that mean's noise (ExitLobe::shrunkSlopeFor); 0, the normalized exit model, where nothing left.
 std::vector<glm::vec3> exitLobeSlopes(const TracedRound& round, float eta) {
   const ExitLobe lobe(eta);
   std::vector<glm::vec3> slopes(round.mean.size(), glm::vec3(0.0f));
   for (std::size_t i = 0; i < round.mean.size(); ++i)
     for (int c = 0; c < 3; ++c)
       if (round.lobeExitance[i][c] > 0.0)
-        slopes[i][c] = float(lobe.slopeFor(round.cosineMean[i][c] / round.lobeExitance[i][c]));
+        slopes[i][c] = float(lobe.shrunkSlopeFor(round.cosineMean[i][c] / round.lobeExitance[i][c],
+                                                 round.meanCosineVariance[i][c]));
   return slopes;
 }
 

@@ -14,8 +14,9 @@ struct TracedRound {
   std::vector<glm::dvec3> mean, variance;  // per vertex and channel
   uint64_t paths = 0;
   // The far field's exits weighted by their internal cosine (light_tracer.h, exitCosine) and
-  // unweighted, both averaged over the exit lobe's kernel (far_field.cpp); empty where not tallied.
-  std::vector<glm::dvec3> cosineMean, lobeExitance;
+  // unweighted, both averaged over the exit lobe's kernel (far_field.cpp), and the variance of
+  // their ratio (the mean cosine) from the batches; empty where not tallied.
+  std::vector<glm::dvec3> cosineMean, lobeExitance, meanCosineVariance;
 };
 
 // Two independent rounds as one: means weighted by their paths, variances accordingly.
@@ -33,6 +34,8 @@ inline TracedRound combineRounds(const TracedRound& a, const TracedRound& b) {
     for (std::size_t i = 0; i < a.cosineMean.size(); ++i) {
       out.cosineMean.push_back(wa * a.cosineMean[i] + wb * b.cosineMean[i]);
       out.lobeExitance.push_back(wa * a.lobeExitance[i] + wb * b.lobeExitance[i]);
+      out.meanCosineVariance.push_back(wa * wa * a.meanCosineVariance[i] +
+                                       wb * wb * b.meanCosineVariance[i]);
     }
   return out;
 }

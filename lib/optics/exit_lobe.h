@@ -81,6 +81,24 @@ class ExitLobe {
     return (moments_[1] - meanCosine * moments_[0]) / (meanCosine * moments_[1] - moments_[2]);
   }
 
+  // The slope for a measured mean cosine whose variance (its noise) is `variance`, shrunk towards 0
+  // (the normalized exit model) by its own noise: k k^2 / (k^2 + var k), var k = (dk/dm)^2 var m
+  // (a Wiener-like weight: a slope well above its noise stays, one within it fades). Where the
+  // lobe is not resolved, a noisy slope would add more error than the lobe removes, since the
+  // slope amplifies the mean cosine's noise.
+  double shrunkSlopeFor(double meanCosine, double variance) const {
+    const double k = slopeFor(meanCosine), dk = slopeDerivative(meanCosine);
+    const double k2 = k * k, noise = dk * dk * std::max(0.0, variance);
+    return k2 + noise > 0.0 ? k * k2 / (k2 + noise) : 0.0;
+  }
+
+  // d slopeFor / d meanCosine inside the clamps: (A_0 A_2 - A_1^2) / (m A_1 - A_2)^2 (> 0), so
+  // that a mean cosine's noise gives the slope's.
+  double slopeDerivative(double meanCosine) const {
+    const double d = meanCosine * moments_[1] - moments_[2];
+    return (moments_[0] * moments_[2] - moments_[1] * moments_[1]) / (d * d);
+  }
+
  private:
   float eta_;
   std::array<double, 3> moments_{};

@@ -229,6 +229,8 @@ void combineBatches(const std::vector<BatchTally>& batches, const std::vector<ui
   if (keepBatches) result.batchExitance.assign(batches.size(), std::vector<glm::vec3>(n));
   const bool cosine = !batches.empty() && !batches[0].exitCosine.empty();
   if (cosine) result.exitCosine.assign(n, glm::vec3(0.0f));
+  if (cosine && keepBatches)
+    result.batchExitCosine.assign(batches.size(), std::vector<glm::vec3>(n));
   for (std::size_t v = 0; v < n; ++v) {
     const double perArea = areas[v] > 0.0f ? 1.0 / double(areas[v]) : 0.0;
     const double perProjectedArea =
@@ -240,7 +242,11 @@ void combineBatches(const std::vector<BatchTally>& batches, const std::vector<ui
       if (!result.batchExitance.empty()) result.batchExitance[b][v] = glm::vec3(eb);
       sb += eb;
       sb2 += eb * eb;
-      if (cosine) result.exitCosine[v] += glm::vec3(batches[b].exitCosine[v] * (scale / k));
+      if (cosine) {
+        const glm::dvec3 cb = batches[b].exitCosine[v] * scale;
+        result.exitCosine[v] += glm::vec3(cb / k);
+        if (!result.batchExitCosine.empty()) result.batchExitCosine[b][v] = glm::vec3(cb);
+      }
       if (batches[b].radiance.empty()) continue;
       const glm::dvec3 el =
           batches[b].radiance[v] * (perProjectedArea / double(sizes[b]) / coneProjectedSolidAngle);

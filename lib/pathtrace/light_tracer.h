@@ -131,6 +131,7 @@ struct LightTraceResult {
   // the refracted exit direction with the face normal, taken back through Snell's law), so that
   // exitCosine / exitance is the exits' flux-weighted mean internal cosine.
   std::vector<glm::vec3> exitCosine;
+  std::vector<std::vector<glm::vec3>> batchExitCosine;  // per batch, with keepBatches too
   // Power bookkeeping per channel (summed over all paths, divided by the path count: the same
   // units as B times mm^2).
   glm::dvec3 sourcePower{0.0};   // leaving the source disc

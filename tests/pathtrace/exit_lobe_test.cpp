@@ -108,6 +108,23 @@ TEST(ExitLobe, SlopeForInvertsTheMeanCosineAndClamps) {
   EXPECT_EQ(lobe.slopeFor(0.1), ExitLobe::kMinSlope);
   EXPECT_EQ(lobe.slopeFor(1.0), ExitLobe::kMaxSlope);
   EXPECT_EQ(lobe.slopeFor(std::nan("")), ExitLobe::kMinSlope);
+  // The derivative against a central difference.
+  for (double k : {-0.5, 0.0, 2.0}) {
+    const double m = lobe.meanCosine(k), h = 1e-6;
+    const double numeric = (lobe.slopeFor(m + h) - lobe.slopeFor(m - h)) / (2.0 * h);
+    EXPECT_NEAR(lobe.slopeDerivative(m), numeric, 1e-4 * numeric) << "slope " << k;
+  }
+}
+
+// A slope well above its noise stays, one at its noise halves, one below it fades to 0.
+TEST(ExitLobe, ShrinksASlopeByItsNoise) {
+  const ExitLobe lobe(kEta);
+  const double k = -0.6, m = lobe.meanCosine(k), dk = lobe.slopeDerivative(m);
+  EXPECT_NEAR(lobe.shrunkSlopeFor(m, 0.0), k, 1e-9);
+  // var m such that the slope's standard deviation is |k|: weight k^2 / (k^2 + k^2) = 1/2.
+  EXPECT_NEAR(lobe.shrunkSlopeFor(m, k * k / (dk * dk)), 0.5 * k, 1e-9);
+  EXPECT_NEAR(lobe.shrunkSlopeFor(m, 100.0 * k * k / (dk * dk)), k / 101.0, 1e-9);
+  EXPECT_NEAR(lobe.shrunkSlopeFor(lobe.meanCosine(0.0), 1e-4), 0.0, 1e-12);
 }
 
 // The mean internal cosine of the light that leaves, by Monte Carlo: directions inside drawn with

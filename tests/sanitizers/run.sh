@@ -34,7 +34,7 @@ command_line_only+='|BakeTool\.EveryToolHasVersionAndHelpEndsWithExamples'
 # And the statistical checks of a model against its reference at many samples (5-11 s each under
 # ASan, ~55 of the suite's summed seconds): the same code runs under the sanitizers in the quicker
 # tests of each subject (UnscatteredLight.*, FarField.*, Diffusion.*, EscapeProbability.*,
-# LightTracer.*); the Release suite runs these.
+# LightTracer.*, ExitLobe.* with its thin slab); the Release suite runs these.
 statistical='UnscatteredLight\.BackLitSlabMatchesTheClosedForm'
 statistical+='|UnscatteredLight\.ReportedNoiseMatchesTheSpreadOverSeeds'
 statistical+='|FarField\.SunLitSphereUnlitHalfMatchesTheLightTracer'
@@ -42,6 +42,8 @@ statistical+='|Diffusion\.OtherProfilesMatchExact'
 statistical+='|EscapeProbability\.HalfSpaceMatchesTabulatedAlbedoAndPathTracer'
 statistical+='|EscapeProbability\.ThinSlabCountsLightReflectedBeforeItsFirstScattering'
 statistical+='|LightTracer\.ReportedStandardErrorsMatchTheSpreadOverSeeds'
+statistical+='|ExitLobe\.PredictsTheRadianceOnTheUnlitHalfOfASphere'
+statistical+='|FarField\.ExitLobeGivesTheRadianceLeavingAThinSlab'
 left_out="^(workflow_test|$command_line_only|$statistical)\$"
 ctest --test-dir "$build" --output-on-failure --no-tests=error -j "$(nproc)" -E "$left_out" \
   -LE '^opengl$'

@@ -93,9 +93,9 @@ BakeErrorReport errorReport(const BakeReport& r, const ModelErrorReport& model, 
 
 // Stage 4d: the model's own error (model_error.h), from the output's radiance; said when it is
 // above the tolerance, which then bounds only the numerical part.
-// With a traced far field only exitModelPart (B - B_far's radiance) leaves through the exit model
-// whose spread the model error counts (B_far through the lobe its paths measured); without it,
-// all of the radiance.
+// With a traced far field only exitModelPart (B - B_far's radiance) is the vertex model's, whose
+// exit model and light across facets the model error counts (B_far's paths met the facets and
+// leave through the lobe they measured); without it, all of the radiance.
 ModelErrorReport modelErrorStage(const BakeSettings& s, const TriangleMesh& meshMm,
                                  std::span<const glm::vec3> radianceNormal,
                                  std::span<const glm::vec3> exitModelPart, const Cubemap& radiance,

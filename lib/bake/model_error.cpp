@@ -79,12 +79,13 @@ ModelErrorReport estimateModelError(const ModelErrorInput& in) {
   for (std::size_t v = 0; v < in.radianceAlongNormal.size(); ++v)
     for (int c = 0; c < 3; ++c) {
       const double l2 = double(in.radianceAlongNormal[v][c]) * in.radianceAlongNormal[v][c];
-      const double modelled =
-          in.exitModelRadiance.empty() ? in.radianceAlongNormal[v][c] : in.exitModelRadiance[v][c];
+      const double modelled = in.vertexModelRadiance.empty() ? in.radianceAlongNormal[v][c]
+                                                             : in.vertexModelRadiance[v][c];
+      const double m2 = modelled * modelled;
       weight += l2;
-      exit2 += modelled * modelled * spread2[c];
+      exit2 += m2 * spread2[c];
       tilt2 += l2 * facets.tilt[v] * facets.tilt[v];
-      light2 += l2 * facets.lightContrast[v][c] * facets.lightContrast[v][c];
+      light2 += m2 * facets.lightContrast[v][c] * facets.lightContrast[v][c];
     }
   ModelErrorReport r;
   if (weight > 0.0) {  // else a black environment

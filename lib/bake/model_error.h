@@ -5,9 +5,7 @@
 //    normalized model's (isotropic interior radiance at the boundary, optics/fresnel.h) or the
 //    calibrated one's (the half-space Monte Carlo's, material/directional_albedo_weight.h); the
 //    truth on an object lies around them, so their difference |c - 1| per channel (c = calibrated
-//    / normalized) sizes this error. It grows as the reduced albedo falls (skin, ketchup). It
-//    counts only the radiance that leaves through such a model: a traced far field leaves
-//    through the exit lobe its own paths measured (optics/exit_lobe.h).
+//    / normalized) sizes this error. It grows as the reduced albedo falls (skin, ketchup).
 //  - facets: a vertex stands for the facets around it, which tilt from its normal by theta
 //    (1 - cos theta, area-weighted over its faces): the light they send differs from the smooth
 //    surface's by that order (edges of a box: 0.29; a 642-vertex sphere: 0.004).
@@ -15,6 +13,9 @@
 //    |E(n_f) - E(n)| area-weighted over the faces, relative to max(E(n), mean E(n_f)), per
 //    channel, with E the environment's transmitted irradiance without shadows: nothing under
 //    even light, most at a crease facing a sun.
+//  These two count only the radiance the vertex model makes (E at the vertex normal, B through
+//  an exit model): a traced far field's light paths met the facets themselves and leave through
+//  the exit lobe they measured (optics/exit_lobe.h).
 //  - farField: where the far field (far_field.h) was not traced, the escape model's excess is
 //    spread by a geometry-blind kernel (README, "No geometry-blind kernel"); its error scales
 //    with the share of B the far field would move (its sensitivity, auto's test).
@@ -58,9 +59,9 @@ struct ModelErrorInput {
   glm::vec3 exitModelSpread{0.0f};                 // |c - 1| per channel (above)
   double farFieldLeftOut = 0.0;  // the far field's sensitivity where it was not traced, else 0
   int threads = 0;
-  // The part of L that leaves through the exit model (B less a traced far field, which leaves
-  // through its measured lobe); empty: all of L.
-  std::span<const glm::vec3> exitModelRadiance{};
+  // The part of L the vertex model makes (B less a traced far field, whose light paths met the
+  // facets and leave through their measured lobe); empty: all of L.
+  std::span<const glm::vec3> vertexModelRadiance{};
 };
 
 ModelErrorReport estimateModelError(const ModelErrorInput& in);

@@ -70,7 +70,7 @@ TEST(ModelError, FlatPlaneHasOnlyTheExitModelsSpread) {
   // measured lobe): a quarter of the term.
   const std::vector<glm::vec3> quarter(n, glm::vec3(0.25f, 0.0f, 0.0f));
   ModelErrorInput withLobe{plane, red, sun, 1.3f, spread};
-  withLobe.exitModelRadiance = quarter;
+  withLobe.vertexModelRadiance = quarter;
   EXPECT_NEAR(estimateModelError(withLobe).exitModel, kExitModelWeight * 0.04 * 0.25, 1e-7);
 }
 
@@ -92,6 +92,18 @@ TEST(ModelError, PyramidApexUnderASunOverheadSeesItsFacetsCosine) {
   EXPECT_NEAR(r.facetLight, expected, 0.05 * expected);
   EXPECT_NEAR(r.facets, kFacetWeight * (1.0 - 1.0 / std::sqrt(2.0)), 1e-6);
   EXPECT_NEAR(r.total, std::hypot(r.facets, r.facetLight), 1e-12);
+  // Where a traced far field carries half the radiance (its paths met the facets themselves), the
+  // light across facets counts for the other half only; the facets' tilt for all of it.
+  const TriangleMesh mesh = pyramid();
+  const std::vector<glm::vec3> apex = apexOnly();
+  std::vector<glm::vec3> half = apex;
+  for (glm::vec3& l : half) l *= 0.5f;
+  const Cubemap sun = sunOverhead();
+  ModelErrorInput withFar{mesh, apex, sun, 1.0f, glm::vec3(0.0f)};
+  withFar.vertexModelRadiance = half;
+  const ModelErrorReport f = estimateModelError(withFar);
+  EXPECT_NEAR(f.facetLight, 0.5 * r.facetLight, 1e-6);
+  EXPECT_NEAR(f.facets, r.facets, 1e-12);
 }
 
 TEST(ModelError, ExitModelSpreadGrowsAsTheAlbedoFalls) {

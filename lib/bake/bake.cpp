@@ -102,13 +102,13 @@ ModelErrorReport modelErrorStage(const BakeSettings& s, const TriangleMesh& mesh
                                  const FarField& far) {
   const ModelErrorReport model = estimateModelError(
       {meshMm, radianceNormal, radiance, float(s.material.eta), exitModelSpread(s.material),
-       far.traced() ? 0.0 : far.report.sensitivity, s.threads,
+       far.traced() ? far.report.averagingBias : far.report.sensitivity, s.threads,
        far.traced() ? exitModelPart : std::span<const glm::vec3>()});
   if (model.total > s.tolerance) {
     char line[300];
     std::snprintf(line, sizeof line,
                   "model error: about %.1f%% of the radiance here (exit model %.1f%%, facets "
-                  "%.1f%%, light across facets %.1f%%, far field left out %.1f%%), beyond what "
+                  "%.1f%%, light across facets %.1f%%, far field %.1f%%), beyond what "
                   "--tolerance %g bounds",
                   100.0 * model.total, 100.0 * model.exitModel, 100.0 * model.facets,
                   100.0 * model.facetLight, 100.0 * model.farField, s.tolerance);

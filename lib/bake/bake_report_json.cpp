@@ -152,6 +152,7 @@ Json toJson(const FarFieldReport& r) {
   j["smoothing_sigma_mm"] = r.smoothingMm;
   j["paths"] = r.paths;
   j["estimated_error"] = r.relativeStdError;
+  j["averaging_bias"] = r.averagingBias;
   j["mean_exit_slope"] = toJson(r.meanExitSlope);
   return j;
 }

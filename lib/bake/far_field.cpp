@@ -138,6 +138,25 @@ double relativeNoise(const FarFieldInput& in, const TracedRound& round) {
   return signal > 0.0 ? std::sqrt(noise / signal) : 0.0;
 }
 
+// FarFieldReport::averagingBias: S(B_far) - B_far against B ~ P E + B_far (relativeNoise's
+// normalization).
+double averagingBias(const FarFieldInput& in, const SurfaceAverage& average,
+                     const TracedRound& round) {
+  std::vector<glm::vec3> far(round.mean.size());
+  for (std::size_t i = 0; i < far.size(); ++i) far[i] = glm::vec3(round.mean[i]);
+  const std::vector<glm::vec3> twice = average(far);
+  const std::vector<glm::vec3>& p = in.energy.escape.probability;
+  double bias = 0.0, signal = 0.0;
+  for (std::size_t i = 0; i < far.size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      const double b = double(p[i][c]) * in.irradiance[i][c] + round.mean[i][c];
+      const double d = double(twice[i][c]) - double(far[i][c]);
+      bias += in.areasMm2[i] * d * d;
+      signal += in.areasMm2[i] * b * b;
+    }
+  return signal > 0.0 ? std::sqrt(bias / signal) : 0.0;
+}
+
 // Auto's test: the share of B the far field can move (far_field.h), with E averaged over the far
 // field's own smoothing first, so that the visibility rays' noise in E does not count as
 // variation (under uniform light it would, by its 0.3 % per vertex).
@@ -289,6 +308,7 @@ FarField traceFarField(const FarFieldInput& in) {
   r.traced = true;
   r.paths = round.paths;
   r.relativeStdError = noise;
+  r.averagingBias = averagingBias(in, average, round);
   r.reason =
       std::string(automatic ? "irradiance varies on the diffusion length's scale" : "requested") +
       " (far field moves " + format("%.2g%%", 100.0 * r.sensitivity) + " of B" +

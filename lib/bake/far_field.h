@@ -87,6 +87,10 @@ struct FarFieldReport {
   double smoothingMm = 0.0;
   uint64_t paths = 0;
   double relativeStdError = 0.0;  // of B, from the far field's noise
+  // The bias its surface averaging S leaves in B, estimated as S(B_far) - B_far (S applied once
+  // more: to leading order what S did to the exits), relative RMS over vertices and channels like
+  // relativeStdError (the model error's far-field term where it is traced, model_error.h).
+  double averagingBias = 0.0;
   // The exit lobe's slope averaged over the surface, weighted by B_far times the area: 0 for
   // light that left as diffusion does, below 0 for light that leaves towards grazing angles.
   glm::dvec3 meanExitSlope{0.0};

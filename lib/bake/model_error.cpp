@@ -92,7 +92,7 @@ ModelErrorReport estimateModelError(const ModelErrorInput& in) {
     r.exitModel = kExitModelWeight * std::sqrt(exit2 / weight);
     r.facets = kFacetWeight * std::sqrt(tilt2 / weight);
     r.facetLight = kFacetLightWeight * std::sqrt(light2 / weight);
-    r.farField = kFarFieldWeight * in.farFieldLeftOut;
+    r.farField = kFarFieldWeight * in.farFieldError;
     r.total = std::sqrt(r.exitModel * r.exitModel + r.facets * r.facets +
                         r.facetLight * r.facetLight + r.farField * r.farField);
   }

@@ -164,6 +164,20 @@ TEST(FarField, ExitLobeGivesTheRadianceLeavingAThinSlab) {
   EXPECT_GT(normalized / reference, 1.12);
 }
 
+// The far field's averaging bias (the model error's far-field term where it is traced): its
+// surface averaging rounds B_far off where it changes fast over the averaging's width, at a sun's
+// terminator; under uniform light B_far is flat and only the noise the averaging leaves counts.
+TEST(FarField, AveragingBiasIsLargestAtASunsTerminator) {
+  const TriangleMesh sphere = makeIcosphere(2, 5.0f);
+  const Material marble = findMaterialPreset("marble");
+  const Baked sun = bakeWith(sphere, sunEnvironment(glm::vec3(0.0f, 0.0f, 1.0f)), marble,
+                             FarFieldMode::On);
+  const Baked uniform = bakeWith(sphere, Cubemap(16, glm::vec3(1.0f)), marble, FarFieldMode::On);
+  ASSERT_TRUE(sun.far.traced && uniform.far.traced);
+  EXPECT_GT(sun.far.averagingBias, 0.005) << uniform.far.averagingBias;
+  EXPECT_LT(uniform.far.averagingBias, 0.3 * sun.far.averagingBias);
+}
+
 // Under uniform light the split is exact in expectation: near (P_near) plus far (traced) must give
 // B = E P as the escape model without a far field does, vertex by vertex to the noise.
 TEST(FarField, UniformLightKeepsBEqualToEP) {

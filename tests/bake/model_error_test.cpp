@@ -58,7 +58,7 @@ TEST(ModelError, FlatPlaneHasOnlyTheExitModelsSpread) {
   EXPECT_NEAR(r.total, r.exitModel, 1e-12);
   // Where the far field was left out, its sensitivity scales its term.
   ModelErrorInput withFar{plane, red, sun, 1.3f, spread};
-  withFar.farFieldLeftOut = 0.2;
+  withFar.farFieldError = 0.2;
   const ModelErrorReport f = estimateModelError(withFar);
   EXPECT_NEAR(f.farField, kFarFieldWeight * 0.2, 1e-12);
   EXPECT_NEAR(f.total, std::hypot(f.exitModel, f.farField), 1e-7);

@@ -23,6 +23,10 @@
 //    (surface_average.h):
 //    what leaves far. Light that crosses unscattered leaves collimated, which no exit model of B
 //    describes; it stays out (issue 11, part 5).
+// Exit lobe: B_far leaves through the exit lobe of optics/exit_lobe.h, whose slope k per vertex and
+// channel comes from the traced exits' flux-weighted mean internal cosine (averaged like B_far but
+// over kLobeSmoothing times the width, since the slope amplifies that mean's noise) and is shrunk
+// towards 0 by its noise from the batches' spread (ExitLobe::shrunkSlopeFor).
 // Cost and noise: a pilot round of paths estimates the smoothed far field's relative noise
 // (propagated from the tracer's batch standard errors through the smoothing weights); the paths
 // then grow as noise^-2 to the budget, capped by a path count and by work (scattering events, as

@@ -107,8 +107,10 @@ TracedRound traceRound(const FarFieldInput& in, const SurfaceAverage& average,
                                                   homogeneousMediumOf(in.material), o);
   const std::size_t n = mesh.positions.size();
   const double k = double(r.batchExitance.size());
-  TracedRound round{std::vector<glm::dvec3>(n, glm::dvec3(0.0)),
-                    std::vector<glm::dvec3>(n, glm::dvec3(0.0)), paths, {}, {}, {}};
+  TracedRound round;
+  round.mean.assign(n, glm::dvec3(0.0));
+  round.variance.assign(n, glm::dvec3(0.0));
+  round.paths = paths;
   std::vector<glm::dvec3> sumSq(n, glm::dvec3(0.0));
   addLobeMoments(r, lobeAverage, round);
   for (const std::vector<glm::vec3>& averaged : average(r.batchExitance)) {
@@ -139,11 +141,9 @@ double relativeNoise(const FarFieldInput& in, const TracedRound& round) {
 }
 
 // FarFieldReport::averagingBias: S(B_far) - B_far against B ~ P E + B_far (relativeNoise's
-// normalization).
+// normalization); far is round.mean as the far field returns it.
 double averagingBias(const FarFieldInput& in, const SurfaceAverage& average,
-                     const TracedRound& round) {
-  std::vector<glm::vec3> far(round.mean.size());
-  for (std::size_t i = 0; i < far.size(); ++i) far[i] = glm::vec3(round.mean[i]);
+                     const TracedRound& round, std::span<const glm::vec3> far) {
   const std::vector<glm::vec3> twice = average(far);
   const std::vector<glm::vec3>& p = in.energy.escape.probability;
   double bias = 0.0, signal = 0.0;
@@ -308,7 +308,7 @@ FarField traceFarField(const FarFieldInput& in) {
   r.traced = true;
   r.paths = round.paths;
   r.relativeStdError = noise;
-  r.averagingBias = averagingBias(in, average, round);
+  r.averagingBias = averagingBias(in, average, round, out.exitance);
   r.reason =
       std::string(automatic ? "irradiance varies on the diffusion length's scale" : "requested") +
       " (far field moves " + format("%.2g%%", 100.0 * r.sensitivity) + " of B" +

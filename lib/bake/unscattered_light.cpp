@@ -39,7 +39,8 @@ TracedRound traceRound(const UnscatteredLightInput& in, uint64_t firstPath, uint
   const LightTraceResult r = lightTraceSubsurface(mesh.positions, mesh.normals, mesh.triangles,
                                                   DistantLight::environment(in.radiance),
                                                   homogeneousMediumOf(in.material), o);
-  TracedRound round{{}, {}, paths, {}, {}, {}};
+  TracedRound round;
+  round.paths = paths;
   for (std::size_t i = 0; i < r.radiance.size(); ++i) {
     const glm::dvec3 se(r.radianceStdErr[i]);
     round.mean.push_back(glm::dvec3(r.radiance[i]));

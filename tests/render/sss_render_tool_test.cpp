@@ -339,6 +339,29 @@ TEST_F(SssRenderTool, HostileInputsAreRefusedAndLeaveTheFilesAsTheyWere) {
   far.mesh.positions[7].x = 1e38f;  // before: an empty picture, exit 0
   writeBakedPly(path("huge.ply"), far);
   writeUniformEnvironment("env.exr", glm::vec3(0.5f));
+  // A far field with one slope outside the exit lobe's range (its bytes patched after writing,
+  // which refuses it), and a GLB with one of the far field's two attributes.
+  BakedMesh withFar = bakedSphere();
+  withFar.farExitance.assign(withFar.exitance.size(), glm::vec3(0.1f));
+  withFar.farExitSlope.assign(withFar.exitance.size(), glm::vec3(0.25f));
+  withFar.farExitSlope[3].x = 0.3173f;  // a value found once in the file
+  writeBakedPly(path("slope.ply"), withFar);
+  {
+    std::string bytes = test::readFile(path("slope.ply"));
+    const float from = 0.3173f, to = -1.5f;
+    const std::string a(reinterpret_cast<const char*>(&from), 4);
+    ASSERT_EQ(bytes.find(a), bytes.rfind(a));
+    bytes.replace(bytes.find(a), 4, std::string(reinterpret_cast<const char*>(&to), 4));
+    std::ofstream(path("slope.ply"), std::ios::binary) << bytes;
+  }
+  writeBakedGlb(path("half.glb"), withFar);
+  {
+    std::string bytes = test::readFile(path("half.glb"));
+    const std::size_t at = bytes.find("_FAR_EXIT_SLOPE");
+    ASSERT_NE(at, std::string::npos);
+    bytes.replace(at, 15, "_FAR_EXIT_SLOPX");  // same length: the chunks stay well formed
+    std::ofstream(path("half.glb"), std::ios::binary) << bytes;
+  }
   fs::create_directory(path("folder.ply"));  // before: "error: std::bad_alloc"
   std::ofstream(path("tall.hdr"), std::ios::binary)
       << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 99999999999 +X 64\n";
@@ -350,6 +373,11 @@ TEST_F(SssRenderTool, HostileInputsAreRefusedAndLeaveTheFilesAsTheyWere) {
   for (const Case& c : std::vector<Case>{
            {path("huge.ply") + env + out, path("huge.ply") + ": vertex 7 (1e+38, ", 1},
            {path("folder.ply") + env + out, path("folder.ply") + ": is a directory, not a file", 1},
+           {path("slope.ply") + env + out,
+            path("slope.ply") + ": far_exit_slope of vertex 3 is outside [-1, 100]", 1},
+           {path("half.glb") + env + out,
+            path("half.glb") + ": glTF: _FAR_EXITANCE without _FAR_EXIT_SLOPE or the other way round",
+            1},
            {path("sphere.ply") + " -e " + path("tall.hdr") + out,
             path("tall.hdr") + ": header declares 64x2147483647 pixels", 1},
            // Before: -o naming the environment overwrote it.

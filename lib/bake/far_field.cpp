@@ -219,7 +219,8 @@ glm::dvec3 weightedMeanSlope(const FarField& far, std::span<const float> areas) 
     sum += w * glm::dvec3(far.slope[i]);
     weight += w;
   }
-  return glm::dvec3(weight.x > 0.0 ? sum.x / weight.x : 0.0, weight.y > 0.0 ? sum.y / weight.y : 0.0,
+  return glm::dvec3(weight.x > 0.0 ? sum.x / weight.x : 0.0,
+                    weight.y > 0.0 ? sum.y / weight.y : 0.0,
                     weight.z > 0.0 ? sum.z / weight.z : 0.0);
 }
 

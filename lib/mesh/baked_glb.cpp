@@ -445,8 +445,8 @@ BakedPlyContents readBakedGlb(const std::string& path) {
     if (far) {
       values.farExitance =
           readVec3(path, document, bin, index(path, attributes, "_FAR_EXITANCE"), "_FAR_EXITANCE");
-      values.farExitSlope = readVec3(path, document, bin, index(path, attributes, "_FAR_EXIT_SLOPE"),
-                                     "_FAR_EXIT_SLOPE");
+      values.farExitSlope = readVec3(path, document, bin,
+                                     index(path, attributes, "_FAR_EXIT_SLOPE"), "_FAR_EXIT_SLOPE");
       contents.hasFarField = true;
     }
     raw.faceCorners = readIndices(path, document, bin, index(path, primitive, "indices"));

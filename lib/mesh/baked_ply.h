@@ -56,11 +56,11 @@ struct BakedMesh {
   std::vector<glm::vec3> radianceNormal;  // L along the normal per vertex (idem)
   // The traced far field's part of B and its exit lobe's slope k, per vertex (both or neither).
   std::vector<glm::vec3> farExitance, farExitSlope;
-  std::string materialName;               // no spaces or '='
-  glm::dvec3 sigmaA{0.0};                 // absorption, per mm
-  glm::dvec3 sigmaSPrime{0.0};            // reduced scattering, per mm
-  double eta = 1.0;                       // relative index of refraction
-  double mmPerUnit = 1.0;                 // millimetres per mesh unit
+  std::string materialName;     // no spaces or '='
+  glm::dvec3 sigmaA{0.0};       // absorption, per mm
+  glm::dvec3 sigmaSPrime{0.0};  // reduced scattering, per mm
+  double eta = 1.0;             // relative index of refraction
+  double mmPerUnit = 1.0;       // millimetres per mesh unit
   // Preview colour = sRGB(previewScale * exitance). <= 0 on write: auto-exposed so that the
   // 99th percentile of max(exitance) maps to 1; the scale used is stored in the header.
   double previewScale = 0.0;

@@ -59,7 +59,7 @@ struct ShadingParameters {
   ExitWeightTable exitWeight = flatExitWeight();  // calibrated: the material's w at mu = k / 16
   bool farField = false;  // auto with a far field in the file: B_far through its exit lobe
   float lobeMoment0 = 1.0f, lobeMoment1 = 0.0f;  // with farField: ShadingOptions' (renderer.h)
-  glm::vec3 albedo = glm::vec3(1.0f);             // set in the brdf mode only
+  glm::vec3 albedo = glm::vec3(1.0f);            // set in the brdf mode only
   bool cullBackFaces = false;
   bool etaIsFallback = false;     // sss mode, no material in the file, none asked
   bool albedoIsFallback = false;  // brdf mode, idem

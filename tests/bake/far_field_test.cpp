@@ -170,8 +170,8 @@ TEST(FarField, ExitLobeGivesTheRadianceLeavingAThinSlab) {
 TEST(FarField, AveragingBiasIsLargestAtASunsTerminator) {
   const TriangleMesh sphere = makeIcosphere(2, 5.0f);
   const Material marble = findMaterialPreset("marble");
-  const Baked sun = bakeWith(sphere, sunEnvironment(glm::vec3(0.0f, 0.0f, 1.0f)), marble,
-                             FarFieldMode::On);
+  const Baked sun =
+      bakeWith(sphere, sunEnvironment(glm::vec3(0.0f, 0.0f, 1.0f)), marble, FarFieldMode::On);
   const Baked uniform = bakeWith(sphere, Cubemap(16, glm::vec3(1.0f)), marble, FarFieldMode::On);
   ASSERT_TRUE(sun.far.traced && uniform.far.traced);
   EXPECT_GT(sun.far.averagingBias, 0.005) << uniform.far.averagingBias;

@@ -299,17 +299,16 @@ void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstre
     bool unscattered = true;  // with the far field: the unscattered light too
   };
   constexpr FarFieldMode kAuto = FarFieldMode::Auto, kOff = FarFieldMode::Off;
-  const Config configs[] = {
-      {EnergyModel::Auto, EntryModel::Directional, Exit::Lobe, kAuto},
-      {EnergyModel::Auto, EntryModel::Directional, Exit::Lobe, kAuto, false},
-      {EnergyModel::Auto, EntryModel::Directional, Exit::Normalized, kAuto},
-      {EnergyModel::Auto, EntryModel::Directional, Exit::Normalized, kOff},
-      {EnergyModel::Auto, EntryModel::Directional, Exit::Calibrated, kAuto},
-      {EnergyModel::Auto, EntryModel::Directional, Exit::Calibrated, kOff},
-      {EnergyModel::Auto, EntryModel::Directional, Exit::Hybrid, kAuto},
-      {EnergyModel::Auto, EntryModel::Directional, Exit::Hybrid, kOff},
-      {EnergyModel::Auto, EntryModel::Diffuse, Exit::Normalized, kOff},
-      {EnergyModel::HalfSpace, EntryModel::Diffuse, Exit::Normalized, kOff}};
+  const Config configs[] = {{EnergyModel::Auto, EntryModel::Directional, Exit::Lobe, kAuto},
+                            {EnergyModel::Auto, EntryModel::Directional, Exit::Lobe, kAuto, false},
+                            {EnergyModel::Auto, EntryModel::Directional, Exit::Normalized, kAuto},
+                            {EnergyModel::Auto, EntryModel::Directional, Exit::Normalized, kOff},
+                            {EnergyModel::Auto, EntryModel::Directional, Exit::Calibrated, kAuto},
+                            {EnergyModel::Auto, EntryModel::Directional, Exit::Calibrated, kOff},
+                            {EnergyModel::Auto, EntryModel::Directional, Exit::Hybrid, kAuto},
+                            {EnergyModel::Auto, EntryModel::Directional, Exit::Hybrid, kOff},
+                            {EnergyModel::Auto, EntryModel::Diffuse, Exit::Normalized, kOff},
+                            {EnergyModel::HalfSpace, EntryModel::Diffuse, Exit::Normalized, kOff}};
   for (const Config& config : configs) {
     const EnergyModel model = config.energy;
     std::string chosen;

@@ -167,8 +167,8 @@ TEST(MeshBakedGlb, FarFieldRoundTripsAndColor0LeavesThroughItsLobe) {
     for (int k = 0; k < 3; ++k) {
       const double far = b.farExitance[i][k];
       const double expected =
-          previewScaleFor(b) * ((b.exitance[i][k] - far) * normal +
-                                far * lobe.radiance(b.farExitSlope[i][k], 1.0f));
+          previewScaleFor(b) *
+          ((b.exitance[i][k] - far) * normal + far * lobe.radiance(b.farExitSlope[i][k], 1.0f));
       ASSERT_NEAR(colors[i][k], expected, 1e-5 * expected + 1e-30) << i;
     }
   test::expectValidGltf(path);

@@ -199,8 +199,10 @@ TEST(MeshBakedPly, BadFilesAreErrors) {
   expectError([&] { readBakedPly(partial); }, partial, "exitance_r/g/b");
   // The far field's two sets come together.
   const std::string lonely =
-      variant("lonely.ply", "property float far_exit_slope_r\nproperty float far_exit_slope_g\n"
-              "property float far_exit_slope_b", "property float a\nproperty float b\n"
+      variant("lonely.ply",
+              "property float far_exit_slope_r\nproperty float far_exit_slope_g\n"
+              "property float far_exit_slope_b",
+              "property float a\nproperty float b\n"
               "property float c");
   expectError([&] { readBakedPly(lonely); }, lonely, "far_exitance without far_exit_slope");
   const std::string eta = variant("eta.ply", "comment sss eta=1.3", "comment sss eta=abc");

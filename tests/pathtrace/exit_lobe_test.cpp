@@ -137,7 +137,7 @@ TEST(ExitLobe, MeanCosineMatchesMonteCarlo) {
     double sum = 0.0, count = 0.0;
     const double peak = (1.0 + std::max(k, 0.0));
     for (int i = 0; i < 400000; ++i) {
-      const double mu = std::sqrt(rng.uniformDouble());  // pdf 2 mu
+      const double mu = std::sqrt(rng.uniformDouble());         // pdf 2 mu
       if (rng.uniformDouble() * peak > 1.0 + k * mu) continue;  // times (1 + k mu)
       const float cosOut = std::sqrt(std::max(0.0, 1.0 - kEta * kEta * (1.0 - mu * mu)));
       if (cosOut <= 0.0f || rng.uniformDouble() >= fresnelTransmittance(cosOut, kEta)) continue;
@@ -163,16 +163,15 @@ TEST(ExitLobe, PredictsTheRadianceLeavingAThinSlab) {
   o.tallyExitCosine = true;
   o.minScatteringOrder = 1;  // what crosses unscattered leaves collimated: no exit lobe's
   o.stopAtFirstExit = true;
-  const LightTraceResult r = lightTraceSubsurface(slab.positions, slab.normals, slab.triangles,
-                                                  sun, homogeneousMediumOf(ketchup), o);
+  const LightTraceResult r = lightTraceSubsurface(slab.positions, slab.normals, slab.triangles, sun,
+                                                  homogeneousMediumOf(ketchup), o);
   for (float side : {1.0f, -1.0f}) {
-    const Predictions p =
-        predictions(regionMeans(slab, r,
-                                [side](glm::vec3 x, glm::vec3 n) {
-                                  return n.z * side > 0.999f && std::abs(x.x) < 5 &&
-                                         std::abs(x.y) < 5;
-                                }),
-                    float(ketchup.eta), o.coneHalfAngleDeg);
+    const Predictions p = predictions(regionMeans(slab, r,
+                                                  [side](glm::vec3 x, glm::vec3 n) {
+                                                    return n.z * side > 0.999f &&
+                                                           std::abs(x.x) < 5 && std::abs(x.y) < 5;
+                                                  }),
+                                      float(ketchup.eta), o.coneHalfAngleDeg);
     EXPECT_NEAR(p.lobe.r, 1.0, 0.08) << "face " << side;
     EXPECT_GT(p.normalized.r, 1.12) << "face " << side;
   }
@@ -193,9 +192,9 @@ TEST(ExitLobe, PredictsTheRadianceOnTheUnlitHalfOfASphere) {
   const LightTraceResult r = lightTraceSubsurface(
       sphere.positions, sphere.normals, sphere.triangles,
       DistantLight::disc({0, 0, 1}, 0.0, glm::vec3(1.0f)), homogeneousMediumOf(marble), o);
-  const Predictions p = predictions(
-      regionMeans(sphere, r, [](glm::vec3, glm::vec3 n) { return n.z < -0.3f; }),
-      float(marble.eta), o.coneHalfAngleDeg);
+  const Predictions p =
+      predictions(regionMeans(sphere, r, [](glm::vec3, glm::vec3 n) { return n.z < -0.3f; }),
+                  float(marble.eta), o.coneHalfAngleDeg);
   EXPECT_NEAR(p.lobe.r, 1.0, 0.04) << "normalized " << p.normalized.r;
   // Both read the same B and traced radiance, so their gap is the measured slope's, not noise
   // (0.92-0.96 for the normalized model over seeds 1-3, the lobe 0.98-1.02).

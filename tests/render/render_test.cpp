@@ -109,8 +109,8 @@ FrameOptions linearFrame(int size) {
 
 struct ExitCase {
   FresnelModel fresnel;
-  bool normalized;  // exit scale F_t-normalized (exitRadianceScale) rather than 1/pi
-  bool calibrated;  // and the angular weights of a skin-like material (ExitModel::Calibrated)
+  bool normalized;       // exit scale F_t-normalized (exitRadianceScale) rather than 1/pi
+  bool calibrated;       // and the angular weights of a skin-like material (ExitModel::Calibrated)
   bool farLobe = false;  // part of B a far field leaving through its exit lobe (ExitModel::Auto)
 };
 

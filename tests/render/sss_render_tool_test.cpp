@@ -376,7 +376,8 @@ TEST_F(SssRenderTool, HostileInputsAreRefusedAndLeaveTheFilesAsTheyWere) {
            {path("slope.ply") + env + out,
             path("slope.ply") + ": far_exit_slope of vertex 3 is outside [-1, 100]", 1},
            {path("half.glb") + env + out,
-            path("half.glb") + ": glTF: _FAR_EXITANCE without _FAR_EXIT_SLOPE or the other way round",
+            path("half.glb") +
+                ": glTF: _FAR_EXITANCE without _FAR_EXIT_SLOPE or the other way round",
             1},
            {path("sphere.ply") + " -e " + path("tall.hdr") + out,
             path("tall.hdr") + ": header declares 64x2147483647 pixels", 1},

@@ -23,10 +23,11 @@
 // nothing about the medium behind a hole); where no walk nearby stayed inside (an open sheet) P
 // is the half-space albedo. On a thick box it reproduces the half-space albedo table
 // (lib/material/halfspace_albedo.h; tests/pathtrace/escape_probability_test.cpp). The probe
-// estimates are smoothed over the surface with a Gaussian of sigma = smoothing x the longest
-// diffusion length 1/sigma_tr (at least twice the probe spacing), weights G(|x - x_p|) A_p: P
+// estimates are smoothed over the surface with a Gaussian of sigma = smoothing x the channel's
+// diffusion length 1/sigma_tr,c (at least twice the probe spacing), weights G(|x - x_p|) A_p: P
 // follows the object's shape, which varies slowly on that scale (the accuracy study,
-// tests/bench/accuracy_study.cpp, compares widths), and the wide kernel averages many walks.
+// tests/bench/accuracy_study.cpp, compares widths), and the wide kernel averages many walks. The
+// near share varies on the near window's scale and is smoothed over two windows (same floor).
 // Deterministic for any thread count: each walk draws from its own Pcg32 stream (vertex, channel,
 // walk index).
 #pragma once
@@ -47,7 +48,7 @@ struct Material;      // lib/material/material.h
 struct EscapeOptions {
   int walks = 16;                // per probe vertex and channel
   std::size_t maxProbes = 2048;  // probe vertices (an even stride when the mesh has more)
-  double smoothing = 2.0;        // Gaussian sigma in the longest diffusion length 1/sigma_tr
+  double smoothing = 2.0;        // Gaussian sigma in each channel's diffusion length
   // When > 0 (mm, per channel): also the near share of P, the walks' weights times
   // W(d) = exp(-d^2 / (2 w^2)) of their exit's distance d from the entry (lib/bake/far_field.h).
   glm::dvec3 nearWindowMm{0.0};
@@ -66,10 +67,10 @@ struct EscapeResult {
   uint64_t walks = 0;
   uint64_t lostWalks = 0;  // left through holes in an open mesh (left out)
   double meanScatteringEvents = 0.0;
-  glm::dvec3 smoothingSigmaMm{0.0};
+  glm::dvec3 smoothingSigmaMm{0.0};  // P's, per channel
   double seconds = 0.0;
-  // With a near window: P's near share per vertex (smoothed as P) and its relative standard
-  // error (as relativeStdError); empty and 0 without.
+  // With a near window: P's near share per vertex (smoothed over two windows) and its relative
+  // standard error (as relativeStdError); empty and 0 without.
   std::vector<glm::vec3> nearProbability;
   double nearRelativeStdError = 0.0;
   // |P_near| / |P| (area-weighted RMS over vertices and channels): what the near share's noise

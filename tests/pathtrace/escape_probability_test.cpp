@@ -396,6 +396,50 @@ TEST(EscapeProbability, NearShareLimits) {
   EXPECT_THROW(estimateEscapeProbability(sphere, areas, skin, options), Error);
 }
 
+// Two objects 30 mm apart in one mesh, a 2 mm slab and a 20 mm cube of skim milk, whose blue light
+// travels 3.5 mm (1 / sigma_tr) and red 18 mm. Each channel's P is smoothed over its own
+// diffusion length and the near share over its window: the slab's blue P and red near share are
+// the slab's alone, as the cube's are the cube's. Smoothed over red's 37 mm as P once was, the
+// slab's blue P took in the cube's lower one.
+TEST(EscapeProbability, EachChannelIsSmoothedOverItsOwnLength) {
+  const Material milk = findMaterialPreset("skimmilk");
+  const TriangleMesh slab = makeSlab(20.0f, 2.0f, 8);
+  TriangleMesh cube = makeBox(glm::vec3(20.0f), 6);
+  for (glm::vec3& p : cube.positions) p.x += 50.0f;
+  TriangleMesh both = slab;
+  const uint32_t offset = uint32_t(slab.positions.size());
+  both.positions.insert(both.positions.end(), cube.positions.begin(), cube.positions.end());
+  both.normals.insert(both.normals.end(), cube.normals.begin(), cube.normals.end());
+  for (const glm::uvec3& t : cube.triangles) both.triangles.push_back(t + offset);
+  EscapeOptions options;
+  options.walks = 16;
+  options.nearWindowMm = 0.125 / milk.sigmaTr();
+  const auto meanOver = [](const EscapeResult& r, const std::vector<float>& areas,
+                           std::size_t begin, std::size_t end, bool near) {
+    glm::dvec3 sum(0.0);
+    double area = 0.0;
+    for (std::size_t v = begin; v < end; ++v) {
+      sum += double(areas[v]) * glm::dvec3(near ? r.nearProbability[v] : r.probability[v]);
+      area += areas[v];
+    }
+    return sum / area;
+  };
+  const std::vector<float> areas = vertexAreas(both);
+  const EscapeResult together = escape(both, milk, options);
+  const EscapeResult slabAlone = escape(slab, milk, options),
+                     cubeAlone = escape(cube, milk, options);
+  const std::size_t n = both.positions.size();
+  const glm::dvec3 slabP = meanOver(slabAlone, vertexAreas(slab), 0, offset, false);
+  const glm::dvec3 cubeP = meanOver(cubeAlone, vertexAreas(cube), 0, n - offset, false);
+  const glm::dvec3 slabNear = meanOver(slabAlone, vertexAreas(slab), 0, offset, true);
+  const glm::dvec3 cubeNear = meanOver(cubeAlone, vertexAreas(cube), 0, n - offset, true);
+  ASSERT_GT(slabP.z - cubeP.z, 0.1);  // the test means something: the objects differ
+  ASSERT_GT(slabNear.x - cubeNear.x, 0.05);
+  EXPECT_NEAR(meanOver(together, areas, 0, offset, false).z, slabP.z, 0.01);
+  EXPECT_NEAR(meanOver(together, areas, offset, n, false).z, cubeP.z, 0.01);
+  EXPECT_NEAR(meanOver(together, areas, 0, offset, true).x, slabNear.x, 0.01);
+  EXPECT_NEAR(meanOver(together, areas, offset, n, true).x, cubeNear.x, 0.01);
+}
 TEST(EscapeProbability, SameResultForAnyThreadCount) {
   const TriangleMesh sphere = makeIcosphere(2, 6.0f);
   Material material = findMaterialPreset("skin1");

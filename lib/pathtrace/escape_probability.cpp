@@ -358,10 +358,11 @@ void EscapeWalks::State::smoothAt(std::size_t i, std::span<const ProbeEstimates>
     std::array<double, 6> weights;
     for (int s = 0; s < smooth.distinct; ++s)
       weights[s] = std::exp(smooth.exponent[s] * d2) * areas[v];
+    const glm::dvec3 keptMask(glm::greaterThan(kept[k], glm::dvec3(0.0)));
     for (std::size_t e = 0; e < estimates.size(); ++e) {
-      const glm::dvec3 weight(weights[smooth.slot[e][0]], weights[smooth.slot[e][1]],
-                              weights[smooth.slot[e][2]]);
-      const glm::dvec3 w = weight * glm::dvec3(glm::greaterThan(kept[k], glm::dvec3(0.0)));
+      const glm::dvec3 w =
+          keptMask * glm::dvec3(weights[smooth.slot[e][0]], weights[smooth.slot[e][1]],
+                                weights[smooth.slot[e][2]]);
       den[e] += w;
       num[e] += w * estimates[e].mean[k];
       var[e] += w * w * estimates[e].variance[k];

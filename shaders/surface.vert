@@ -11,6 +11,7 @@
 // for the auto exit model on a bake with a traced far field) leaves through the exit lobe of
 // optics/exit_lobe.h: lobe = (1 + k mu_i) A_0 / (A_0 + k A_1), mu_i the cosine inside, k the
 // vertex's slope, A_n the lobe's moments (so that with exitScale = 1 / (pi A_0) its flux is B_far).
+// UNSCATTERED (surface.frag) adds the light that crosses the object in a straight line.
 // REFLECT_MIX reproduces the paper's constant mix(base, cube, reflect_factor) instead.
 // MODE_IRRADIANCE shows the baked E as a white Lambertian surface (E / pi); MODE_NORMALS shows
 // n * 0.5 + 0.5.
@@ -38,6 +39,8 @@ uniform samplerCube uIrradiance;
 out vec3 vBase;       // view-independent radiance: the exit term (or E / pi)
 out vec3 vDirection;  // reflected view direction (the normal for MODE_NORMALS)
 out float vFresnel;   // F_r(mu_o) weighting the reflection
+out vec3 vToEye;      // from the surface to the eye
+out float vMu;        // mu_o = |n . w_o|
 
 vec3 exitWeight(float mu) {
   float t = clamp(mu, 0.0, 1.0) * 16.0;
@@ -61,6 +64,8 @@ void main() {
   // turn slightly away from the eye, this stays continuous at grazing exit.
   float mu = min(abs(dot(n, v)), 1.0);
   vFresnel = fresnelReflectance(mu, uEta);
+  vToEye = uEye - aPosition;
+  vMu = mu;
   vDirection = reflect(-v, n);
 #if defined(MODE_NORMALS)
   vBase = vec3(0.0);

@@ -129,6 +129,7 @@ ShadingOptions shadingOptions(const Arguments& a, const ShadingParameters& p) {
   s.lobeMoment1 = p.lobeMoment1;
   s.albedo = p.albedo;
   s.cullBackFaces = p.cullBackFaces;
+  s.unscatteredSigmaT = p.unscatteredSigmaT;
   return s;
 }
 
@@ -255,6 +256,7 @@ void writeReport(const Arguments& a, const LoadedMesh& mesh, const Environment& 
                            {"fresnel", kFresnelModelNames.name(a.fresnel)},
                            {"exit_model", kExitModelNames.name(a.request.exitModel)},
                            {"far_field_lobe", mesh.shading.farField},
+                           {"unscattered", shadingOptions(a, mesh.shading).drawsUnscattered()},
                            {"environment", a.environment},
                            {"environment_face_size", env.radiance.size()},
                            {"gl", glJson(context)},
@@ -425,6 +427,10 @@ void addShadingOptions(CLI::App& app, Arguments& a) {
   cli::addEnumOption(app, "--tonemap", a.tonemap, kTonemapNames, "Display transform");
   cli::addEnumOption(app, "--cull", a.request.cull, kCullModeNames,
                      "Back-face culling (auto: only for closed, consistently wound meshes)");
+  cli::addEnumOption(app, "--unscattered", a.request.unscattered, kUnscatteredDrawingNames,
+                     "The light that crosses the object without scattering, from the "
+                     "environment behind, in the sss mode on a closed mesh whose file records "
+                     "its material and units (auto: where the bake traced it)");
 }
 
 void addCameraOptions(CLI::App& app, Arguments& a) {

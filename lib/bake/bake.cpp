@@ -295,6 +295,7 @@ BakedMesh assembleBakedMesh(TriangleMesh mesh, VertexLighting& lighting, VertexE
   baked.eta = s.material.eta;
   baked.mmPerUnit = r.mesh.mmPerUnit;
   baked.meshChecked = true;  // prepareMesh warned about its topology
+  baked.unscatteredTraced = r.unscattered.traced;
   const bool rays = s.visibility == VisibilityMode::Rays;
   baked.extraComments.push_back(
       "bake method=" + r.transport.methodName() +

@@ -146,6 +146,7 @@ Json sssExtras(const BakedMesh& baked, const Json& color, const std::string& rep
   }
   if (!color.is_null()) sss["color"] = color;
   sss["checked"] = baked.meshChecked;
+  sss["unscattered"] = baked.unscatteredTraced;
   sss["comments"] = baked.extraComments;
   if (!reportJson.empty()) sss["report"] = Json::parse(reportJson);
   return sss;
@@ -399,6 +400,7 @@ void readSssExtras(const std::string& path, const Json& sss, BakedPlyContents& c
     baked.previewScale = c->at("exposure").get<double>();
   }
   baked.meshChecked = sss.value("checked", false);
+  baked.unscatteredTraced = sss.value("unscattered", false);
   if (const auto c = sss.find("comments"); c != sss.end()) {
     baked.extraComments = c->get<std::vector<std::string>>();
   }

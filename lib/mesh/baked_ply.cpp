@@ -156,6 +156,7 @@ void writeBakedPly(const std::string& path, const BakedMesh& baked) {
   out += "comment sss mm_per_unit=" + number(baked.mmPerUnit) + "\n";
   if (hasB) out += "comment sss preview_scale=" + number(scale) + "\n";
   if (baked.meshChecked) out += "comment sss checked=1\n";
+  if (baked.unscatteredTraced) out += "comment sss unscattered=1\n";
   for (const std::string& c : baked.extraComments) out += "comment " + c + "\n";
   out += "element vertex " + std::to_string(nv) + "\n";
   for (const char* p : {"x", "y", "z", "nx", "ny", "nz"})
@@ -229,8 +230,9 @@ Keys sssKeys(const std::vector<std::string>& comments, std::vector<std::string>&
     const std::size_t eq = c.find('=');
     if (c.rfind("sss ", 0) == 0 && eq != std::string::npos && c.find(' ', 4) == std::string::npos) {
       const std::string key = c.substr(4, eq - 4);
-      static const char* const known[] = {"format", "material",    "sigma_a",       "sigma_s_prime",
-                                          "eta",    "mm_per_unit", "preview_scale", "checked"};
+      static const char* const known[] = {"format",        "material", "sigma_a",
+                                          "sigma_s_prime", "eta",      "mm_per_unit",
+                                          "preview_scale", "checked",  "unscattered"};
       if (std::find(std::begin(known), std::end(known), key) != std::end(known)) {
         keys[key] = c.substr(eq + 1);
         continue;
@@ -279,6 +281,10 @@ void readKeys(const std::string& path, Keys& keys, BakedPlyContents& result) {
   if (keys.count("checked")) {
     if (keys["checked"] != "1") bad("checked");
     baked.meshChecked = true;
+  }
+  if (keys.count("unscattered")) {
+    if (keys["unscattered"] != "1") bad("unscattered");
+    baked.unscatteredTraced = true;
   }
 }
 

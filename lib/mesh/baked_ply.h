@@ -14,6 +14,9 @@
 //   comment sss preview_scale=0.8                (preview sRGB = encode(scale * exitance))
 //   comment sss checked=1                        (the mesh passed sss-bake's cleanup: readers
 //                                                 do not repeat its warnings)
+//   comment sss unscattered=1                    (the bake traced light that crosses the object
+//                                                 unscattered, bake/unscattered_light.h: in
+//                                                 radiance_normal; sss-render draws it)
 //   comment <each extraComments line>
 //   (numbers: the shortest decimal that reads back to the same double; the material lines only
 //   when materialName is set, preview_scale only with exitance)
@@ -68,6 +71,9 @@ struct BakedMesh {
   // The mesh went through loadMesh's validation and cleanup, whose warnings were shown then
   // (sss-bake): recorded in the file, so that reading it back does not repeat them.
   bool meshChecked = false;
+  // The bake found light that crosses the object unscattered and traced it (radiance_normal holds
+  // it along the normals; sss-render draws it, view-dependent, by default).
+  bool unscatteredTraced = false;
 };
 
 // What every baked-mesh writer checks first (one value per vertex or none, finite values, indices

@@ -66,6 +66,14 @@ ShadingParameters shadingFor(const BakedPlyContents& contents, const ShadingRequ
       report.boundaryEdges == 0 && report.misorientedEdges == 0 && report.nonManifoldEdges == 0;
   p.cullBackFaces =
       request.cull == CullMode::Back || (request.cull == CullMode::Auto && closedAndConsistent);
+  const bool unscattered =
+      request.unscattered == UnscatteredDrawing::On ||
+      (request.unscattered == UnscatteredDrawing::Auto && contents.baked.unscatteredTraced);
+  if (unscattered && request.mode == ShadingMode::Sss && contents.hasMaterial &&
+      contents.hasUnits && p.cullBackFaces) {
+    const BakedMesh& b = contents.baked;
+    p.unscatteredSigmaT = glm::vec3((b.sigmaA + b.sigmaSPrime) * b.mmPerUnit);
+  }
   return p;
 }
 

@@ -37,6 +37,18 @@ enum class CullMode { Auto, Back, None };
 inline constexpr EnumNames<CullMode, 3> kCullModeNames{
     "cull mode", {{{CullMode::Auto, "auto"}, {CullMode::Back, "back"}, {CullMode::None, "none"}}}};
 
+// The light that crosses the object without scattering (renderer.h, ShadingOptions::
+// unscatteredSigmaT), in the sss mode on a closed mesh (culled back faces) whose file records its
+// material and units (sigma_t = sigma_a + sigma_s' per mesh unit: g = 0, as the bake's light
+// tracers have it). Auto: where the bake traced it (BakedMesh::unscatteredTraced; the back faces'
+// pass costs 50-75 % more per frame on llvmpipe, README, "sss-render"); on: wherever it can.
+enum class UnscatteredDrawing { Auto, On, Off };
+inline constexpr EnumNames<UnscatteredDrawing, 3> kUnscatteredDrawingNames{
+    "unscattered light",
+    {{{UnscatteredDrawing::Auto, "auto"},
+      {UnscatteredDrawing::On, "on"},
+      {UnscatteredDrawing::Off, "off"}}}};
+
 // Used when neither the file (no material recorded) nor the caller gives a value.
 inline constexpr float kFallbackEta = 1.3f;
 inline constexpr float kFallbackAlbedo = 0.8f;
@@ -46,6 +58,7 @@ struct ShadingRequest {
   ShadingMode mode = ShadingMode::Sss;
   ExitModel exitModel = ExitModel::Auto;
   CullMode cull = CullMode::Auto;
+  UnscatteredDrawing unscattered = UnscatteredDrawing::Auto;
   std::optional<float> eta;         // default: the material's, else kFallbackEta
   std::optional<glm::vec3> albedo;  // brdf; default: the material's half-space albedo
                                     // (so that B = R_d E on flat, uniformly lit regions), else
@@ -61,8 +74,9 @@ struct ShadingParameters {
   float lobeMoment0 = 1.0f, lobeMoment1 = 0.0f;  // with farField: ShadingOptions' (renderer.h)
   glm::vec3 albedo = glm::vec3(1.0f);            // set in the brdf mode only
   bool cullBackFaces = false;
-  bool etaIsFallback = false;     // sss mode, no material in the file, none asked
-  bool albedoIsFallback = false;  // brdf mode, idem
+  glm::vec3 unscatteredSigmaT = glm::vec3(0.0f);  // per mesh unit; 0: not drawn
+  bool etaIsFallback = false;                     // sss mode, no material in the file, none asked
+  bool albedoIsFallback = false;                  // brdf mode, idem
 };
 
 ShadingParameters shadingFor(const BakedPlyContents& contents, const ShadingRequest& request);

@@ -52,6 +52,7 @@ std::string programDefines(const ShadingOptions& s) {
   if (s.reflectFactor) d += "#define REFLECT_MIX\n";
   if (s.tonemap == Tonemap::Reinhard) d += "#define TONEMAP_REINHARD\n";
   if (s.tonemap == Tonemap::Aces) d += "#define TONEMAP_ACES\n";
+  if (s.drawsUnscattered()) d += "#define UNSCATTERED\n";
   return d;
 }
 
@@ -94,16 +95,20 @@ GLuint uploadCubemap(const Cubemap& cubemap) {
 }  // namespace
 
 struct Renderer::Gl {
-  GLuint surface = 0, background = 0;
+  GLuint surface = 0, background = 0, backDepthProgram = 0;
   GLuint meshVao = 0, emptyVao = 0, vertexBuffer = 0, indexBuffer = 0;
   GLuint radiance = 0, irradiance = 0;
   int radianceSize = 0;
   GLuint drawFbo = 0, resolveFbo = 0;
   GLuint drawColor = 0, drawDepth = 0, resolveColor = 0;
+  GLuint backFbo = 0, backDepth = 0;  // the back faces' depth (unscattered light)
 
   ~Gl() {
     glDeleteProgram(surface);
     glDeleteProgram(background);
+    glDeleteProgram(backDepthProgram);
+    glDeleteFramebuffers(1, &backFbo);
+    glDeleteTextures(1, &backDepth);
     glDeleteVertexArrays(1, &meshVao);
     glDeleteVertexArrays(1, &emptyVao);
     glDeleteBuffers(1, &vertexBuffer);
@@ -159,6 +164,7 @@ Renderer::Renderer(const ShaderSources& shaders, const FrameOptions& frame,
       glNamedFramebufferRenderbuffer(gl_->resolveFbo, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
                                      gl_->resolveColor);
     }
+    if (shading.drawsUnscattered()) createBackDepthPass(shaders, defines);
     glCreateVertexArrays(1, &gl_->emptyVao);
     glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
     checkGl("creating the framebuffers");
@@ -170,6 +176,26 @@ Renderer::Renderer(const ShaderSources& shaders, const FrameOptions& frame,
 
 Renderer::~Renderer() {
   delete gl_;
+}
+
+bool ShadingOptions::drawsUnscattered() const {
+  return mode == ShadingMode::Sss && cullBackFaces && !reflectFactor &&
+         std::max({unscatteredSigmaT.x, unscatteredSigmaT.y, unscatteredSigmaT.z}) > 0.0f;
+}
+
+// One sample per pixel: the nearest back face's depth behind each pixel, in a texture the surface
+// pass reads (a sample of a multisampled pixel takes its pixel's).
+void Renderer::createBackDepthPass(const ShaderSources& shaders, const std::string& defines) {
+  gl_->backDepthProgram = buildProgram(shaders, "back_depth.vert", "back_depth.frag", defines);
+  glCreateTextures(GL_TEXTURE_2D, 1, &gl_->backDepth);
+  glTextureStorage2D(gl_->backDepth, 1, GL_DEPTH_COMPONENT32F, frame_.width, frame_.height);
+  glTextureParameteri(gl_->backDepth, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTextureParameteri(gl_->backDepth, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glCreateFramebuffers(1, &gl_->backFbo);
+  glNamedFramebufferTexture(gl_->backFbo, GL_DEPTH_ATTACHMENT, gl_->backDepth, 0);
+  glNamedFramebufferDrawBuffer(gl_->backFbo, GL_NONE);
+  if (glCheckNamedFramebufferStatus(gl_->backFbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    throw Error("the GL cannot render the back faces' depth into a texture");
 }
 
 void Renderer::setMesh(const RenderMesh& mesh) {
@@ -251,6 +277,16 @@ void Renderer::setCamera(const Camera& camera) {
                      shading_.reflectFactor.value_or(0.0f));
   glProgramUniform3fv(s, glGetUniformLocation(s, "uAlbedo"), 1, glm::value_ptr(shading_.albedo));
   glProgramUniform1f(s, glGetUniformLocation(s, "uExposure"), exposure);
+  if (gl_->backDepthProgram) {
+    glProgramUniformMatrix4fv(gl_->backDepthProgram,
+                              glGetUniformLocation(gl_->backDepthProgram, "uViewProjection"), 1,
+                              GL_FALSE, glm::value_ptr(viewProjection));
+    glProgramUniform1i(s, glGetUniformLocation(s, "uBackDepth"), 2);
+    glProgramUniform2f(s, glGetUniformLocation(s, "uDepthFromNdc"), projection[2][2],
+                       projection[3][2]);
+    glProgramUniform3fv(s, glGetUniformLocation(s, "uSigmaT"), 1,
+                        glm::value_ptr(shading_.unscatteredSigmaT));
+  }
 
   const GLuint b = gl_->background;
   glProgramUniformMatrix4fv(b, glGetUniformLocation(b, "uInverseViewProjection"), 1, GL_FALSE,
@@ -292,7 +328,10 @@ void Renderer::draw() {
   glBindTextureUnit(1, gl_->irradiance);
   glEnable(GL_DEPTH_TEST);
 
+  if (indexCount_ > 0 && gl_->backDepthProgram) drawBackDepth();
   if (indexCount_ > 0) {
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, gl_->drawFbo);
+    glBindTextureUnit(2, gl_->backDepth);
     glDepthFunc(GL_LESS);
     if (shading_.cullBackFaces) {
       glEnable(GL_CULL_FACE);
@@ -320,6 +359,19 @@ void Renderer::draw() {
     glBlitNamedFramebuffer(gl_->drawFbo, gl_->resolveFbo, 0, 0, frame_.width, frame_.height, 0, 0,
                            frame_.width, frame_.height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
   }
+}
+
+void Renderer::drawBackDepth() {
+  const GLfloat clearDepth = 1.0f;
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, gl_->backFbo);
+  glClearNamedFramebufferfv(gl_->backFbo, GL_DEPTH, 0, &clearDepth);
+  glDepthFunc(GL_LESS);
+  glEnable(GL_CULL_FACE);
+  glFrontFace(GL_CCW);
+  glCullFace(GL_FRONT);
+  glUseProgram(gl_->backDepthProgram);
+  glBindVertexArray(gl_->meshVao);
+  glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(indexCount_), GL_UNSIGNED_INT, nullptr);
 }
 
 RenderedImage Renderer::readBack() {

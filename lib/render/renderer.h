@@ -83,6 +83,11 @@ struct ShadingOptions {
   std::optional<glm::vec3> backgroundColor;
   // Cull back faces (closed, consistently CCW meshes); off shows both sides.
   bool cullBackFaces = true;
+  // sss with culled back faces: the extinction sigma_t = sigma_a + sigma_s per mesh unit of the
+  // light that crosses the object unscattered (shaders/surface.frag; bake/unscattered_light.h),
+  // drawn where > 0 in some channel. A pass over the back faces finds where each view ray leaves.
+  glm::vec3 unscatteredSigmaT = glm::vec3(0.0f);
+  bool drawsUnscattered() const;
 };
 
 struct FrameOptions {
@@ -135,6 +140,8 @@ class Renderer {
   FrameTimings timeFrames(int frames, int warmup = 3);
 
  private:
+  void createBackDepthPass(const ShaderSources& shaders, const std::string& defines);
+  void drawBackDepth();
   struct Gl;
   Gl* gl_;
   FrameOptions frame_;

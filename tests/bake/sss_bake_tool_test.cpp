@@ -373,6 +373,9 @@ TEST_F(BakeTool, UnscatteredLightIsInTheRadianceAlongTheNormalOnly) {
   EXPECT_FALSE(nlohmann::json::parse(readFile(dir_ / "off.json"))["unscattered"]["traced"]);
   EXPECT_EQ(on.exitance, off.exitance);
   EXPECT_EQ(on.irradiance, off.irradiance);
+  // The file says so: sss-render draws it by default then.
+  EXPECT_TRUE(on.unscatteredTraced);
+  EXPECT_FALSE(off.unscatteredTraced);
   double added = 0.0, total = 0.0;
   for (std::size_t v = 0; v < on.exitance.size(); ++v)
     for (int c = 0; c < 3; ++c) {

@@ -238,6 +238,20 @@ TEST(MeshBakedGlb, CheckedMeshesDoNotRepeatTopologyWarnings) {
   EXPECT_NE(readFile(dir.path("fin.ply")).find("comment sss checked=1\n"), std::string::npos);
 }
 
+// Whether the bake traced the unscattered light (sss-render draws it then) survives both formats.
+TEST(MeshBakedGlb, TheUnscatteredFlagRoundTrips) {
+  ScratchDir dir;
+  BakedMesh b = sampleBake(1000.0);
+  for (const char* name : {"a.glb", "a.ply"})
+    for (const bool traced : {false, true}) {
+      b.unscatteredTraced = traced;
+      writeBakedMesh(dir.path(name), b);
+      EXPECT_EQ(readBakedMesh(dir.path(name)).baked.unscatteredTraced, traced) << name;
+      EXPECT_EQ(readFile(dir.path(name)).find("unscattered=1") != std::string::npos,
+                traced && std::string(name) == "a.ply");
+    }
+}
+
 // ------------------------------------------------------------------ hostile files
 
 std::string u32(std::uint32_t v) {

@@ -209,6 +209,9 @@ TEST(MeshBakedPly, BadFilesAreErrors) {
   expectError([&] { readBakedPly(eta); }, eta, "eta=abc");
   const std::string noEta = variant("noeta.ply", "comment sss eta=1.3", "comment nothing");
   expectError([&] { readBakedPly(noEta); }, noEta, "incomplete material");
+  const std::string unscattered = variant("unscattered.ply", "comment sss eta=1.3",
+                                          "comment sss eta=1.3\ncomment sss unscattered=yes");
+  expectError([&] { readBakedPly(unscattered); }, unscattered, "unscattered=yes");
   const std::string newer = variant("newer.ply", "sss format=1", "sss format=2");
   expectError([&] { readBakedPly(newer); }, newer, "newer");
   const std::string cut = dir.path("cut.ply");

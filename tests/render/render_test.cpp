@@ -203,6 +203,54 @@ INSTANTIATE_TEST_SUITE_P(FresnelAndExit, ExitModelTest,
                                            ExitCase{FresnelModel::Exact, true, false, true}),
                          [](const auto& info) { return exitCaseName(info.param); });
 
+// The light that crosses a slab unscattered, seen through its top face: the environment behind
+// along the view ray times F_t^2 e^(-tau) / (1 - F_r^2 e^(-2 tau)), tau = sigma_t h / mu_i (h the
+// thickness, mu_i the refracted cosine), beside the reflection. Straight on and at 35 degrees
+// (where the straight chord, h / mu_o, would overstate tau by 13 %); a slab of sigma_t 40 lets
+// nothing through.
+TEST_F(RenderTest, UnscatteredLightThroughASlabMatchesItsClosedForm) {
+  const float eta = 1.3f, thickness = 0.5f;
+  const TriangleMesh slab = makeSlab(4.0f, thickness, 16);
+  const Cubemap env = directionColouredCubemap(64);
+  for (const float azimuth : {0.0f, 35.0f})
+    for (const glm::vec3 sigmaT : {glm::vec3(0.5f, 1.5f, 4.0f), glm::vec3(40.0f)}) {
+      ShadingOptions shading;
+      shading.eta = eta;
+      shading.tonemap = Tonemap::None;
+      shading.backgroundColor = glm::vec3(0.0f);
+      shading.unscatteredSigmaT = sigmaT;
+      const FrameOptions frame = linearFrame(128);
+      const Camera camera =
+          orbitCamera(boundingSphere(slab.positions), azimuth, 0.0f, 0.0f, 35.0f, 1.0f);
+      Renderer renderer(ShaderSources(), frame, shading);
+      renderer.setMesh(toRenderMesh(slab, glm::vec3(0.0f)));
+      renderer.setEnvironment(env, nullptr);
+      renderer.setCamera(camera);
+      renderer.draw();
+      const RenderedImage image = renderer.readBack();
+      int checked = 0;
+      for (int y = 0; y < frame.height; ++y)
+        for (int x = 0; x < frame.width; ++x) {
+          const glm::vec3 dir = pixelRay(camera, x, y, frame.width, frame.height);
+          const float t = (0.5f * thickness - camera.eye.z) / dir.z;
+          const glm::vec3 hit = camera.eye + t * dir;
+          if (!(t > 0.0f) || std::abs(hit.x) > 1.4f || std::abs(hit.y) > 1.4f) continue;
+          const float mu = -dir.z, fr = fresnelDielectric(mu, eta);
+          const float muI = std::sqrt(1.0f - (1.0f - mu * mu) / (eta * eta));
+          const glm::vec3 transmittance = glm::exp(-sigmaT * thickness / muI);
+          const glm::vec3 through = (1.0f - fr) * (1.0f - fr) * transmittance /
+                                    (1.0f - fr * fr * transmittance * transmittance);
+          const glm::vec3 expected = fr * (0.5f + 0.5f * glm::reflect(dir, glm::vec3(0, 0, 1))) +
+                                     through * (0.5f + 0.5f * dir);
+          const glm::vec3 got = pixel(image, x, y);
+          for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(got[c], expected[c], 0.01f + 0.01f * expected[c])
+                << "azimuth " << azimuth << " sigma_t " << sigmaT[c] << " pixel " << x << "," << y;
+          ++checked;
+        }
+      EXPECT_GT(checked, 2000);
+    }
+}
 // The paper's constant mix with factor 1 is a perfect mirror: each pixel shows the environment
 // along the reflected view ray (a mirrored lookup would swap sides).
 TEST_F(RenderTest, MirrorShowsTheEnvironmentAlongTheReflectedRay) {

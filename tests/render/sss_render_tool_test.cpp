@@ -201,6 +201,53 @@ TEST_F(SssRenderTool, GlbColorIsTheRenderedRadianceAlongTheNormal) {
   }
 }
 
+// The light that crosses a thin skim-milk slab unscattered: drawn by default where the bake
+// traced it (the file says so, the GLB as the PLY), from the file's material and units, its
+// closed form at the centre seen straight on (F_r L + F_t^2 e^(-tau) / (1 - F_r^2 e^(-2 tau)) L,
+// tau = sigma_t h in mm); with --unscattered on wherever it can; never with off, nor on an open
+// mesh.
+TEST_F(SssRenderTool, UnscatteredLightCrossesAThinSlab) {
+  writeUniformEnvironment("white.exr", glm::vec3(1.0f));
+  BakedMesh baked = marbleBake(makeSlab(20.0f, 0.5f, 8), glm::vec3(0.0f));
+  baked.materialName = "skimmilk";
+  baked.sigmaA = glm::dvec3(0.0014, 0.0025, 0.0142);
+  baked.sigmaSPrime = glm::dvec3(0.70, 1.22, 1.90);
+  baked.mmPerUnit = 2.0;  // 1 mm thick
+  writeBakedPly(path("untraced.ply"), baked);
+  baked.unscatteredTraced = true;
+  writeBakedPly(path("slab.ply"), baked);
+  writeBakedGlb(path("slab.glb"), baked);
+  writeBakedPly(path("plane.ply"), marbleBake(makeGridPlane(8, 20.0f), glm::vec3(0.0f)));
+  const std::string common = " -e " + path("white.exr") +
+                             " --eye 0,0,30 --target 0,0,0 --fov 20 --size 33x33 --samples 1"
+                             " --tonemap none --background 0,0,0 --quiet --json " +
+                             path("r.json") + " -o " + path("out.exr");
+  const float fr = fresnelDielectric(1.0f, 1.3f);
+  // The centre pixel, and whether the report says the unscattered light was drawn.
+  const auto render = [&](const std::string& args) {
+    const ToolRun r = run(args + common);
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    const bool drawn = nlohmann::json::parse(test::readFile(path("r.json")))["unscattered"];
+    return std::make_pair(glm::vec3(readImage(path("out.exr")).at(16, 16)), drawn);
+  };
+  for (const std::string& args :
+       {path("slab.ply"), path("slab.glb"), path("untraced.ply") + " --unscattered on"}) {
+    const auto [centre, drawn] = render(args);
+    EXPECT_TRUE(drawn) << args;
+    for (int c = 0; c < 3; ++c) {
+      const double t = std::exp(-(baked.sigmaA[c] + baked.sigmaSPrime[c]) * 1.0);
+      const double expected = fr + (1 - fr) * (1 - fr) * t / (1 - fr * fr * t * t);
+      EXPECT_NEAR(centre[c], expected, 5e-3 * expected) << args << " channel " << c;
+    }
+  }
+  for (const std::string& args : {path("untraced.ply"), path("slab.ply") + " --unscattered off",
+                                  path("plane.ply") + " --unscattered on"}) {
+    const auto [centre, drawn] = render(args);
+    EXPECT_FALSE(drawn) << args;
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(centre[c], fr, 1e-4) << args << " channel " << c;
+  }
+}
+
 // A mesh that sss-bake checked (and warned about) says so in the file: sss-render does not repeat
 // its topology warnings, and still warns about the same mesh from elsewhere.
 TEST_F(SssRenderTool, TopologyWarningsOfACheckedBakeAreNotRepeated) {

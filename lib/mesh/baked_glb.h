@@ -12,14 +12,14 @@
 //   indices      unsigned int
 // and a material whose base colour is the vertex colour (baseColorFactor 1, metallic 0) with
 // KHR_materials_unlit, so that a viewer shows COLOR_0 as is. asset.extras.sss holds what the PLY
-// header holds (format, mm_per_unit of the source, material, exposure, checked, comments) plus
-// the colour's scale and exit model and the bake's JSON report:
+// header holds (format, mm_per_unit of the source, material, exposure, checked, unscattered,
+// comments) plus the colour's scale and exit model and the bake's JSON report:
 //   {"format": 1, "position_unit": "m", "mm_per_unit": 0.3,
 //    "material": {"name": "marble", "sigma_a_per_mm": [..], "sigma_s_prime_per_mm": [..],
 //                 "eta": 1.3},
 //    "color": {"exposure": 0.8, "exit_model": "normalized", "radiance_per_exitance": 0.61,
 //              "scale": 0.49, "clamped_vertices": 0},          (COLOR_0 = min(1, scale * B))
-//    "checked": true, "comments": ["bake method=..."], "report": {...}}
+//    "checked": true, "unscattered": false, "comments": ["bake method=..."], "report": {...}}
 // The layout follows the glTF 2.0 specification, section 4.4 (GLB): a 12-byte header, a JSON
 // chunk padded with spaces and a BIN chunk padded with zeros, both 4-byte aligned.
 #pragma once

@@ -40,7 +40,7 @@ out vec3 vBase;       // view-independent radiance: the exit term (or E / pi)
 out vec3 vDirection;  // reflected view direction (the normal for MODE_NORMALS)
 out float vFresnel;   // F_r(mu_o) weighting the reflection
 out vec3 vToEye;      // from the surface to the eye
-out float vMu;        // mu_o = |n . w_o|
+out vec3 vNormal;     // the vertex normal
 
 vec3 exitWeight(float mu) {
   float t = clamp(mu, 0.0, 1.0) * 16.0;
@@ -65,7 +65,7 @@ void main() {
   float mu = min(abs(dot(n, v)), 1.0);
   vFresnel = fresnelReflectance(mu, uEta);
   vToEye = uEye - aPosition;
-  vMu = mu;
+  vNormal = n;
   vDirection = reflect(-v, n);
 #if defined(MODE_NORMALS)
   vBase = vec3(0.0);

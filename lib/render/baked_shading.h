@@ -41,7 +41,8 @@ inline constexpr EnumNames<CullMode, 3> kCullModeNames{
 // unscatteredSigmaT), in the sss mode on a closed mesh (culled back faces) whose file records its
 // material and units (sigma_t = sigma_a + sigma_s' per mesh unit: g = 0, as the bake's light
 // tracers have it). Auto: where the bake traced it (BakedMesh::unscatteredTraced; the back faces'
-// pass costs 50-75 % more per frame on llvmpipe, README, "sss-render"); on: wherever it can.
+// pass and the per-pixel march cost 2.5x per frame on llvmpipe, README, "sss-render"); on: wherever
+// it can.
 enum class UnscatteredDrawing { Auto, On, Off };
 inline constexpr EnumNames<UnscatteredDrawing, 3> kUnscatteredDrawingNames{
     "unscattered light",

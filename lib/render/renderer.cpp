@@ -237,6 +237,15 @@ void Renderer::setMesh(const RenderMesh& mesh) {
   }
   glVertexArrayElementBuffer(gl_->meshVao, gl_->indexBuffer);
   indexCount_ = mesh.indices.size();
+  // The unscattered light's march (surface.frag): no path inside is longer than the diagonal.
+  glm::vec3 lo(0.0f), hi(0.0f);
+  if (n > 0) lo = hi = mesh.positions[0];
+  for (const glm::vec3& p : mesh.positions) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  glProgramUniform1f(gl_->surface, glGetUniformLocation(gl_->surface, "uMaxPath"),
+                     glm::length(hi - lo));
   checkGl("uploading the mesh");
 }
 
@@ -282,8 +291,8 @@ void Renderer::setCamera(const Camera& camera) {
                               glGetUniformLocation(gl_->backDepthProgram, "uViewProjection"), 1,
                               GL_FALSE, glm::value_ptr(viewProjection));
     glProgramUniform1i(s, glGetUniformLocation(s, "uBackDepth"), 2);
-    glProgramUniform2f(s, glGetUniformLocation(s, "uDepthFromNdc"), projection[2][2],
-                       projection[3][2]);
+    glProgramUniform2f(s, glGetUniformLocation(s, "uViewport"), float(frame_.width),
+                       float(frame_.height));
     glProgramUniform3fv(s, glGetUniformLocation(s, "uSigmaT"), 1,
                         glm::value_ptr(shading_.unscatteredSigmaT));
   }

@@ -251,6 +251,44 @@ TEST_F(RenderTest, UnscatteredLightThroughASlabMatchesItsClosedForm) {
       EXPECT_GT(checked, 2000);
     }
 }
+
+// Through a sphere under uniform light the refracted ray's chord is 2 R mu_i, and every internal
+// reflection keeps its angle: L = F_r + F_t^2 e^(-tau) / (1 - F_r^2 e^(-2 tau)), tau = sigma_t
+// 2 R mu_i, exactly (the straight chord, 2 R mu_o, would leave a pale rim).
+TEST_F(RenderTest, UnscatteredLightThroughASphereFollowsTheRefractedChord) {
+  const float eta = 1.3f;
+  const glm::vec3 sigmaT(0.3f, 1.0f, 3.0f);
+  ShadingOptions shading;
+  shading.eta = eta;
+  shading.tonemap = Tonemap::None;
+  shading.backgroundColor = glm::vec3(0.0f);
+  shading.unscatteredSigmaT = sigmaT;
+  const FrameOptions frame = linearFrame(128);
+  const Camera camera = unitSphereCamera(30.0f, 20.0f);
+  const RenderedImage image =
+      renderUnitSphere(shading, frame, 5, glm::vec3(0.0f), Cubemap(16, glm::vec3(1.0f)), camera);
+  int checked = 0;
+  for (int y = 0; y < frame.height; ++y)
+    for (int x = 0; x < frame.width; ++x) {
+      const glm::vec3 dir = pixelRay(camera, x, y, frame.width, frame.height);
+      const float t = hitSphere(camera.eye, dir, 1.0f);
+      if (t < 0.0f) continue;
+      const glm::vec3 n = glm::normalize(camera.eye + t * dir);
+      const float mu = -glm::dot(n, dir);
+      // Near the silhouette the polyhedron's interpolated normals bend the ray off the sphere's.
+      if (mu < 0.4f) continue;
+      const float fr = fresnelDielectric(mu, eta);
+      const float muI = std::sqrt(1.0f - (1.0f - mu * mu) / (eta * eta));
+      const glm::vec3 transmittance = glm::exp(-sigmaT * 2.0f * muI);
+      const glm::vec3 expected = fr + (1.0f - fr) * (1.0f - fr) * transmittance /
+                                          (1.0f - fr * fr * transmittance * transmittance);
+      const glm::vec3 got = pixel(image, x, y);
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(got[c], expected[c], 0.015f * expected[c]) << "pixel " << x << "," << y;
+      ++checked;
+    }
+  EXPECT_GT(checked, 4000);
+}
 // The paper's constant mix with factor 1 is a perfect mirror: each pixel shows the environment
 // along the reflected view ray (a mirrored lookup would swap sides).
 TEST_F(RenderTest, MirrorShowsTheEnvironmentAlongTheReflectedRay) {

@@ -203,6 +203,23 @@ INSTANTIATE_TEST_SUITE_P(FresnelAndExit, ExitModelTest,
                                            ExitCase{FresnelModel::Exact, true, false, true}),
                          [](const auto& info) { return exitCaseName(info.param); });
 
+// Linear output, black background, no tonemap, and the unscattered light of this extinction.
+ShadingOptions unscatteredShading(float eta, glm::vec3 sigmaT) {
+  ShadingOptions shading;
+  shading.eta = eta;
+  shading.tonemap = Tonemap::None;
+  shading.backgroundColor = glm::vec3(0.0f);
+  shading.unscatteredSigmaT = sigmaT;
+  return shading;
+}
+
+// What crosses a slab (or a sphere's chord) of optical depth tau whose faces reflect fr: the
+// series of internal reflections summed, F_t^2 e^(-tau) / (1 - F_r^2 e^(-2 tau)).
+glm::vec3 transmittedThrough(float fr, glm::vec3 tau) {
+  const glm::vec3 t = glm::exp(-tau);
+  return (1.0f - fr) * (1.0f - fr) * t / (1.0f - fr * fr * t * t);
+}
+
 // The light that crosses a slab unscattered, seen through its top face: the environment behind
 // along the view ray times F_t^2 e^(-tau) / (1 - F_r^2 e^(-2 tau)), tau = sigma_t h / mu_i (h the
 // thickness, mu_i the refracted cosine), beside the reflection. Straight on and at 35 degrees
@@ -214,11 +231,7 @@ TEST_F(RenderTest, UnscatteredLightThroughASlabMatchesItsClosedForm) {
   const Cubemap env = directionColouredCubemap(64);
   for (const float azimuth : {0.0f, 35.0f})
     for (const glm::vec3 sigmaT : {glm::vec3(0.5f, 1.5f, 4.0f), glm::vec3(40.0f)}) {
-      ShadingOptions shading;
-      shading.eta = eta;
-      shading.tonemap = Tonemap::None;
-      shading.backgroundColor = glm::vec3(0.0f);
-      shading.unscatteredSigmaT = sigmaT;
+      const ShadingOptions shading = unscatteredShading(eta, sigmaT);
       const FrameOptions frame = linearFrame(128);
       const Camera camera =
           orbitCamera(boundingSphere(slab.positions), azimuth, 0.0f, 0.0f, 35.0f, 1.0f);
@@ -237,9 +250,7 @@ TEST_F(RenderTest, UnscatteredLightThroughASlabMatchesItsClosedForm) {
           if (!(t > 0.0f) || std::abs(hit.x) > 1.4f || std::abs(hit.y) > 1.4f) continue;
           const float mu = -dir.z, fr = fresnelDielectric(mu, eta);
           const float muI = std::sqrt(1.0f - (1.0f - mu * mu) / (eta * eta));
-          const glm::vec3 transmittance = glm::exp(-sigmaT * thickness / muI);
-          const glm::vec3 through = (1.0f - fr) * (1.0f - fr) * transmittance /
-                                    (1.0f - fr * fr * transmittance * transmittance);
+          const glm::vec3 through = transmittedThrough(fr, sigmaT * thickness / muI);
           const glm::vec3 expected = fr * (0.5f + 0.5f * glm::reflect(dir, glm::vec3(0, 0, 1))) +
                                      through * (0.5f + 0.5f * dir);
           const glm::vec3 got = pixel(image, x, y);
@@ -258,11 +269,7 @@ TEST_F(RenderTest, UnscatteredLightThroughASlabMatchesItsClosedForm) {
 TEST_F(RenderTest, UnscatteredLightThroughASphereFollowsTheRefractedChord) {
   const float eta = 1.3f;
   const glm::vec3 sigmaT(0.3f, 1.0f, 3.0f);
-  ShadingOptions shading;
-  shading.eta = eta;
-  shading.tonemap = Tonemap::None;
-  shading.backgroundColor = glm::vec3(0.0f);
-  shading.unscatteredSigmaT = sigmaT;
+  const ShadingOptions shading = unscatteredShading(eta, sigmaT);
   const FrameOptions frame = linearFrame(128);
   const Camera camera = unitSphereCamera(30.0f, 20.0f);
   const RenderedImage image =
@@ -279,9 +286,7 @@ TEST_F(RenderTest, UnscatteredLightThroughASphereFollowsTheRefractedChord) {
       if (mu < 0.4f) continue;
       const float fr = fresnelDielectric(mu, eta);
       const float muI = std::sqrt(1.0f - (1.0f - mu * mu) / (eta * eta));
-      const glm::vec3 transmittance = glm::exp(-sigmaT * 2.0f * muI);
-      const glm::vec3 expected = fr + (1.0f - fr) * (1.0f - fr) * transmittance /
-                                          (1.0f - fr * fr * transmittance * transmittance);
+      const glm::vec3 expected = fr + transmittedThrough(fr, sigmaT * 2.0f * muI);
       const glm::vec3 got = pixel(image, x, y);
       for (int c = 0; c < 3; ++c)
         EXPECT_NEAR(got[c], expected[c], 0.015f * expected[c]) << "pixel " << x << "," << y;

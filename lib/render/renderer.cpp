@@ -76,7 +76,9 @@ GLuint uploadCubemap(const Cubemap& cubemap) {
   while ((n >> levels) > 0) ++levels;
   GLuint tex = 0;
   glCreateTextures(GL_TEXTURE_CUBE_MAP, 1, &tex);
-  glTextureStorage2D(tex, levels, GL_RGBA16F, n, n);
+  // 32-bit floats: a sun exceeds half floats' 65504 (the procedural sky's reaches 1.4e5), which
+  // turned its reflection into Inf and, through the tonemap, NaN.
+  glTextureStorage2D(tex, levels, GL_RGBA32F, n, n);
   for (int face = 0; face < 6; ++face) {
     // Faces are stored in GL orientation, row 0 = t = 0: uploaded as they are.
     glTextureSubImage3D(tex, 0, 0, 0, face, n, n, 1, GL_RGB, GL_FLOAT,

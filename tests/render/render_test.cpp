@@ -294,6 +294,22 @@ TEST_F(RenderTest, UnscatteredLightThroughASphereFollowsTheRefractedChord) {
     }
   EXPECT_GT(checked, 4000);
 }
+
+// A sun's radiance exceeds half floats (65504: the procedural sky's reaches 1.4e5): the cubemap is
+// kept in 32-bit floats, so a mirror shows it as it is (in RGBA16F it became Inf, and the tonemap's
+// Inf / Inf a NaN: coloured specks where a sun's reflection fell).
+TEST_F(RenderTest, RadianceAboveHalfFloatRangeStaysFinite) {
+  ShadingOptions shading;
+  shading.reflectFactor = 1.0f;
+  shading.tonemap = Tonemap::None;
+  shading.backgroundColor = glm::vec3(0.0f);
+  const FrameOptions frame = linearFrame(32);
+  const glm::vec3 sun(1.5e5f, 1.2e5f, 8.0e4f);
+  const RenderedImage image = renderUnitSphere(shading, frame, 3, glm::vec3(0.0f), Cubemap(8, sun),
+                                               unitSphereCamera(0.0f, 0.0f));
+  const glm::vec3 centre = pixel(image, 16, 16);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(centre[c], sun[c], 1e-3f * sun[c]) << c;
+}
 // The paper's constant mix with factor 1 is a perfect mirror: each pixel shows the environment
 // along the reflected view ray (a mirrored lookup would swap sides).
 TEST_F(RenderTest, MirrorShowsTheEnvironmentAlongTheReflectedRay) {

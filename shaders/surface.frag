@@ -8,11 +8,11 @@
 // alike at both faces, the internal reflections' series summed); on curved parts the bend on the
 // way out and the exit's own Fresnel factor are left out, and light that would meet the object
 // again behind shows the environment.
-in vec3 vBase;
-in vec3 vDirection;
-in float vFresnel;
-in vec3 vToEye;
-in vec3 vNormal;
+centroid in vec3 vBase;
+centroid in vec3 vDirection;
+centroid in float vFresnel;
+centroid in vec3 vToEye;
+centroid in vec3 vNormal;
 
 uniform samplerCube uRadiance;
 uniform float uReflectFactor;

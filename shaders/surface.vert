@@ -20,7 +20,9 @@
 // factors and E(n) vary slowly over a triangle, and a reflection vector interpolated linearly is
 // the reflection of the linearly interpolated normal (reflect() is linear in n). On a software
 // rasterizer this keeps the per-pixel work to one cubemap lookup.
-// Vertices are in world space (no model matrix).
+// Vertices are in world space (no model matrix). The outputs are interpolated at the centroid of
+// the covered samples: with MSAA a pixel on a silhouette is shaded once, at its centre, which may
+// lie outside the triangle, where extrapolated values can turn negative.
 layout(location = 0) in vec3 aPosition;
 layout(location = 1) in vec3 aNormal;
 layout(location = 2) in vec3 aValue;
@@ -36,11 +38,11 @@ uniform vec2 uLobeMoments;     // A_0, A_1
 uniform vec3 uAlbedo;
 uniform samplerCube uIrradiance;
 
-out vec3 vBase;       // view-independent radiance: the exit term (or E / pi)
-out vec3 vDirection;  // reflected view direction (the normal for MODE_NORMALS)
-out float vFresnel;   // F_r(mu_o) weighting the reflection
-out vec3 vToEye;      // from the surface to the eye
-out vec3 vNormal;     // the vertex normal
+centroid out vec3 vBase;       // view-independent radiance: the exit term (or E / pi)
+centroid out vec3 vDirection;  // reflected view direction (the normal for MODE_NORMALS)
+centroid out float vFresnel;   // F_r(mu_o) weighting the reflection
+centroid out vec3 vToEye;      // from the surface to the eye
+centroid out vec3 vNormal;     // the vertex normal
 
 vec3 exitWeight(float mu) {
   float t = clamp(mu, 0.0, 1.0) * 16.0;

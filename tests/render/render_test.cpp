@@ -1,5 +1,6 @@
 // The renderer against analytic values on llvmpipe: linear float output, no tonemap, 1 sample,
 // so that every pixel can be predicted from the camera ray.
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -309,6 +310,23 @@ TEST_F(RenderTest, RadianceAboveHalfFloatRangeStaysFinite) {
                                                unitSphereCamera(0.0f, 0.0f));
   const glm::vec3 centre = pixel(image, 16, 16);
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(centre[c], sun[c], 1e-3f * sun[c]) << c;
+}
+
+// With MSAA a silhouette pixel is shaded once; at its centre, outside the triangle, the exit term
+// (0 at grazing exit) would be extrapolated below 0. The varyings are centroid-sampled: no pixel
+// of a sphere on black goes negative.
+TEST_F(RenderTest, MultisampledSilhouettesStayNonNegative) {
+  ShadingOptions shading;
+  shading.tonemap = Tonemap::None;
+  shading.backgroundColor = glm::vec3(0.0f);
+  FrameOptions frame = linearFrame(96);
+  frame.samples = 4;
+  const RenderedImage image =
+      renderUnitSphere(shading, frame, 2, glm::vec3(1.0f), Cubemap(8, glm::vec3(0.0f)),
+                       unitSphereCamera(0.0f, 0.0f));
+  float lowest = 0.0f;
+  for (float v : image.linearRgb) lowest = std::min(lowest, v);
+  EXPECT_GE(lowest, 0.0f);
 }
 // The paper's constant mix with factor 1 is a perfect mirror: each pixel shows the environment
 // along the reflected view ray (a mirrored lookup would swap sides).

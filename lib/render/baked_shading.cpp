@@ -69,8 +69,9 @@ ShadingParameters shadingFor(const BakedPlyContents& contents, const ShadingRequ
   const bool unscattered =
       request.unscattered == UnscatteredDrawing::On ||
       (request.unscattered == UnscatteredDrawing::Auto && contents.baked.unscatteredTraced);
-  if (unscattered && request.mode == ShadingMode::Sss && contents.hasMaterial &&
-      contents.hasUnits && p.cullBackFaces) {
+  // The mode and the culling it also needs are the renderer's to check
+  // (ShadingOptions::drawsUnscattered).
+  if (unscattered && contents.hasMaterial && contents.hasUnits) {
     const BakedMesh& b = contents.baked;
     p.unscatteredSigmaT = glm::vec3((b.sigmaA + b.sigmaSPrime) * b.mmPerUnit);
   }

@@ -75,9 +75,10 @@ struct ShadingParameters {
   float lobeMoment0 = 1.0f, lobeMoment1 = 0.0f;  // with farField: ShadingOptions' (renderer.h)
   glm::vec3 albedo = glm::vec3(1.0f);            // set in the brdf mode only
   bool cullBackFaces = false;
-  glm::vec3 unscatteredSigmaT = glm::vec3(0.0f);  // per mesh unit; 0: not drawn
-  bool etaIsFallback = false;                     // sss mode, no material in the file, none asked
-  bool albedoIsFallback = false;                  // brdf mode, idem
+  // Per mesh unit, where asked and the file has a material and units; 0: not drawn.
+  glm::vec3 unscatteredSigmaT = glm::vec3(0.0f);
+  bool etaIsFallback = false;     // sss mode, no material in the file, none asked
+  bool albedoIsFallback = false;  // brdf mode, idem
 };
 
 ShadingParameters shadingFor(const BakedPlyContents& contents, const ShadingRequest& request);

@@ -11,6 +11,7 @@
 #include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>
 
+#include "core/bounds.h"
 #include "core/error.h"
 #include "core/timer.h"
 #include "envmap/cubemap.h"
@@ -240,14 +241,9 @@ void Renderer::setMesh(const RenderMesh& mesh) {
   glVertexArrayElementBuffer(gl_->meshVao, gl_->indexBuffer);
   indexCount_ = mesh.indices.size();
   // The unscattered light's march (surface.frag): no path inside is longer than the diagonal.
-  glm::vec3 lo(0.0f), hi(0.0f);
-  if (n > 0) lo = hi = mesh.positions[0];
-  for (const glm::vec3& p : mesh.positions) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
-  }
+  const Bounds3 bounds = boundsOf(mesh.positions);
   glProgramUniform1f(gl_->surface, glGetUniformLocation(gl_->surface, "uMaxPath"),
-                     glm::length(hi - lo));
+                     bounds.empty() ? 0.0f : glm::length(bounds.extent()));
   checkGl("uploading the mesh");
 }
 

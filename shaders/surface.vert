@@ -1,5 +1,5 @@
 // Shading of the baked surface (Li & Guo's CubeMapping.vert/.frag, made physically consistent):
-//   L = ((B - B_far) w(mu_o) + B_far lobe(mu_o)) F_t(mu_o, eta) * exitScale
+//   L = B w(mu_o) lobe(mu_o) F_t(mu_o, eta) * exitScale
 //       + F_r(mu_o, eta) * L_env(reflect(-w_o, n))
 // B: exitance baked per vertex (MODE_SSS), or albedo * E(n) from the diffuse irradiance cubemap
 // (MODE_BRDF: a Lambertian surface, the paper's Figure 3 comparison, so that the two modes differ
@@ -7,10 +7,11 @@
 // (the emitted flux equals B; d'Eon 2012) or 1 / pi (Jensen et al. 2001). The paper writes F_r for
 // the factor that lets light out; that is the transmittance F_t = 1 - F_r. w(mu_o) per channel is
 // the calibrated exit model's angular weight (material/directional_albedo_weight.h: the half-space
-// Monte Carlo's shape across albedo, flux-preserving), all 1 for the other models. B_far (0 but
-// for the auto exit model on a bake with a traced far field) leaves through the exit lobe of
-// optics/exit_lobe.h: lobe = (1 + k mu_i) A_0 / (A_0 + k A_1), mu_i the cosine inside, k the
-// vertex's slope, A_n the lobe's moments (so that with exitScale = 1 / (pi A_0) its flux is B_far).
+// Monte Carlo's shape across albedo, flux-preserving), all 1 for the other models. lobe(mu_o) is
+// the exit lobe of optics/exit_lobe.h over the normalized model: (1 + k mu_i) A_0 / (A_0 + k A_1),
+// mu_i the cosine inside, A_n the lobe's moments (with exitScale = 1 / (pi A_0) its flux is B),
+// k the vertex's slope as the bake's far field measured it (bake/far_field.h), 0 (lobe = 1) but
+// for the auto exit model on a bake with a traced far field.
 // UNSCATTERED (surface.frag) adds the light that crosses the object in a straight line.
 // REFLECT_MIX reproduces the paper's constant mix(base, cube, reflect_factor) instead.
 // MODE_IRRADIANCE shows the baked E as a white Lambertian surface (E / pi); MODE_NORMALS shows
@@ -26,8 +27,7 @@
 layout(location = 0) in vec3 aPosition;
 layout(location = 1) in vec3 aNormal;
 layout(location = 2) in vec3 aValue;
-layout(location = 3) in vec3 aFarValue;
-layout(location = 4) in vec3 aFarSlope;
+layout(location = 3) in vec3 aExitSlope;
 
 uniform mat4 uViewProjection;
 uniform vec3 uEye;
@@ -50,11 +50,11 @@ vec3 exitWeight(float mu) {
   return mix(uExitWeight[k], uExitWeight[k + 1], t - float(k));
 }
 
-// B_far's radiance over the normalized model's: the exit lobe over its value at slope 0.
-vec3 farLobe(float mu) {
+// The exit lobe's radiance over the normalized model's: the lobe over its value at slope 0.
+vec3 exitLobe(float mu) {
   float muI = sqrt(max(0.0, 1.0 - (1.0 - mu * mu) / (uEta * uEta)));
-  return (vec3(1.0) + aFarSlope * muI) * uLobeMoments.x /
-         (vec3(uLobeMoments.x) + aFarSlope * uLobeMoments.y);
+  return (vec3(1.0) + aExitSlope * muI) * uLobeMoments.x /
+         (vec3(uLobeMoments.x) + aExitSlope * uLobeMoments.y);
 }
 
 void main() {
@@ -77,7 +77,6 @@ void main() {
 #elif defined(MODE_BRDF)
   vBase = uAlbedo * textureLod(uIrradiance, n, 0.0).rgb * ((1.0 - vFresnel) * uExitScale);
 #else
-  vBase = ((aValue - aFarValue) * exitWeight(mu) + aFarValue * farLobe(mu)) *
-          ((1.0 - vFresnel) * uExitScale);
+  vBase = aValue * exitWeight(mu) * exitLobe(mu) * ((1.0 - vFresnel) * uExitScale);
 #endif
 }

@@ -406,8 +406,8 @@ void addShadingOptions(CLI::App& app, Arguments& a) {
                      "baked irradiance or normals");
   cli::addEnumOption(app, "--fresnel", a.fresnel, kFresnelModelNames, "Fresnel terms");
   cli::addEnumOption(app, "--exit-model", a.request.exitModel, kExitModelNames,
-                     "auto: normalized, and the bake's traced far field through the exit lobe its "
-                     "light paths measured (where the file has one); normalized: B F_t / (pi "
+                     "auto: normalized, or where the file has a traced far field the exit lobe "
+                     "its light paths measured; normalized: B F_t / (pi "
                      "(1 - 2 C_1)), flux = B; calibrated: times w, the half-space Monte Carlo's "
                      "angular shape for the material; jensen: B F_t / pi");
   app.add_option("--reflect-factor", a.reflectFactor,

@@ -77,6 +77,7 @@ BakeErrorReport errorReport(const BakeReport& r, const ModelErrorReport& model, 
   e.model = model;
   const UnscatteredLightReport& u = r.unscattered;
   e.unscattered = u.traced ? u.relativeStdError : u.share;
+  e.exitLobe = r.farField.traced ? r.farField.lobeNoise : 0.0;
   if (r.transport.pathTrace) {
     e.numerical = std::hypot(e.exitance, e.unscattered);
   } else {
@@ -85,7 +86,7 @@ BakeErrorReport errorReport(const BakeReport& r, const ModelErrorReport& model, 
     const InterreflectionReport& ir = r.interreflection;
     e.interreflection = ir.enabled ? std::hypot(ir.gatherNoise, ir.remaining) : ir.estimatedMissing;
     e.numerical = std::hypot(ErrorBudget::total(e.visibility, e.exitance, e.energy),
-                             e.interreflection, e.unscattered);
+                             std::hypot(e.interreflection, e.unscattered), e.exitLobe);
   }
   e.total = std::hypot(e.numerical, e.model.total);
   return e;
@@ -93,17 +94,16 @@ BakeErrorReport errorReport(const BakeReport& r, const ModelErrorReport& model, 
 
 // Stage 4d: the model's own error (model_error.h), from the output's radiance; said when it is
 // above the tolerance, which then bounds only the numerical part.
-// With a traced far field only exitModelPart (B - B_far's radiance) is the vertex model's, whose
-// exit model and light across facets the model error counts (B_far's paths met the facets and
-// leave through the lobe they measured); without it, all of the radiance.
+// With a traced far field only vertexModel (B - B_far's radiance) is the vertex model's, whose
+// exit model and light across facets the model error counts (B_far's paths met the facets
+// themselves); without it (empty), all of the radiance.
 ModelErrorReport modelErrorStage(const BakeSettings& s, const TriangleMesh& meshMm,
                                  std::span<const glm::vec3> radianceNormal,
-                                 std::span<const glm::vec3> exitModelPart, const Cubemap& radiance,
+                                 std::span<const glm::vec3> vertexModel, const Cubemap& radiance,
                                  const FarField& far) {
   const ModelErrorReport model = estimateModelError(
       {meshMm, radianceNormal, radiance, float(s.material.eta), exitModelSpread(s.material),
-       far.traced() ? far.report.averagingBias : far.report.sensitivity, s.threads,
-       far.traced() ? exitModelPart : std::span<const glm::vec3>()});
+       far.traced() ? far.report.averagingBias : far.report.sensitivity, s.threads, vertexModel});
   if (model.total > s.tolerance) {
     char line[300];
     std::snprintf(line, sizeof line,
@@ -231,32 +231,33 @@ void estimateInterreflection(const BakeSettings& s, const PreparedMesh& mesh,
   }
 }
 
-// The radiance along the normal of the part of B that leaves through the exit model sss-render
-// uses by default, the normalized one (optics/fresnel.h): L = B F_t(1, eta) / (pi (1 - 2 C_1)),
-// for B less its traced far field (for the path tracer too, whose B it converts). (The calibrated
-// model is closer on a half-space under even light, further on the study's objects: README, "Under
-// a sun".)
-std::vector<glm::vec3> exitModelRadiance(std::span<const glm::vec3> exitance, const FarField& far,
-                                         double eta) {
-  const float exitScale = float(normalExitRadianceScale(float(eta)));
-  std::vector<glm::vec3> radiance;
-  radiance.reserve(exitance.size());
-  for (std::size_t i = 0; i < exitance.size(); ++i)
-    radiance.push_back((far.traced() ? exitance[i] - far.exitance[i] : exitance[i]) * exitScale);
-  return radiance;
-}
+// The radiance along the normal: B through the exit model sss-render uses by default, the
+// normalized one (optics/fresnel.h: L = B F_t(1, eta) / (pi (1 - 2 C_1))), or where the far field
+// was traced through the exit lobe its exits measured (far_field.h; slope 0 is the normalized
+// model). vertexModel: the radiance of B - B_far, the part the vertex model made, whose exit and
+// light across facets the model error counts (model_error.h); empty without a far field.
+struct RadianceAlongNormal {
+  std::vector<glm::vec3> all, vertexModel;
+};
 
-// All of B's radiance along the normal: the exit model's part, and the traced far field's through
-// its own exit lobe (optics/exit_lobe.h, the slope its paths measured).
-std::vector<glm::vec3> radianceAlongNormal(std::span<const glm::vec3> exitModelPart,
-                                           const FarField& far, double eta) {
-  std::vector<glm::vec3> radiance(exitModelPart.begin(), exitModelPart.end());
-  if (!far.traced()) return radiance;
+RadianceAlongNormal radianceAlongNormal(std::span<const glm::vec3> exitance, const FarField& far,
+                                        double eta) {
+  RadianceAlongNormal r;
+  r.all.resize(exitance.size());
+  if (far.traced()) r.vertexModel.resize(exitance.size());
   const ExitLobe lobe{float(eta)};
-  for (std::size_t i = 0; i < radiance.size(); ++i)
-    for (int c = 0; c < 3; ++c)
-      radiance[i][c] += far.exitance[i][c] * float(lobe.radiance(far.slope[i][c], 1.0f));
-  return radiance;
+  const float normalized = float(normalExitRadianceScale(float(eta)));
+  for (std::size_t i = 0; i < exitance.size(); ++i) {
+    if (!far.traced()) {
+      r.all[i] = exitance[i] * normalized;
+      continue;
+    }
+    glm::vec3 perExitance;
+    for (int c = 0; c < 3; ++c) perExitance[c] = float(lobe.radiance(far.slope[i][c], 1.0f));
+    r.all[i] = exitance[i] * perExitance;
+    r.vertexModel[i] = (exitance[i] - far.exitance[i]) * perExitance;
+  }
+  return r;
 }
 
 // Stage 4c: the light that crosses the object unscattered (unscattered_light.h), beside the
@@ -364,9 +365,8 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
   }
 
   // The radiance along the normal: B's through the exit model, and the unscattered light's.
-  const std::vector<glm::vec3> exitModelPart =
-      exitModelRadiance(exitance.exitance, far, s.material.eta);
-  std::vector<glm::vec3> radianceNormal = radianceAlongNormal(exitModelPart, far, s.material.eta);
+  RadianceAlongNormal normal = radianceAlongNormal(exitance.exitance, far, s.material.eta);
+  std::vector<glm::vec3>& radianceNormal = normal.all;
   const UnscatteredLight unscattered = unscatteredStage(s, mesh, radiance, radianceNormal, budget);
   for (std::size_t i = 0; i < unscattered.radiance.size(); ++i)
     radianceNormal[i] += unscattered.radiance[i];
@@ -376,7 +376,7 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
   report.lighting = std::move(lighting.report);
   report.transport = std::move(exitance.report);
   const ModelErrorReport model =
-      modelErrorStage(s, mesh.meshMm, radianceNormal, exitModelPart, radiance, far);
+      modelErrorStage(s, mesh.meshMm, radianceNormal, normal.vertexModel, radiance, far);
   report.errors = errorReport(report, model, s.tolerance);
   out.baked = assembleBakedMesh(std::move(mesh.mesh), lighting, exitance, std::move(radianceNormal),
                                 std::move(far), s, report);

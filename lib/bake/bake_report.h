@@ -36,7 +36,10 @@ struct BakeErrorReport {
   // Of the radiance along the normal: the traced unscattered light's noise, or the share of it
   // that auto found negligible and left out.
   double unscattered = 0.0;
-  double numerical = 0.0;  // the five above in quadrature: what the tolerance bounds
+  // Of the radiance along the normal: the traced far field's exit lobe's noise
+  // (FarFieldReport::lobeNoise).
+  double exitLobe = 0.0;
+  double numerical = 0.0;  // the six above in quadrature: what the tolerance bounds
   ModelErrorReport model;  // of the radiance along the normal
   double total = 0.0;      // numerical and model in quadrature
   double tolerance = 0.0;

@@ -153,6 +153,7 @@ Json toJson(const FarFieldReport& r) {
   j["paths"] = r.paths;
   j["estimated_error"] = r.relativeStdError;
   j["averaging_bias"] = r.averagingBias;
+  j["lobe_noise"] = r.lobeNoise;
   j["mean_exit_slope"] = toJson(r.meanExitSlope);
   return j;
 }
@@ -176,6 +177,7 @@ Json toJson(const BakeErrorReport& r) {
           {"energy", r.energy},
           {"interreflection", r.interreflection},
           {"unscattered", r.unscattered},
+          {"exit_lobe", r.exitLobe},
           {"numerical", r.numerical},
           {"model",
            {{"exit_model", r.model.exitModel},

@@ -29,10 +29,10 @@ namespace {
 constexpr double kSmoothingMinEdges = 1.0;
 // The exit lobe's moments are averaged over this many times the far field's smoothing: the slope
 // amplifies the mean cosine's noise (the mean spans only 0.78-0.85 at eta 1.3, and 0.01 more of
-// it is 16 % more radiance along the normal at slope 0), while the lobe's shape varies slowly
-// over the surface; wider blurs a thin part's faces into each other (README, "The far field's
-// exit lobe", has the widths measured).
-constexpr double kLobeSmoothing = 6.0;
+// it is 16 % more radiance along the normal at slope 0), while the lobe's shape changes over the
+// surface (a small ketchup sphere's lit side from its unlit one) and a wider kernel blurs a thin
+// part's faces into each other (README, "The far field's exit lobe", has the widths measured).
+constexpr double kLobeSmoothing = 3.0;
 // Paths the far field needs per smoothing kernel at a 0.42 % budget, at the least (the study's
 // cheapest object needs this many; README, "Under a sun"): auto skips objects that would exceed
 // the cap before tracing a pilot.
@@ -44,7 +44,8 @@ constexpr double kRaysPerPath = 4.0;  // a path's work beside its scattering eve
 // weight: auto's choices would otherwise move the rows that weight is fitted on.
 constexpr double kKernelErrorPerSensitivity = 0.125;
 // Auto leaves out meshes over this many vertices: the tracer keeps 16 batches of tallies per
-// vertex (~600 bytes a vertex), which the bake's memory estimate does not count.
+// vertex (B, the exit cosine and its exitance: ~1.7 KB a vertex with their float copies), which
+// the bake's memory estimate does not count.
 constexpr std::size_t kMaxVertices = 250000;
 
 // The exit lobe's moments (far_field.h) over their wider kernel, per batch: the batches' mean of
@@ -53,7 +54,7 @@ constexpr std::size_t kMaxVertices = 250000;
 void addLobeMoments(const LightTraceResult& r, const SurfaceAverage& lobeAverage,
                     TracedRound& round) {
   std::vector<std::vector<glm::vec3>> sets = r.batchExitCosine;
-  sets.insert(sets.end(), r.batchExitance.begin(), r.batchExitance.end());
+  sets.insert(sets.end(), r.batchCosineExitance.begin(), r.batchCosineExitance.end());
   const std::vector<std::vector<glm::vec3>> averaged = lobeAverage(sets);
   const std::size_t k = r.batchExitance.size(), n = r.exitance.size();
   round.cosineMean.assign(n, glm::dvec3(0.0));
@@ -101,6 +102,7 @@ TracedRound traceRound(const FarFieldInput& in, const SurfaceAverage& average,
   o.tallyRadiance = false;
   o.keepBatches = true;
   o.tallyExitCosine = true;
+  o.exitCosineOfAllExits = in.options.lobeOfAllExits;
   const TriangleMesh& mesh = in.meshMm;
   const LightTraceResult r = lightTraceSubsurface(mesh.positions, mesh.normals, mesh.triangles,
                                                   DistantLight::environment(in.radiance),
@@ -212,6 +214,32 @@ std::vector<glm::vec3> exitLobeSlopes(const TracedRound& round, float eta) {
   return slopes;
 }
 
+// FarFieldReport::lobeNoise with relativeNoise's normalization (B ~ P E + B_far), in units of the
+// normalized model's radiance: L / L_0 = (1 + k) A_0 / (A_0 + k A_1) along the normal, whose
+// derivative A_0 (A_0 - A_1) / (A_0 + k A_1)^2 takes the slope's noise to the radiance's. The
+// shrunk slope k^3 / (k^2 + v) passes (k^4 + 3 k^2 v) / (k^2 + v)^2 of the raw slope's noise.
+double lobeNoise(const FarFieldInput& in, const TracedRound& round,
+                 std::span<const glm::vec3> slopes) {
+  const ExitLobe lobe(float(in.material.eta));
+  const double a0 = lobe.moment(0), a1 = lobe.moment(1);
+  const std::vector<glm::vec3>& p = in.energy.escape.probability;
+  double noise = 0.0, signal = 0.0;
+  for (std::size_t i = 0; i < slopes.size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      const double b = double(p[i][c]) * in.irradiance[i][c] + round.mean[i][c];
+      const double ks = slopes[i][c], d = a0 + ks * a1;
+      signal += in.areasMm2[i] * std::pow(b * (1.0 + ks) * a0 / d, 2);
+      if (!(round.lobeExitance[i][c] > 0.0)) continue;
+      const double m = round.cosineMean[i][c] / round.lobeExitance[i][c];
+      const double k = lobe.slopeFor(m), dk = lobe.slopeDerivative(m);
+      const double v = dk * dk * std::max(0.0, round.meanCosineVariance[i][c]);
+      const double k2 = k * k,
+                   passed = k2 + v > 0.0 ? (k2 * k2 + 3.0 * k2 * v) / ((k2 + v) * (k2 + v)) : 0.0;
+      noise += in.areasMm2[i] * std::pow(b * a0 * (a0 - a1) / (d * d) * passed, 2) * v;
+    }
+  return signal > 0.0 ? std::sqrt(noise / signal) : 0.0;
+}
+
 glm::dvec3 weightedMeanSlope(const FarField& far, std::span<const float> areas) {
   glm::dvec3 sum(0.0), weight(0.0);
   for (std::size_t i = 0; i < far.slope.size(); ++i) {
@@ -310,6 +338,7 @@ FarField traceFarField(const FarFieldInput& in) {
   r.paths = round.paths;
   r.relativeStdError = noise;
   r.averagingBias = averagingBias(in, average, round, out.exitance);
+  r.lobeNoise = lobeNoise(in, round, out.slope);
   r.reason =
       std::string(automatic ? "irradiance varies on the diffusion length's scale" : "requested") +
       " (far field moves " + format("%.2g%%", 100.0 * r.sensitivity) + " of B" +

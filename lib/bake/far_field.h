@@ -23,10 +23,18 @@
 //    (surface_average.h):
 //    what leaves far. Light that crosses unscattered leaves collimated, which no exit model of B
 //    describes; it stays out (issue 11, part 5).
-// Exit lobe: B_far leaves through the exit lobe of optics/exit_lobe.h, whose slope k per vertex and
-// channel comes from the traced exits' flux-weighted mean internal cosine (averaged like B_far but
-// over kLobeSmoothing times the width, since the slope amplifies that mean's noise) and is shrunk
-// towards 0 by its noise from the batches' spread (ExitLobe::shrunkSlopeFor).
+// Exit lobe: where the far field is traced, all of B leaves through the exit lobe of
+// optics/exit_lobe.h, whose slope k per vertex and channel comes from the flux-weighted mean
+// internal cosine of all the traced exits, near and far (averaged like B_far but over
+// kLobeSmoothing times the width, since the slope amplifies that mean's noise), shrunk towards 0
+// by its noise from the batches' spread (ExitLobe::shrunkSlopeFor). Not B_far alone through a lobe
+// of the far exits and B - B_far through the normalized model: the window splits the exits by
+// angle too. Light that leaves within a fraction of a mean free path of where it entered went
+// nearly straight back, so at low albedo under a high sun the near exits crowd the normal and the
+// far ones avoid it (a half-space at a' = 0.68 under normal incidence: along the normal 1.7-2.0x
+// the normalized model's radiance per unit B near, 0.70x far, 0.95x for all exits), which neither
+// the normalized model nor a linear lobe of the far exits follows; all exits together are smooth in
+// angle (README, "Under a sun", has the study).
 // Cost and noise: a pilot round of paths estimates the smoothed far field's relative noise
 // (propagated from the tracer's batch standard errors through the smoothing weights); the paths
 // then grow as noise^-2 to the budget, capped by a path count and by work (scattering events, as
@@ -75,6 +83,8 @@ struct FarFieldOptions {
   uint64_t seed = 1;
   int threads = 0;
   bool quiet = true;
+  // The exit lobe from all exits (above); false: from the far exits alone (the study's comparison).
+  bool lobeOfAllExits = true;
 };
 
 // The near window w_c = kFarFieldWindowLengths / sigma_tr,c in mm (the escape walks measure the
@@ -95,6 +105,10 @@ struct FarFieldReport {
   // more: to leading order what S did to the exits), relative RMS over vertices and channels like
   // relativeStdError (the model error's far-field term where it is traced, model_error.h).
   double averagingBias = 0.0;
+  // The noise the slopes leave in the radiance along the normal (their mean cosines' through
+  // ExitLobe::shrunkSlopeFor), relative RMS like relativeStdError: beside it in the bake's
+  // numerical error (the paths are sized by B's noise).
+  double lobeNoise = 0.0;
   // The exit lobe's slope averaged over the surface, weighted by B_far times the area: 0 for
   // light that left as diffusion does, below 0 for light that leaves towards grazing angles.
   glm::dvec3 meanExitSlope{0.0};
@@ -103,8 +117,8 @@ struct FarFieldReport {
 
 struct FarField {
   std::vector<glm::vec3> exitance;  // B_far per vertex; empty when not traced
-  // The exit lobe's slope k per vertex and channel (optics/exit_lobe.h): the radiance B_far
-  // leaves with, from the traced exits' mean internal cosine; empty when not traced.
+  // The exit lobe's slope k per vertex and channel (optics/exit_lobe.h): the radiance B leaves
+  // with, from the traced exits' mean internal cosine; empty when not traced.
   std::vector<glm::vec3> slope;
   FarFieldReport report;
   bool traced() const { return report.traced; }

@@ -14,8 +14,7 @@
 //    channel, with E the environment's transmitted irradiance without shadows: nothing under
 //    even light, most at a crease facing a sun.
 //  These two count only the radiance the vertex model makes (E at the vertex normal, B through
-//  an exit model): a traced far field's light paths met the facets themselves and leave through
-//  the exit lobe they measured (optics/exit_lobe.h).
+//  an exit model): a traced far field's light paths met the facets themselves.
 //  - farField: where the far field (far_field.h) was not traced, the escape model's excess is
 //    spread by a geometry-blind kernel (README, "No geometry-blind kernel"); its error scales
 //    with the share of B the far field would move (its sensitivity, auto's test). Where it was
@@ -41,8 +40,8 @@ namespace sss {
 // model_error_fit.py --exit 0.35, results in tests/bench/results/accuracy/model_error.csv).
 inline constexpr double kExitModelWeight = 0.35;
 inline constexpr double kFacetWeight = 0.15;
-inline constexpr double kFacetLightWeight = 0.75;
-inline constexpr double kFarFieldWeight = 0.825;
+inline constexpr double kFacetLightWeight = 0.575;
+inline constexpr double kFarFieldWeight = 0.45;
 
 struct ModelErrorReport {
   double exitModel = 0.0;   // weighted, relative RMS of the radiance along the normal
@@ -63,7 +62,7 @@ struct ModelErrorInput {
   double farFieldError = 0.0;
   int threads = 0;
   // The part of L the vertex model makes (B less a traced far field, whose light paths met the
-  // facets and leave through their measured lobe); empty: all of L.
+  // facets themselves); empty: all of L.
   std::span<const glm::vec3> vertexModelRadiance{};
 };
 

@@ -13,9 +13,10 @@ namespace sss {
 struct TracedRound {
   std::vector<glm::dvec3> mean, variance;  // per vertex and channel
   uint64_t paths = 0;
-  // The far field's exits weighted by their internal cosine (light_tracer.h, exitCosine) and
-  // unweighted, both averaged over the exit lobe's kernel (far_field.cpp), and the variance of
-  // their ratio (the mean cosine) from the batches; empty where not tallied.
+  // The traced exits weighted by their internal cosine (light_tracer.h, exitCosine) and
+  // unweighted (cosineExitance: all exits, or the far ones), both averaged over the exit lobe's
+  // kernel (far_field.cpp), and the variance of their ratio (the mean cosine) from the batches;
+  // empty where not tallied.
   std::vector<glm::dvec3> cosineMean, lobeExitance, meanCosineVariance;
 };
 

@@ -98,8 +98,8 @@ struct DisplayColors {
 };
 
 // exposure * the radiance sss-render draws along the normal under its default exit model: B F_t(1,
-// eta) / (pi (1 - 2 C_1(eta))) (shaders/surface.vert, normalized), with a traced far field B_far
-// through its exit lobe instead (optics/exit_lobe.h).
+// eta) / (pi (1 - 2 C_1(eta))) (shaders/surface.vert, normalized), with a traced far field B
+// through the exit lobe its exits measured instead (optics/exit_lobe.h; slope 0 is the same).
 DisplayColors displayColors(const std::string& path, const BakedMesh& baked) {
   const float eta = static_cast<float>(baked.eta);
   const double radiancePerExitance = normalExitRadianceScale(eta);
@@ -112,10 +112,9 @@ DisplayColors displayColors(const std::string& path, const BakedMesh& baked) {
   out.colors.reserve(baked.exitance.size());
   for (std::size_t i = 0; i < baked.exitance.size(); ++i) {
     glm::dvec3 radiance = radiancePerExitance * glm::dvec3(baked.exitance[i]);
-    if (!baked.farExitance.empty())
+    if (!baked.farExitSlope.empty())
       for (int c = 0; c < 3; ++c)
-        radiance[c] += baked.farExitance[i][c] *
-                       (lobe.radiance(baked.farExitSlope[i][c], 1.0f) - radiancePerExitance);
+        radiance[c] = baked.exitance[i][c] * lobe.radiance(baked.farExitSlope[i][c], 1.0f);
     const glm::vec3 c = glm::vec3(exposure * radiance);
     const float high = std::max({c.x, c.y, c.z});
     peak = std::max(peak, high);

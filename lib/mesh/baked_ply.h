@@ -32,8 +32,9 @@
 //   property float far_exit_slope_r, far_exit_slope_g, far_exit_slope_b
 //                  (both or neither, when the bake traced its far field, bake/far_field.h: the
 //                  part of B that light paths carried from afar, and the slope k of the exit
-//                  lobe it leaves with, optics/exit_lobe.h; sss-render draws B - B_far through
-//                  the exit model and B_far through that lobe)
+//                  lobe that the paths' exits measured, optics/exit_lobe.h, which all of B
+//                  leaves with: sss-render draws B through it; in files from before 2026-12
+//                  the slope was B_far's alone, drawn for B_far only)
 //   element face M
 //   property list uchar int vertex_indices
 //   end_header

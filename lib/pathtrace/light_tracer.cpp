@@ -66,7 +66,7 @@ namespace {
 // One batch's tallies: per vertex sum of Phi l_k (exitance) and of Phi l_k over the cone
 // (radiance), and the power bookkeeping.
 struct BatchTally {
-  std::vector<glm::dvec3> exitance, radiance, exitCosine;
+  std::vector<glm::dvec3> exitance, radiance, exitCosine, cosineExitance;
   glm::dvec3 source{0.0}, hit{0.0}, entered{0.0}, exited{0.0}, escaped{0.0};
   uint64_t reentries = 0, truncatedWalks = 0, lostWalks = 0, truncatedPaths = 0, events = 0;
 };
@@ -119,6 +119,7 @@ class LightTracer {
 void LightTracer::tallyExit(const MediumExit& exit, const glm::vec3& entry, glm::dvec3 power,
                             BatchTally& tally) const {
   const glm::vec3 d = exit.point - entry;
+  const glm::dvec3 unwindowed = power;
   for (int c = 0; c < 3; ++c) {
     const double w = options_.nearWindowMm[c];
     if (w > 0.0) power[c] *= -std::expm1(-0.5 * double(glm::dot(d, d)) / (w * w));
@@ -133,7 +134,11 @@ void LightTracer::tallyExit(const MediumExit& exit, const glm::vec3& entry, glm:
   for (int k = 0; k < 3; ++k) {
     const uint32_t v = tri[k];
     tally.exitance[v] += l[k] * power;
-    if (!tally.exitCosine.empty()) tally.exitCosine[v] += (l[k] * muI) * power;
+    if (!tally.exitCosine.empty()) {
+      const glm::dvec3 p = options_.exitCosineOfAllExits ? unwindowed : power;
+      tally.exitCosine[v] += (l[k] * muI) * p;
+      tally.cosineExitance[v] += l[k] * p;
+    }
     if (!tally.radiance.empty() && glm::dot(exit.direction, normals_[v]) >= cosCone_)
       tally.radiance[v] += l[k] * power;
   }
@@ -228,9 +233,14 @@ void combineBatches(const std::vector<BatchTally>& batches, const std::vector<ui
   result.radianceStdErr.assign(n, glm::vec3(0.0f));
   if (keepBatches) result.batchExitance.assign(batches.size(), std::vector<glm::vec3>(n));
   const bool cosine = !batches.empty() && !batches[0].exitCosine.empty();
-  if (cosine) result.exitCosine.assign(n, glm::vec3(0.0f));
-  if (cosine && keepBatches)
+  if (cosine) {
+    result.exitCosine.assign(n, glm::vec3(0.0f));
+    result.cosineExitance.assign(n, glm::vec3(0.0f));
+  }
+  if (cosine && keepBatches) {
     result.batchExitCosine.assign(batches.size(), std::vector<glm::vec3>(n));
+    result.batchCosineExitance.assign(batches.size(), std::vector<glm::vec3>(n));
+  }
   for (std::size_t v = 0; v < n; ++v) {
     const double perArea = areas[v] > 0.0f ? 1.0 / double(areas[v]) : 0.0;
     const double perProjectedArea =
@@ -244,8 +254,13 @@ void combineBatches(const std::vector<BatchTally>& batches, const std::vector<ui
       sb2 += eb * eb;
       if (cosine) {
         const glm::dvec3 cb = batches[b].exitCosine[v] * scale;
+        const glm::dvec3 bb = batches[b].cosineExitance[v] * scale;
         result.exitCosine[v] += glm::vec3(cb / k);
-        if (!result.batchExitCosine.empty()) result.batchExitCosine[b][v] = glm::vec3(cb);
+        result.cosineExitance[v] += glm::vec3(bb / k);
+        if (!result.batchExitCosine.empty()) {
+          result.batchExitCosine[b][v] = glm::vec3(cb);
+          result.batchCosineExitance[b][v] = glm::vec3(bb);
+        }
       }
       if (batches[b].radiance.empty()) continue;
       const glm::dvec3 el =
@@ -305,7 +320,10 @@ LightTraceResult lightTraceSubsurface(const std::vector<glm::vec3>& positions,
       BatchTally& tally = batches[b];
       tally.exitance.assign(positions.size(), glm::dvec3(0.0));
       if (options.tallyRadiance) tally.radiance.assign(positions.size(), glm::dvec3(0.0));
-      if (options.tallyExitCosine) tally.exitCosine.assign(positions.size(), glm::dvec3(0.0));
+      if (options.tallyExitCosine) {
+        tally.exitCosine.assign(positions.size(), glm::dvec3(0.0));
+        tally.cosineExitance.assign(positions.size(), glm::dvec3(0.0));
+      }
       tracer.trace(options.firstPath + first, options.firstPath + last, tally);
       sizes[b] = last - first;
       progress.advance();

@@ -118,6 +118,9 @@ struct LightTraceOptions {
   // Also tally B times the internal cosine of each exit (LightTraceResult::exitCosine: the far
   // field's exit lobe, optics/exit_lobe.h).
   bool tallyExitCosine = false;
+  // The exit cosine's tally over every exit, not windowed by nearWindowMm (with its own exitance,
+  // LightTraceResult::cosineExitance): the lobe of all the light that leaves, near and far.
+  bool exitCosineOfAllExits = false;
   int maxSurfaceInteractions = 64;    // reflections and refractions at the surface, per path
   int maxScatteringEvents = 1 << 20;  // per medium walk (safety cap; counted)
 };
@@ -132,6 +135,10 @@ struct LightTraceResult {
   // exitCosine / exitance is the exits' flux-weighted mean internal cosine.
   std::vector<glm::vec3> exitCosine;
   std::vector<std::vector<glm::vec3>> batchExitCosine;  // per batch, with keepBatches too
+  // The exitance that exitCosine is weighted over: B, or with exitCosineOfAllExits the exits'
+  // unwindowed B.
+  std::vector<glm::vec3> cosineExitance;
+  std::vector<std::vector<glm::vec3>> batchCosineExitance;  // per batch, with keepBatches too
   // Power bookkeeping per channel (summed over all paths, divided by the path count: the same
   // units as B times mm^2).
   glm::dvec3 sourcePower{0.0};   // leaving the source disc

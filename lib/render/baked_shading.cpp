@@ -89,10 +89,7 @@ RenderMesh renderMeshFor(const BakedMesh& baked, ShadingMode mode, bool farField
   mesh.positions = baked.mesh.positions;
   mesh.normals = baked.mesh.normals;
   if (mode == ShadingMode::Sss) mesh.values = baked.exitance;
-  if (mode == ShadingMode::Sss && farField) {
-    mesh.farValues = baked.farExitance;
-    mesh.farSlopes = baked.farExitSlope;
-  }
+  if (mode == ShadingMode::Sss && farField) mesh.exitSlopes = baked.farExitSlope;
   if (mode == ShadingMode::Irradiance) mesh.values = baked.irradiance;
   mesh.indices.reserve(baked.mesh.triangles.size() * 3);
   for (const glm::uvec3& t : baked.mesh.triangles)

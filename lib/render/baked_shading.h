@@ -15,9 +15,9 @@
 namespace sss {
 
 // How exitance B leaves the surface as radiance (ShadingOptions::exitScale, exitWeight):
-// auto (default), B - B_far through the normalized model and the bake's traced far field B_far
-// through its own exit lobe (optics/exit_lobe.h, the slope its light paths measured; the file's
-// far_exitance and far_exit_slope), the normalized model alone where the file has no far field;
+// auto (default), B through the exit lobe the bake's traced far field measured
+// (optics/exit_lobe.h, the slope its light paths measured; the file's far_exit_slope), the
+// normalized model where the file has no far field;
 // normalized, L = B F_t / (pi (1 - 2 C_1)) for all of B, whose flux is B (d'Eon 2012,
 // optics/fresnel.h); calibrated, the same times w(mu), the material's directional albedo weight
 // (material/directional_albedo_weight.h: the half-space Monte Carlo's angular shape across
@@ -71,7 +71,7 @@ struct ShadingParameters {
   float eta = kFallbackEta;
   float exitScale = 0.0f;
   ExitWeightTable exitWeight = flatExitWeight();  // calibrated: the material's w at mu = k / 16
-  bool farField = false;  // auto with a far field in the file: B_far through its exit lobe
+  bool farField = false;  // auto with a far field in the file: B through its exit lobe
   float lobeMoment0 = 1.0f, lobeMoment1 = 0.0f;  // with farField: ShadingOptions' (renderer.h)
   glm::vec3 albedo = glm::vec3(1.0f);            // set in the brdf mode only
   bool cullBackFaces = false;

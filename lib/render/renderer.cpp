@@ -22,7 +22,7 @@ namespace sss {
 namespace {
 
 // Per vertex: position, normal, value, far value, far slope (RenderMesh; shaders/surface.vert).
-constexpr GLuint kVertexAttributes = 5;
+constexpr GLuint kVertexAttributes = 4;
 
 void checkGl(const char* what) {
   const GLenum e = glGetError();
@@ -204,11 +204,10 @@ void Renderer::createBackDepthPass(const ShaderSources& shaders, const std::stri
 void Renderer::setMesh(const RenderMesh& mesh) {
   const std::size_t n = mesh.positions.size();
   const auto sized = [n](const std::vector<glm::vec3>& v) { return v.empty() || v.size() == n; };
-  if (mesh.normals.size() != n || !sized(mesh.values) || !sized(mesh.farValues) ||
-      !sized(mesh.farSlopes) || mesh.farValues.size() != mesh.farSlopes.size()) {
+  if (mesh.normals.size() != n || !sized(mesh.values) || !sized(mesh.exitSlopes)) {
     throw Error("render mesh: attribute arrays differ in length");
   }
-  // Interleaved position, normal, value, far value, far slope: 60 bytes per vertex.
+  // Interleaved position, normal, value, exit slope: 48 bytes per vertex.
   constexpr std::size_t kFloats = 3 * kVertexAttributes;
   std::vector<float> interleaved(n * kFloats);
   const auto at = [](const std::vector<glm::vec3>& v, std::size_t i) {
@@ -217,8 +216,7 @@ void Renderer::setMesh(const RenderMesh& mesh) {
   for (std::size_t i = 0; i < n; ++i) {
     float* v = &interleaved[i * kFloats];
     const glm::vec3 attributes[kVertexAttributes] = {mesh.positions[i], mesh.normals[i],
-                                                     at(mesh.values, i), at(mesh.farValues, i),
-                                                     at(mesh.farSlopes, i)};
+                                                     at(mesh.values, i), at(mesh.exitSlopes, i)};
     std::memcpy(v, attributes, sizeof attributes);
   }
   glDeleteVertexArrays(1, &gl_->meshVao);

@@ -31,11 +31,11 @@ inline ExitWeightTable flatExitWeight() {
 class Cubemap;
 
 // World-space triangles with unit vertex normals (CCW front faces) and one value per vertex:
-// exitance B (sss), irradiance E (irradiance view); brdf and normals ignore it. farValues and
-// farSlopes (sss, both or neither): the part of B the bake's far field traced and the slope of
-// the exit lobe it leaves with (optics/exit_lobe.h); empty: B_far = 0.
+// exitance B (sss), irradiance E (irradiance view); brdf and normals ignore it. exitSlopes (sss):
+// the slope of the exit lobe B leaves with, which the bake's far field measured
+// (optics/exit_lobe.h); empty: 0, the exit model alone.
 struct RenderMesh {
-  std::vector<glm::vec3> positions, normals, values, farValues, farSlopes;
+  std::vector<glm::vec3> positions, normals, values, exitSlopes;
   std::vector<uint32_t> indices;  // three per triangle
 };
 
@@ -69,9 +69,9 @@ struct ShadingOptions {
   float exitScale = 0.31830988f;
   // w_c(mu) at mu = k / 16 multiplying the exit term (ExitModel::Calibrated); all 1 otherwise.
   ExitWeightTable exitWeight = flatExitWeight();
-  // The exit lobe's moments A_0, A_1 at eta (optics/exit_lobe.h) for the far field's part of B,
-  // whose radiance is exitScale B_far F_t (1 + k mu_i) A_0 / (A_0 + k A_1) (exitScale that of
-  // the normalized model, 1 / (pi A_0)).
+  // The exit lobe's moments A_0, A_1 at eta (optics/exit_lobe.h) for a mesh with exit slopes k,
+  // whose radiance is exitScale B F_t (1 + k mu_i) A_0 / (A_0 + k A_1) (exitScale that of the
+  // normalized model, 1 / (pi A_0)).
   float lobeMoment0 = 1.0f, lobeMoment1 = 0.0f;
   // Set: the paper's constant mix(base, reflection, f) instead of the Fresnel-weighted sum.
   std::optional<float> reflectFactor;

@@ -161,7 +161,8 @@ Metrics compare(const std::vector<glm::vec3>& bake, const std::vector<glm::vec3>
 DiffusionResult bakeExitance(const Scene& s, const Cubemap& env, const std::vector<float>& areas,
                              EnergyModel model, EntryModel entryModel, FarFieldMode farMode,
                              std::string& chosen, double& seconds,
-                             std::vector<glm::vec3>* farSlope = nullptr) {
+                             std::vector<glm::vec3>* farSlope = nullptr,
+                             bool lobeOfAllExits = true) {
   const Stopwatch clock;
   const DirectionalAlbedoWeight entry(s.material);
   VisibilityOptions vis;
@@ -181,6 +182,7 @@ DiffusionResult bakeExitance(const Scene& s, const Cubemap& env, const std::vect
   // The far field as sss-bake runs it (bake.cpp, farFieldStage).
   FarFieldOptions farOptions;
   farOptions.mode = farMode;
+  farOptions.lobeOfAllExits = lobeOfAllExits;
   farOptions.noiseBudget = budget.walkBudget() / std::sqrt(2.0);
   const FarField far = traceFarField({s.mesh, areas, env, s.material, plan, e, farOptions});
   if (farSlope) *farSlope = far.slope;
@@ -285,11 +287,13 @@ void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstre
   const glm::vec3 calibrated =
       calibratedExitRadiance(DirectionalAlbedoWeight(s.material), 1.0f, eta);
   const glm::vec3 normalized(float(normalExitRadianceScale(eta)));
-  // Today's defaults (the far field's own exit lobe for B_far); the same without the unscattered
-  // light; the normalized exit for all of B (the defaults before the lobe), and without the far
-  // field; the calibrated exit and the hybrid instead; the defaults before issue 11's part 2
-  // (diffuse entry); the half-space energy with those.
-  enum class Exit { Normalized, Calibrated, Hybrid, Lobe };
+  // Today's defaults (where the far field is traced, all of B through the exit lobe of all its
+  // exits); the same without the unscattered light; B_far alone through the lobe of the far exits
+  // and B - B_far through the normalized model (the defaults before the lobe of all exits); the
+  // normalized exit for all of B (the defaults before the lobe), and without the far field; the
+  // calibrated exit and the hybrid instead; the defaults before issue 11's part 2 (diffuse
+  // entry); the half-space energy with those.
+  enum class Exit { Normalized, Calibrated, Hybrid, Lobe, FarLobe };
   const ExitLobe lobe(eta);
   struct Config {
     EnergyModel energy;
@@ -301,6 +305,7 @@ void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstre
   constexpr FarFieldMode kAuto = FarFieldMode::Auto, kOff = FarFieldMode::Off;
   const Config configs[] = {{EnergyModel::Auto, EntryModel::Directional, Exit::Lobe, kAuto},
                             {EnergyModel::Auto, EntryModel::Directional, Exit::Lobe, kAuto, false},
+                            {EnergyModel::Auto, EntryModel::Directional, Exit::FarLobe, kAuto},
                             {EnergyModel::Auto, EntryModel::Directional, Exit::Normalized, kAuto},
                             {EnergyModel::Auto, EntryModel::Directional, Exit::Normalized, kOff},
                             {EnergyModel::Auto, EntryModel::Directional, Exit::Calibrated, kAuto},
@@ -314,19 +319,21 @@ void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstre
     std::string chosen;
     double seconds = 0.0;
     std::vector<glm::vec3> slope;
-    const DiffusionResult r =
-        bakeExitance(s, env, areas, model, config.entry, config.far, chosen, seconds, &slope);
+    const DiffusionResult r = bakeExitance(s, env, areas, model, config.entry, config.far, chosen,
+                                           seconds, &slope, config.exit != Exit::FarLobe);
     const std::vector<glm::vec3>& b = r.exitance;
     std::vector<glm::vec3> l(b.size());
-    const bool lobes = config.exit == Exit::Lobe;
-    const bool split = config.exit == Exit::Hybrid || config.exit == Exit::Lobe;
+    const bool lobes = config.exit == Exit::Lobe || config.exit == Exit::FarLobe;
+    const bool split = config.exit == Exit::Hybrid || config.exit == Exit::FarLobe;
     for (std::size_t v = 0; v < b.size(); ++v) {
       const glm::vec3 excess = split && !r.escapeExcess.empty() ? r.escapeExcess[v] : glm::vec3(0);
       glm::vec3 farScale = normalized;
       if (lobes && !slope.empty())
         for (int c = 0; c < 3; ++c) farScale[c] = float(lobe.radiance(slope[v][c], 1.0f));
-      const glm::vec3 nearScale =
-          config.exit == Exit::Calibrated || config.exit == Exit::Hybrid ? calibrated : normalized;
+      const glm::vec3 nearScale = config.exit == Exit::Calibrated || config.exit == Exit::Hybrid
+                                      ? calibrated
+                                  : config.exit == Exit::Lobe ? farScale
+                                                              : normalized;
       l[v] = (b[v] - excess) * nearScale + excess * farScale;
     }
     // Today's defaults also add the unscattered light (auto, as bake.cpp's unscatteredStage).
@@ -342,6 +349,7 @@ void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstre
         (config.exit == Exit::Normalized   ? "normalized"
          : config.exit == Exit::Calibrated ? "calibrated"
          : config.exit == Exit::Hybrid     ? "hybrid"
+         : config.exit == Exit::FarLobe    ? "lobe-far-exits"
                                            : "lobe") +
         (config.far == kOff ? "/far-off" : "") +
         (config.far == kAuto && !config.unscattered ? "/no-unscattered" : "");

@@ -76,17 +76,13 @@ Cubemap directionColouredCubemap(int size) {
 
 // One frame of the unit icosphere at `subdivisions`, with the constant value `exitance`, under
 // `env`, seen by `camera`.
-// With farExitance set, that constant part of B leaves through the exit lobe of slope farSlope.
+// With exitSlope set, B leaves through the exit lobe of that slope.
 RenderedImage renderUnitSphere(const ShadingOptions& shading, const FrameOptions& frame,
                                int subdivisions, glm::vec3 exitance, const Cubemap& env,
-                               const Camera& camera, std::optional<glm::vec3> farExitance = {},
-                               glm::vec3 farSlope = glm::vec3(0.0f)) {
+                               const Camera& camera, std::optional<glm::vec3> exitSlope = {}) {
   Renderer renderer(ShaderSources(), frame, shading);
   RenderMesh mesh = toRenderMesh(makeIcosphere(subdivisions, 1.0f), exitance);
-  if (farExitance) {
-    mesh.farValues.assign(mesh.positions.size(), *farExitance);
-    mesh.farSlopes.assign(mesh.positions.size(), farSlope);
-  }
+  if (exitSlope) mesh.exitSlopes.assign(mesh.positions.size(), *exitSlope);
   renderer.setMesh(mesh);
   renderer.setEnvironment(env, nullptr);
   renderer.setCamera(camera);
@@ -112,7 +108,7 @@ struct ExitCase {
   FresnelModel fresnel;
   bool normalized;       // exit scale F_t-normalized (exitRadianceScale) rather than 1/pi
   bool calibrated;       // and the angular weights of a skin-like material (ExitModel::Calibrated)
-  bool farLobe = false;  // part of B a far field leaving through its exit lobe (ExitModel::Auto)
+  bool farLobe = false;  // B leaving through a far field's exit lobe (ExitModel::Auto)
 };
 
 // The test name's suffix (exact_normalized, schlick_over_pi, exact_calibrated), also what
@@ -132,8 +128,8 @@ void PrintTo(const ExitCase& c, std::ostream* out) {
 class ExitModelTest : public RenderTest, public ::testing::WithParamInterface<ExitCase> {};
 
 // L = B F_t(mu) w(mu) s + F_r(mu) L_env for a sphere with constant B under a uniform environment
-// (w = 1 but for the calibrated case); with a far field, (B - B_far) F_t(mu) s + B_far times the
-// exit lobe's radiance per unit exitance (optics/exit_lobe.h) instead of the first term.
+// (w = 1 but for the calibrated case); with a far field's slope, B times the exit lobe's radiance
+// per unit exitance (optics/exit_lobe.h) instead of the first term.
 TEST_P(ExitModelTest, SphereWithConstantExitanceMatchesTheExitModel) {
   const float eta = 1.4f;
   const glm::vec3 exitance(2.0f, 1.0f, 0.5f), envRadiance(0.7f, 0.5f, 0.3f);
@@ -147,12 +143,12 @@ TEST_P(ExitModelTest, SphereWithConstantExitanceMatchesTheExitModel) {
     for (int k = 0; k < kExitWeightNodes; ++k)
       shading.exitWeight[k] = weight.at(float(k) / (kExitWeightNodes - 1));
   }
-  // A far field of slopes from grazing (-0.6) to forward (2) light.
+  // Exit lobes of slopes from grazing (-0.6) to forward (2) light.
   const ExitLobe lobe(eta);
-  const glm::vec3 farExitance = 0.6f * exitance, farSlope(-0.6f, 0.3f, 2.0f);
+  const glm::vec3 slope(-0.6f, 0.3f, 2.0f);
   std::optional<glm::vec3> far;
   if (GetParam().farLobe) {
-    far = farExitance;
+    far = slope;
     shading.lobeMoment0 = float(lobe.moment(0));
     shading.lobeMoment1 = float(lobe.moment(1));
   }
@@ -160,8 +156,8 @@ TEST_P(ExitModelTest, SphereWithConstantExitanceMatchesTheExitModel) {
   shading.backgroundColor = glm::vec3(0.0f);
   const FrameOptions frame = linearFrame(128);
   const Camera camera = unitSphereCamera(20.0f, 10.0f);
-  const RenderedImage image = renderUnitSphere(shading, frame, 5, exitance,
-                                               Cubemap(16, envRadiance), camera, far, farSlope);
+  const RenderedImage image =
+      renderUnitSphere(shading, frame, 5, exitance, Cubemap(16, envRadiance), camera, far);
 
   int checked = 0;
   for (int y = 0; y < frame.height; ++y) {
@@ -182,12 +178,12 @@ TEST_P(ExitModelTest, SphereWithConstantExitanceMatchesTheExitModel) {
       const float fr = GetParam().fresnel == FresnelModel::Exact ? fresnelDielectric(mu, eta)
                                                                  : fresnelSchlick(mu, eta);
       const glm::vec3 w = GetParam().calibrated ? weight.at(mu) : glm::vec3(1.0f);
-      glm::vec3 expected = exitance * w * (1.0f - fr) * shading.exitScale + fr * envRadiance;
-      if (far) {
-        expected = (exitance - farExitance) * (1.0f - fr) * shading.exitScale + fr * envRadiance;
+      glm::vec3 shape = w;  // the lobe over the normalized model (F_t cancels)
+      if (far)
         for (int c = 0; c < 3; ++c)
-          expected[c] += farExitance[c] * float(lobe.radiance(farSlope[c], mu));
-      }
+          shape[c] *= float(lobe.radiance(slope[c], mu) / lobe.radiance(0.0, mu));
+      const glm::vec3 expected =
+          exitance * shape * (1.0f - fr) * shading.exitScale + fr * envRadiance;
       for (int c = 0; c < 3; ++c) {
         EXPECT_NEAR(got[c], expected[c], 0.01f * expected[c]) << "pixel " << x << "," << y;
       }

@@ -161,6 +161,7 @@ void addInterreflection(const BakeSettings& s, const PreparedMesh& mesh, const C
   EnergyWeightSums wholeEscapeSums;
   if (!in.farExitance.empty()) {
     in.farExitance = {};
+    in.farField = nullptr;
     if (in.weightSums) in.weightSums = &wholeEscapeSums;
   }
   const auto increment = [&](std::span<const glm::vec3> e, double looseness) {
@@ -337,6 +338,7 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
                              radiance,           s.material,    *energy.profile,
                              energy.report.plan, s.method};
   transportIn.farExitance = far.exitance;
+  transportIn.farField = &far;
   transportIn.diffusionTolerance = diffusionTolerance(s, budget, energy.report, lighting.report);
   transportIn.walks = s.walks;
   transportIn.seed = s.seed;

@@ -83,6 +83,24 @@ void addLobeMoments(const LightTraceResult& r, const SurfaceAverage& lobeAverage
   }
 }
 
+// Per vertex the mean of the batches' values and that mean's variance from their spread.
+void meanOverBatches(const std::vector<std::vector<glm::vec3>>& batches,
+                     std::vector<glm::dvec3>& mean, std::vector<glm::dvec3>& variance) {
+  const std::size_t n = batches.empty() ? 0 : batches[0].size();
+  const double k = double(batches.size());
+  mean.assign(n, glm::dvec3(0.0));
+  std::vector<glm::dvec3> sumSq(n, glm::dvec3(0.0));
+  for (const std::vector<glm::vec3>& batch : batches)
+    for (std::size_t i = 0; i < n; ++i) {
+      const glm::dvec3 v(batch[i]);
+      mean[i] += v / k;
+      sumSq[i] += v * v;
+    }
+  variance.resize(n);
+  for (std::size_t i = 0; i < n; ++i)
+    variance[i] = glm::max(glm::dvec3(0.0), sumSq[i] / k - mean[i] * mean[i]) / (k - 1.0);
+}
+
 // A round of traced paths, averaged over the surface: the mean of its batches' averages and that
 // mean's variance from their spread (which counts what neighbouring vertices share: an exit is
 // split between a triangle's vertices, and the averaging sums neighbours).
@@ -108,23 +126,16 @@ TracedRound traceRound(const FarFieldInput& in, const SurfaceAverage& average,
                                                   DistantLight::environment(in.radiance),
                                                   homogeneousMediumOf(in.material), o);
   const std::size_t n = mesh.positions.size();
-  const double k = double(r.batchExitance.size());
   TracedRound round;
-  round.mean.assign(n, glm::dvec3(0.0));
-  round.variance.assign(n, glm::dvec3(0.0));
   round.paths = paths;
-  std::vector<glm::dvec3> sumSq(n, glm::dvec3(0.0));
   addLobeMoments(r, lobeAverage, round);
-  for (const std::vector<glm::vec3>& averaged : average(r.batchExitance)) {
-    for (std::size_t i = 0; i < n; ++i) {
-      const glm::dvec3 v(averaged[i]);
-      round.mean[i] += v / k;
-      sumSq[i] += v * v;
-    }
+  meanOverBatches(average(r.batchExitance), round.mean, round.variance);
+  if (o.exitCosineOfAllExits) {
+    std::vector<std::vector<glm::vec3>> near = r.batchCosineExitance;
+    for (std::size_t b = 0; b < near.size(); ++b)
+      for (std::size_t i = 0; i < n; ++i) near[b][i] -= r.batchExitance[b][i];
+    meanOverBatches(average(near), round.nearMean, round.nearVariance);
   }
-  for (std::size_t i = 0; i < n; ++i)
-    round.variance[i] =
-        glm::max(glm::dvec3(0.0), sumSq[i] / k - round.mean[i] * round.mean[i]) / (k - 1.0);
   return round;
 }
 
@@ -255,6 +266,8 @@ glm::dvec3 weightedMeanSlope(const FarField& far, std::span<const float> areas) 
 FarField skip(FarField out, std::string reason, const Stopwatch& clock) {
   out.exitance.clear();
   out.slope.clear();
+  out.nearExitance.clear();
+  out.nearVariance.clear();
   out.report.traced = false;
   out.report.reason = std::move(reason);
   out.report.seconds = clock.seconds();
@@ -339,6 +352,14 @@ FarField traceFarField(const FarFieldInput& in) {
   r.relativeStdError = noise;
   r.averagingBias = averagingBias(in, average, round, out.exitance);
   r.lobeNoise = lobeNoise(in, round, out.slope);
+  if (o.lobeOfAllExits && o.calibrateNearShare) {
+    out.nearExitance.resize(round.nearMean.size());
+    out.nearVariance.resize(round.nearMean.size());
+    for (std::size_t i = 0; i < round.nearMean.size(); ++i) {
+      out.nearExitance[i] = glm::vec3(round.nearMean[i]);
+      out.nearVariance[i] = glm::vec3(round.nearVariance[i]);
+    }
+  }
   r.reason =
       std::string(automatic ? "irradiance varies on the diffusion length's scale" : "requested") +
       " (far field moves " + format("%.2g%%", 100.0 * r.sensitivity) + " of B" +
@@ -348,6 +369,25 @@ FarField traceFarField(const FarFieldInput& in) {
       ")";
   r.seconds = clock.seconds();
   return out;
+}
+
+void calibrateNearPart(std::span<glm::vec3> exitance, const NearCalibration& near) {
+  if (near.traced.empty()) return;
+  const std::size_t n = exitance.size();
+  if (near.farExitance.size() != n || near.traced.size() != n || near.variance.size() != n)
+    fail("", "far field: one far and near exitance per vertex needed");
+  std::vector<glm::vec3> model(n);
+  for (std::size_t i = 0; i < n; ++i) model[i] = exitance[i] - near.farExitance[i];
+  model = SurfaceAverage(near.meshMm, near.areasMm2, near.smoothingMm, near.threads)(model);
+  for (std::size_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) {
+      const double m = model[i][c];
+      if (!(m > 0.0)) continue;
+      const double d = near.traced[i][c] / m - 1.0, var = near.variance[i][c] / (m * m);
+      const double scale = d * d + var > 0.0 ? 1.0 + d * d * d / (d * d + var) : 1.0;
+      exitance[i][c] =
+          near.farExitance[i][c] + float(scale) * (exitance[i][c] - near.farExitance[i][c]);
+    }
 }
 
 }  // namespace sss

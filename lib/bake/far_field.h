@@ -85,6 +85,9 @@ struct FarFieldOptions {
   bool quiet = true;
   // The exit lobe from all exits (above); false: from the far exits alone (the study's comparison).
   bool lobeOfAllExits = true;
+  // With lobeOfAllExits: the near part of B scaled to the traced near exits (calibrateNearPart,
+  // below); false: the escape walks' near share as it is (the study's comparison).
+  bool calibrateNearShare = true;
 };
 
 // The near window w_c = kFarFieldWindowLengths / sigma_tr,c in mm (the escape walks measure the
@@ -120,6 +123,10 @@ struct FarField {
   // The exit lobe's slope k per vertex and channel (optics/exit_lobe.h): the radiance B leaves
   // with, from the traced exits' mean internal cosine; empty when not traced.
   std::vector<glm::vec3> slope;
+  // With FarFieldOptions::calibrateNearShare: per vertex and channel the traced exits within
+  // the near window (all exits less the far ones), averaged like B_far, and that mean's variance
+  // from the batches; empty otherwise (calibrateNearPart).
+  std::vector<glm::vec3> nearExitance, nearVariance;
   FarFieldReport report;
   bool traced() const { return report.traced; }
 };
@@ -136,5 +143,22 @@ struct FarFieldInput {
 
 // Throws Error on bad options; never traces for the half-space energy model.
 FarField traceFarField(const FarFieldInput& in);
+
+// The near part of B, B - B_far from the windowed profile (finite_object_energy.h,
+// diffuseWithEnergy), scaled per vertex and channel to the traced near exits: by S(near traced) /
+// S(B - B_far), S the far field's averaging, shrunk towards 1 by the ratio's noise as the exit
+// lobe's slope is (1 + d d^2 / (d^2 + var), d the ratio less 1). Why: the escape walks enter
+// diffusely, and the share of light that leaves within the window follows the incidence under a
+// sun (at low albedo light that enters straight down comes straight back, at grazing incidence it
+// drifts sideways: a half-space at a' = 0.68 keeps 1.13x the diffuse near share at normal
+// incidence, 0.81x grazing). Nothing when traced is empty.
+struct NearCalibration {
+  const TriangleMesh& meshMm;
+  std::span<const float> areasMm2;
+  std::span<const glm::vec3> farExitance, traced, variance;  // FarField's
+  double smoothingMm = 0.0;                                  // FarFieldReport::smoothingMm
+  int threads = 0;
+};
+void calibrateNearPart(std::span<glm::vec3> exitance, const NearCalibration& near);
 
 }  // namespace sss

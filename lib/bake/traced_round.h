@@ -18,6 +18,9 @@ struct TracedRound {
   // kernel (far_field.cpp), and the variance of their ratio (the mean cosine) from the batches;
   // empty where not tallied.
   std::vector<glm::dvec3> cosineMean, lobeExitance, meanCosineVariance;
+  // The near exits (all less the far ones, with the exit cosine tallied over all exits), averaged
+  // like mean, and their variance; empty where not tallied.
+  std::vector<glm::dvec3> nearMean, nearVariance;
 };
 
 // Two independent rounds as one: means weighted by their paths, variances accordingly.
@@ -31,6 +34,11 @@ inline TracedRound combineRounds(const TracedRound& a, const TracedRound& b) {
     out.mean.push_back(wa * a.mean[i] + wb * b.mean[i]);
     out.variance.push_back(wa * wa * a.variance[i] + wb * wb * b.variance[i]);
   }
+  if (!a.nearMean.empty() && !b.nearMean.empty())
+    for (std::size_t i = 0; i < a.nearMean.size(); ++i) {
+      out.nearMean.push_back(wa * a.nearMean[i] + wb * b.nearMean[i]);
+      out.nearVariance.push_back(wa * wa * a.nearVariance[i] + wb * wb * b.nearVariance[i]);
+    }
   if (!a.cosineMean.empty() && !b.cosineMean.empty())
     for (std::size_t i = 0; i < a.cosineMean.size(); ++i) {
       out.cosineMean.push_back(wa * a.cosineMean[i] + wb * b.cosineMean[i]);

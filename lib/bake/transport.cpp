@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "bake/far_field.h"
 #include "core/format.h"
 #include "core/luminance.h"
 #include "core/timer.h"
@@ -56,6 +57,10 @@ std::vector<glm::vec3> diffusionSum(const TransportInput& in, TransportReport& r
   options.quiet = in.quiet;
   DiffusionResult result = diffuseWithEnergy(input, in.profile, options, in.energy, in.material,
                                              in.farExitance, in.weightSums);
+  if (in.farField && !in.farExitance.empty())
+    calibrateNearPart(result.exitance,
+                      {in.meshMm, in.areasMm2, in.farExitance, in.farField->nearExitance,
+                       in.farField->nearVariance, in.farField->report.smoothingMm, in.threads});
   report.diffusion = std::move(result.report);
   report.diffusionTolerance = in.diffusionTolerance;
   report.estimatedError = report.diffusion.estimatedError;

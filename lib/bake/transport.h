@@ -16,6 +16,8 @@
 
 namespace sss {
 
+struct FarField;  // bake/far_field.h
+
 class Cubemap;           // envmap/cubemap.h
 class DiffusionProfile;  // material/diffusion_profile.h
 struct TriangleMesh;     // mesh/triangle_mesh.h
@@ -35,6 +37,9 @@ struct TransportInput {
   int threads = 0;
   bool quiet = false;
   std::span<const glm::vec3> farExitance{};  // the traced far field (far_field.h), or empty
+  // With farExitance: the far field whose traced near exits calibrate B's near part
+  // (far_field.h, calibrateNearPart), or null.
+  const FarField* farField = nullptr;
   // The energy model's sums with E = 1 (finite_object_energy.h), filled by a first transport and
   // reused by later ones on other light with the same method (the bounces); null: not kept.
   EnergyWeightSums* weightSums = nullptr;

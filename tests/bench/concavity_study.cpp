@@ -23,6 +23,7 @@
 //   predicted    the bake's own predicted error (the JSON's estimated_error.total), and
 //   measured_over_predicted  rms_all / predicted: 1 when the bake's "1 %" holds;
 //   numerical, model_*  the predicted error's parts (estimated_error.numerical and .model);
+//   ref_noise    the reference's own noise in rms_all's norm (what it subtracts);
 //   *_calibrated  the first three with the calibrated exit model for B's part (sss-render
 //                --exit-model calibrated).
 // Writes OUT_DIR/concavity.csv.
@@ -156,12 +157,13 @@ void study(const Scene& s, const Shape& shape, uint64_t paths, const std::string
     char line[512];
     std::snprintf(line, sizeof line,
                   "%s,%s,%s,%s,%d,%.5f,%.5f,%.4f,%.5f,%.2f,%.3f,%llu,%.5f,%.5f,%.4f,%.5f,%.5f,%.5f,"
-                  "%.5f,%.5f\n",
+                  "%.5f,%.5f,%.5f\n",
                   s.name.c_str(), s.material.name.c_str(), lightName(s.light),
                   bounces == 0 ? "0" : "auto", ir.bounces, m.rmsAll, m.rmsConcave, m.ratioConcave,
                   predicted, predicted > 0 ? m.rmsAll / predicted : 0.0, out.report.totalSeconds,
                   (unsigned long long)paths, mc.rmsAll, mc.rmsConcave, mc.ratioConcave, e.numerical,
-                  e.model.exitModel, e.model.facets, e.model.facetLight, e.model.farField);
+                  e.model.exitModel, e.model.facets, e.model.facetLight, e.model.farField,
+                  relativeNoise(ref.radiance, ref.radianceStdErr));
     csv << line;
     csv.flush();
     std::printf(
@@ -201,7 +203,7 @@ int run(int argc, char** argv) {
   csv << "scene,material,light,bounces_asked,bounces_done,rms_all,rms_concave,ratio_concave,"
          "predicted,measured_over_predicted,bake_s,ref_paths,rms_all_calibrated,"
          "rms_concave_calibrated,ratio_concave_calibrated,numerical,model_exit,model_facets,"
-         "model_facet_light,model_far_field\n";
+         "model_facet_light,model_far_field,ref_noise\n";
   for (const Shape& shape : shapes)
     for (const char* m : {"marble", "skimmilk"})
       for (Light light : {Light::Uniform, shape.name == "pit" ? Light::Sun : Light::Forest}) {

@@ -99,6 +99,18 @@ inline double relativeRmsAgainst(const std::vector<glm::vec3>& a, const std::vec
   return den > 0.0 ? std::sqrt(std::max(0.0, num - noise) / den) : 0.0;
 }
 
+// The reference's own noise in relativeRmsAgainst's norm, sqrt(sum se^2 / sum ref^2): what that
+// metric subtracts, so that an error well below it is not resolved (model_error_fit.py).
+inline double relativeNoise(const std::vector<glm::vec3>& ref, const std::vector<glm::vec3>& se) {
+  double noise = 0.0, den = 0.0;
+  for (std::size_t v = 0; v < ref.size(); ++v)
+    for (int c = 0; c < 3; ++c) {
+      noise += double(se[v][c]) * se[v][c];
+      den += double(ref[v][c]) * ref[v][c];
+    }
+  return den > 0.0 ? std::sqrt(noise / den) : 0.0;
+}
+
 // The references' seed, apart from the bake's (1): the bake's traced stages (far field, unscattered
 // light) trace the same light with the same medium walks, so a reference with their seed repeats
 // their paths and shares their noise. (The sun study's rows before this seed: 0.0072 band RMS on

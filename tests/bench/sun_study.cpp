@@ -161,8 +161,8 @@ Metrics compare(const std::vector<glm::vec3>& bake, const std::vector<glm::vec3>
 DiffusionResult bakeExitance(const Scene& s, const Cubemap& env, const std::vector<float>& areas,
                              EnergyModel model, EntryModel entryModel, FarFieldMode farMode,
                              std::string& chosen, double& seconds,
-                             std::vector<glm::vec3>* farSlope = nullptr,
-                             bool lobeOfAllExits = true) {
+                             std::vector<glm::vec3>* farSlope = nullptr, bool lobeOfAllExits = true,
+                             bool calibrateNearShare = true) {
   const Stopwatch clock;
   const DirectionalAlbedoWeight entry(s.material);
   VisibilityOptions vis;
@@ -183,6 +183,7 @@ DiffusionResult bakeExitance(const Scene& s, const Cubemap& env, const std::vect
   FarFieldOptions farOptions;
   farOptions.mode = farMode;
   farOptions.lobeOfAllExits = lobeOfAllExits;
+  farOptions.calibrateNearShare = calibrateNearShare;
   farOptions.noiseBudget = budget.walkBudget() / std::sqrt(2.0);
   const FarField far = traceFarField({s.mesh, areas, env, s.material, plan, e, farOptions});
   if (farSlope) *farSlope = far.slope;
@@ -201,8 +202,9 @@ DiffusionResult bakeExitance(const Scene& s, const Cubemap& env, const std::vect
   dopt.tolerance =
       budget.diffusionTolerance(plan.model == EnergyModel::Escape, energyError, std::nullopt);
   const DiffusionInput input{s.mesh.positions, s.mesh.normals, areas, e};
-  const DiffusionResult r =
-      diffuseWithEnergy(input, *profile, dopt, plan, s.material, far.exitance);
+  DiffusionResult r = diffuseWithEnergy(input, *profile, dopt, plan, s.material, far.exitance);
+  calibrateNearPart(r.exitance, {s.mesh, areas, far.exitance, far.nearExitance, far.nearVariance,
+                                 far.report.smoothingMm, 0});
   chosen = std::string(kEnergyModelNames.name(plan.model)) + "/" +
            (far.traced() ? "far-" + std::to_string(far.report.paths) + "/" : std::string()) +
            kEntryModelNames.name(entryModel) + "/" + profileName + "/" +
@@ -234,10 +236,11 @@ void predictedAgainstMeasured(const Scene& s, const Cubemap& env, const LightTra
   const double predicted = out.report.errors.total;
   const BakeErrorReport& e = out.report.errors;
   char line[256];
-  std::snprintf(line, sizeof line, "%s,%s,%.5f,%.5f,%.2f,%.5f,%.5f,%.5f,%.5f,%.5f,%.3f\n",
+  std::snprintf(line, sizeof line, "%s,%s,%.5f,%.5f,%.2f,%.5f,%.5f,%.5f,%.5f,%.5f,%.3f,%.5f\n",
                 s.name.c_str(), s.material.name.c_str(), measured, predicted,
                 predicted > 0.0 ? measured / predicted : 0.0, e.numerical, e.model.exitModel,
-                e.model.facets, e.model.facetLight, e.model.farField, out.report.totalSeconds);
+                e.model.facets, e.model.facetLight, e.model.farField, out.report.totalSeconds,
+                relativeNoise(ref.radiance, ref.radianceStdErr));
   csv << line;
   csv.flush();
   std::printf("  sss-bake defaults: per-vertex RMS %.4f, predicted %.4f (%.2fx)\n", measured,
@@ -300,27 +303,31 @@ void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstre
     EntryModel entry;
     Exit exit;
     FarFieldMode far;
-    bool unscattered = true;  // with the far field: the unscattered light too
+    bool unscattered = true;     // with the far field: the unscattered light too
+    bool calibratedNear = true;  // with the far field: its near part scaled to the traced one
   };
   constexpr FarFieldMode kAuto = FarFieldMode::Auto, kOff = FarFieldMode::Off;
-  const Config configs[] = {{EnergyModel::Auto, EntryModel::Directional, Exit::Lobe, kAuto},
-                            {EnergyModel::Auto, EntryModel::Directional, Exit::Lobe, kAuto, false},
-                            {EnergyModel::Auto, EntryModel::Directional, Exit::FarLobe, kAuto},
-                            {EnergyModel::Auto, EntryModel::Directional, Exit::Normalized, kAuto},
-                            {EnergyModel::Auto, EntryModel::Directional, Exit::Normalized, kOff},
-                            {EnergyModel::Auto, EntryModel::Directional, Exit::Calibrated, kAuto},
-                            {EnergyModel::Auto, EntryModel::Directional, Exit::Calibrated, kOff},
-                            {EnergyModel::Auto, EntryModel::Directional, Exit::Hybrid, kAuto},
-                            {EnergyModel::Auto, EntryModel::Directional, Exit::Hybrid, kOff},
-                            {EnergyModel::Auto, EntryModel::Diffuse, Exit::Normalized, kOff},
-                            {EnergyModel::HalfSpace, EntryModel::Diffuse, Exit::Normalized, kOff}};
+  const Config configs[] = {
+      {EnergyModel::Auto, EntryModel::Directional, Exit::Lobe, kAuto},
+      {EnergyModel::Auto, EntryModel::Directional, Exit::Lobe, kAuto, false},
+      {EnergyModel::Auto, EntryModel::Directional, Exit::Lobe, kAuto, true, false},
+      {EnergyModel::Auto, EntryModel::Directional, Exit::FarLobe, kAuto},
+      {EnergyModel::Auto, EntryModel::Directional, Exit::Normalized, kAuto},
+      {EnergyModel::Auto, EntryModel::Directional, Exit::Normalized, kOff},
+      {EnergyModel::Auto, EntryModel::Directional, Exit::Calibrated, kAuto},
+      {EnergyModel::Auto, EntryModel::Directional, Exit::Calibrated, kOff},
+      {EnergyModel::Auto, EntryModel::Directional, Exit::Hybrid, kAuto},
+      {EnergyModel::Auto, EntryModel::Directional, Exit::Hybrid, kOff},
+      {EnergyModel::Auto, EntryModel::Diffuse, Exit::Normalized, kOff},
+      {EnergyModel::HalfSpace, EntryModel::Diffuse, Exit::Normalized, kOff}};
   for (const Config& config : configs) {
     const EnergyModel model = config.energy;
     std::string chosen;
     double seconds = 0.0;
     std::vector<glm::vec3> slope;
-    const DiffusionResult r = bakeExitance(s, env, areas, model, config.entry, config.far, chosen,
-                                           seconds, &slope, config.exit != Exit::FarLobe);
+    const DiffusionResult r =
+        bakeExitance(s, env, areas, model, config.entry, config.far, chosen, seconds, &slope,
+                     config.exit != Exit::FarLobe, config.calibratedNear);
     const std::vector<glm::vec3>& b = r.exitance;
     std::vector<glm::vec3> l(b.size());
     const bool lobes = config.exit == Exit::Lobe || config.exit == Exit::FarLobe;
@@ -352,7 +359,8 @@ void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstre
          : config.exit == Exit::FarLobe    ? "lobe-far-exits"
                                            : "lobe") +
         (config.far == kOff ? "/far-off" : "") +
-        (config.far == kAuto && !config.unscattered ? "/no-unscattered" : "");
+        (config.far == kAuto && !config.unscattered ? "/no-unscattered" : "") +
+        (config.far == kAuto && !config.calibratedNear ? "/near-uncalibrated" : "");
     char line[512];
     std::snprintf(line, sizeof line,
                   "%s,%s,%s,%s,%zu,%.5f,%.5f,%.4f,%.5f,%.4f,%.4f,%.5f,%.4f,%.4f,%.3f,%llu,%.1f\n",
@@ -413,7 +421,7 @@ int run(int argc, char** argv) {
               "ratio_b\n";
   std::ofstream predictedCsv(outDir + "/sun_predicted.csv");
   predictedCsv << "scene,material,rms_vertex_L,predicted,measured_over_predicted,numerical,"
-                  "model_exit,model_facets,model_facet_light,model_far_field,bake_s\n";
+                  "model_exit,model_facets,model_facet_light,model_far_field,bake_s,ref_noise\n";
   for (const Scene& s : scenes)
     if (only.empty() || s.name.find(only) != std::string::npos)
       study(s, paths, cache, csv, bandsCsv, outDir, predictedCsv);

@@ -23,6 +23,9 @@
 //    (surface_average.h):
 //    what leaves far. Light that crosses unscattered leaves collimated, which no exit model of B
 //    describes; it stays out (issue 11, part 5).
+// Near part: the same paths' exits within the window calibrate the first term per vertex
+// (calibrateNearPart, below): the escape walks' P_near is a diffuse entry's, and under a sun the
+// near share follows the incidence.
 // Exit lobe: where the far field is traced, all of B leaves through the exit lobe of
 // optics/exit_lobe.h, whose slope k per vertex and channel comes from the flux-weighted mean
 // internal cosine of all the traced exits, near and far (averaged like B_far but over

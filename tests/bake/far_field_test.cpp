@@ -369,7 +369,9 @@ TEST(FarField, SameResultForAnyThreadCount) {
   const Baked two = bakeWith(sphere, env, skin, FarFieldMode::On, 2);
   ASSERT_TRUE(one.far.traced);
   EXPECT_EQ(one.far.paths, two.far.paths);
-  EXPECT_EQ(one.exitance, two.exitance);
+  EXPECT_EQ(one.exitance, two.exitance);  // the near part's calibration included
+  EXPECT_EQ(one.farSlope, two.farSlope);
+  EXPECT_EQ(one.far.lobeNoise, two.far.lobeNoise);
 }
 
 TEST(FarField, OffAndHalfSpaceTraceNothingAndBadOptionsThrow) {

@@ -96,6 +96,14 @@ Camera unitSphereCamera(float azimuthDeg, float elevationDeg) {
                      1.0f);
 }
 
+// Untonemapped radiance on a black background: what the tests compare with closed forms.
+ShadingOptions linearShading() {
+  ShadingOptions shading;
+  shading.tonemap = Tonemap::None;
+  shading.backgroundColor = glm::vec3(0.0f);
+  return shading;
+}
+
 FrameOptions linearFrame(int size) {
   FrameOptions frame;
   frame.width = frame.height = size;
@@ -133,7 +141,7 @@ class ExitModelTest : public RenderTest, public ::testing::WithParamInterface<Ex
 TEST_P(ExitModelTest, SphereWithConstantExitanceMatchesTheExitModel) {
   const float eta = 1.4f;
   const glm::vec3 exitance(2.0f, 1.0f, 0.5f), envRadiance(0.7f, 0.5f, 0.3f);
-  ShadingOptions shading;
+  ShadingOptions shading = linearShading();
   shading.fresnel = GetParam().fresnel;
   shading.eta = eta;
   shading.exitScale = GetParam().normalized ? static_cast<float>(exitRadianceScale(eta))
@@ -152,8 +160,6 @@ TEST_P(ExitModelTest, SphereWithConstantExitanceMatchesTheExitModel) {
     shading.lobeMoment0 = float(lobe.moment(0));
     shading.lobeMoment1 = float(lobe.moment(1));
   }
-  shading.tonemap = Tonemap::None;
-  shading.backgroundColor = glm::vec3(0.0f);
   const FrameOptions frame = linearFrame(128);
   const Camera camera = unitSphereCamera(20.0f, 10.0f);
   const RenderedImage image =
@@ -202,10 +208,8 @@ INSTANTIATE_TEST_SUITE_P(FresnelAndExit, ExitModelTest,
 
 // Linear output, black background, no tonemap, and the unscattered light of this extinction.
 ShadingOptions unscatteredShading(float eta, glm::vec3 sigmaT) {
-  ShadingOptions shading;
+  ShadingOptions shading = linearShading();
   shading.eta = eta;
-  shading.tonemap = Tonemap::None;
-  shading.backgroundColor = glm::vec3(0.0f);
   shading.unscatteredSigmaT = sigmaT;
   return shading;
 }
@@ -296,10 +300,8 @@ TEST_F(RenderTest, UnscatteredLightThroughASphereFollowsTheRefractedChord) {
 // kept in 32-bit floats, so a mirror shows it as it is (in RGBA16F it became Inf, and the tonemap's
 // Inf / Inf a NaN: coloured specks where a sun's reflection fell).
 TEST_F(RenderTest, RadianceAboveHalfFloatRangeStaysFinite) {
-  ShadingOptions shading;
+  ShadingOptions shading = linearShading();
   shading.reflectFactor = 1.0f;
-  shading.tonemap = Tonemap::None;
-  shading.backgroundColor = glm::vec3(0.0f);
   const FrameOptions frame = linearFrame(32);
   const glm::vec3 sun(1.5e5f, 1.2e5f, 8.0e4f);
   const RenderedImage image = renderUnitSphere(shading, frame, 3, glm::vec3(0.0f), Cubemap(8, sun),
@@ -312,9 +314,7 @@ TEST_F(RenderTest, RadianceAboveHalfFloatRangeStaysFinite) {
 // (0 at grazing exit) would be extrapolated below 0. The varyings are centroid-sampled: no pixel
 // of a sphere on black goes negative.
 TEST_F(RenderTest, MultisampledSilhouettesStayNonNegative) {
-  ShadingOptions shading;
-  shading.tonemap = Tonemap::None;
-  shading.backgroundColor = glm::vec3(0.0f);
+  const ShadingOptions shading = linearShading();
   FrameOptions frame = linearFrame(96);
   frame.samples = 4;
   const RenderedImage image =
@@ -327,10 +327,8 @@ TEST_F(RenderTest, MultisampledSilhouettesStayNonNegative) {
 // The paper's constant mix with factor 1 is a perfect mirror: each pixel shows the environment
 // along the reflected view ray (a mirrored lookup would swap sides).
 TEST_F(RenderTest, MirrorShowsTheEnvironmentAlongTheReflectedRay) {
-  ShadingOptions shading;
+  ShadingOptions shading = linearShading();
   shading.reflectFactor = 1.0f;
-  shading.tonemap = Tonemap::None;
-  shading.backgroundColor = glm::vec3(0.0f);
   const FrameOptions frame = linearFrame(128);
   const Camera camera = unitSphereCamera(60.0f, 25.0f);
   const RenderedImage image =

@@ -253,8 +253,7 @@ RadianceAlongNormal radianceAlongNormal(std::span<const glm::vec3> exitance, con
       r.all[i] = exitance[i] * normalized;
       continue;
     }
-    glm::vec3 perExitance;
-    for (int c = 0; c < 3; ++c) perExitance[c] = float(lobe.radiance(far.slope[i][c], 1.0f));
+    const glm::vec3 perExitance(lobe.normalRadiance(far.slope[i]));
     r.all[i] = exitance[i] * perExitance;
     r.vertexModel[i] = (exitance[i] - far.exitance[i]) * perExitance;
   }

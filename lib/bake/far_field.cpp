@@ -13,6 +13,7 @@
 #include "bake/traced_round.h"
 #include "core/error.h"
 #include "core/format.h"
+#include "core/noise_shrinkage.h"
 #include "core/parallel.h"
 #include "core/timer.h"
 #include "envmap/cubemap.h"
@@ -139,14 +140,19 @@ TracedRound traceRound(const FarFieldInput& in, const SurfaceAverage& average,
   return round;
 }
 
+// B ~ P E + B_far at vertex i, channel c: what the far field's noise, its averaging's bias and its
+// lobe's noise are relative to.
+double roughExitance(const FarFieldInput& in, const TracedRound& round, std::size_t i, int c) {
+  return double(in.energy.escape.probability[i][c]) * in.irradiance[i][c] + round.mean[i][c];
+}
+
 // The relative noise a round leaves in B ~ P E + B_far, over vertices and channels,
 // area-weighted.
 double relativeNoise(const FarFieldInput& in, const TracedRound& round) {
-  const std::vector<glm::vec3>& p = in.energy.escape.probability;
   double noise = 0.0, signal = 0.0;
   for (std::size_t i = 0; i < round.mean.size(); ++i)
     for (int c = 0; c < 3; ++c) {
-      const double b = double(p[i][c]) * in.irradiance[i][c] + round.mean[i][c];
+      const double b = roughExitance(in, round, i, c);
       noise += in.areasMm2[i] * round.variance[i][c];
       signal += in.areasMm2[i] * b * b;
     }
@@ -158,11 +164,10 @@ double relativeNoise(const FarFieldInput& in, const TracedRound& round) {
 double averagingBias(const FarFieldInput& in, const SurfaceAverage& average,
                      const TracedRound& round, std::span<const glm::vec3> far) {
   const std::vector<glm::vec3> twice = average(far);
-  const std::vector<glm::vec3>& p = in.energy.escape.probability;
   double bias = 0.0, signal = 0.0;
   for (std::size_t i = 0; i < far.size(); ++i)
     for (int c = 0; c < 3; ++c) {
-      const double b = double(p[i][c]) * in.irradiance[i][c] + round.mean[i][c];
+      const double b = roughExitance(in, round, i, c);
       const double d = double(twice[i][c]) - double(far[i][c]);
       bias += in.areasMm2[i] * d * d;
       signal += in.areasMm2[i] * b * b;
@@ -233,19 +238,17 @@ double lobeNoise(const FarFieldInput& in, const TracedRound& round,
                  std::span<const glm::vec3> slopes) {
   const ExitLobe lobe(float(in.material.eta));
   const double a0 = lobe.moment(0), a1 = lobe.moment(1);
-  const std::vector<glm::vec3>& p = in.energy.escape.probability;
   double noise = 0.0, signal = 0.0;
   for (std::size_t i = 0; i < slopes.size(); ++i)
     for (int c = 0; c < 3; ++c) {
-      const double b = double(p[i][c]) * in.irradiance[i][c] + round.mean[i][c];
+      const double b = roughExitance(in, round, i, c);
       const double ks = slopes[i][c], d = a0 + ks * a1;
       signal += in.areasMm2[i] * std::pow(b * (1.0 + ks) * a0 / d, 2);
       if (!(round.lobeExitance[i][c] > 0.0)) continue;
       const double m = round.cosineMean[i][c] / round.lobeExitance[i][c];
       const double k = lobe.slopeFor(m), dk = lobe.slopeDerivative(m);
       const double v = dk * dk * std::max(0.0, round.meanCosineVariance[i][c]);
-      const double k2 = k * k,
-                   passed = k2 + v > 0.0 ? (k2 * k2 + 3.0 * k2 * v) / ((k2 + v) * (k2 + v)) : 0.0;
+      const double passed = shrunkByNoiseSlope(k, v);
       noise += in.areasMm2[i] * std::pow(b * a0 * (a0 - a1) / (d * d) * passed, 2) * v;
     }
   return signal > 0.0 ? std::sqrt(noise / signal) : 0.0;
@@ -384,7 +387,7 @@ void calibrateNearPart(std::span<glm::vec3> exitance, const NearCalibration& nea
       const double m = model[i][c];
       if (!(m > 0.0)) continue;
       const double d = near.traced[i][c] / m - 1.0, var = near.variance[i][c] / (m * m);
-      const double scale = d * d + var > 0.0 ? 1.0 + d * d * d / (d * d + var) : 1.0;
+      const double scale = 1.0 + shrunkByNoise(d, var);
       exitance[i][c] =
           near.farExitance[i][c] + float(scale) * (exitance[i][c] - near.farExitance[i][c]);
     }

@@ -113,8 +113,7 @@ DisplayColors displayColors(const std::string& path, const BakedMesh& baked) {
   for (std::size_t i = 0; i < baked.exitance.size(); ++i) {
     glm::dvec3 radiance = radiancePerExitance * glm::dvec3(baked.exitance[i]);
     if (!baked.farExitSlope.empty())
-      for (int c = 0; c < 3; ++c)
-        radiance[c] = baked.exitance[i][c] * lobe.radiance(baked.farExitSlope[i][c], 1.0f);
+      radiance = glm::dvec3(baked.exitance[i]) * lobe.normalRadiance(baked.farExitSlope[i]);
     const glm::vec3 c = glm::vec3(exposure * radiance);
     const float high = std::max({c.x, c.y, c.z});
     peak = std::max(peak, high);

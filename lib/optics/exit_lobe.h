@@ -24,6 +24,9 @@
 #include <array>
 #include <cmath>
 
+#include <glm/vec3.hpp>
+
+#include "core/noise_shrinkage.h"
 #include "optics/fresnel.h"
 
 namespace sss {
@@ -67,6 +70,11 @@ class ExitLobe {
            (M_PI * (moments_[0] + slope * moments_[1]));
   }
 
+  // radiance(k, 1) per channel: the radiance along the normal per unit exitance for slopes k.
+  glm::dvec3 normalRadiance(const glm::vec3& slopes) const {
+    return {radiance(slopes.x, 1.0f), radiance(slopes.y, 1.0f), radiance(slopes.z, 1.0f)};
+  }
+
   // The flux-weighted mean internal cosine of the light that leaves, for slope k.
   double meanCosine(double slope) const {
     return (moments_[1] + slope * moments_[2]) / (moments_[0] + slope * moments_[1]);
@@ -87,9 +95,8 @@ class ExitLobe {
   // lobe is not resolved, a noisy slope would add more error than the lobe removes, since the
   // slope amplifies the mean cosine's noise.
   double shrunkSlopeFor(double meanCosine, double variance) const {
-    const double k = slopeFor(meanCosine), dk = slopeDerivative(meanCosine);
-    const double k2 = k * k, noise = dk * dk * std::max(0.0, variance);
-    return k2 + noise > 0.0 ? k * k2 / (k2 + noise) : 0.0;
+    const double dk = slopeDerivative(meanCosine);
+    return shrunkByNoise(slopeFor(meanCosine), dk * dk * std::max(0.0, variance));
   }
 
   // d slopeFor / d meanCosine inside the clamps: (A_0 A_2 - A_1^2) / (m A_1 - A_2)^2 (> 0), so

@@ -334,9 +334,8 @@ void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstre
     const bool split = config.exit == Exit::Hybrid || config.exit == Exit::FarLobe;
     for (std::size_t v = 0; v < b.size(); ++v) {
       const glm::vec3 excess = split && !r.escapeExcess.empty() ? r.escapeExcess[v] : glm::vec3(0);
-      glm::vec3 farScale = normalized;
-      if (lobes && !slope.empty())
-        for (int c = 0; c < 3; ++c) farScale[c] = float(lobe.radiance(slope[v][c], 1.0f));
+      const glm::vec3 farScale =
+          lobes && !slope.empty() ? glm::vec3(lobe.normalRadiance(slope[v])) : normalized;
       const glm::vec3 nearScale = config.exit == Exit::Calibrated || config.exit == Exit::Hybrid
                                       ? calibrated
                                   : config.exit == Exit::Lobe ? farScale

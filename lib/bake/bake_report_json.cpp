@@ -131,7 +131,8 @@ Json toJson(const TransportReport& r) {
   j["cutoffs_mm"] = d.cutoffs;
   if (d.clusterTheta > 0) j["cluster_theta"] = d.clusterTheta;
   j["interactions"] = d.interactions;
-  j["estimated_error"] = d.estimatedError;
+  j["estimated_error"] = r.estimatedError;
+  j["near_part_noise"] = r.nearPartNoise;
   j["fit_s"] = d.fitSeconds;
   j["index_s"] = d.indexSeconds;
   j["sum_s"] = d.sumSeconds;

@@ -127,9 +127,9 @@ struct FarField {
   // with, from the traced exits' mean internal cosine; empty when not traced.
   std::vector<glm::vec3> slope;
   // With FarFieldOptions::calibrateNearShare: per vertex and channel the traced exits within
-  // the near window (all exits less the far ones), averaged like B_far, and that mean's variance
-  // from the batches; empty otherwise (calibrateNearPart).
-  std::vector<glm::vec3> nearExitance, nearVariance;
+  // the near window (all exits less the far ones), averaged like B_far, that mean's variance and
+  // its covariance with B_far from the batches; empty otherwise (calibrateNearPart).
+  std::vector<glm::vec3> nearExitance, nearVariance, nearFarCovariance;
   FarFieldReport report;
   bool traced() const { return report.traced; }
 };
@@ -149,19 +149,25 @@ FarField traceFarField(const FarFieldInput& in);
 
 // The near part of B, B - B_far from the windowed profile (finite_object_energy.h,
 // diffuseWithEnergy), scaled per vertex and channel to the traced near exits: by S(near traced) /
-// S(B - B_far), S the far field's averaging, shrunk towards 1 by the ratio's noise as the exit
+// S(H(B - B_far)), S the far field's averaging and H the hat-function average
+// (mesh/triangle_mesh.h: what the tracer's barycentric tally makes of the point values, which
+// matters on a coarse mesh; not at folds), shrunk towards 1 by the ratio's noise as the exit
 // lobe's slope is (1 + d d^2 / (d^2 + var), d the ratio less 1). Why: the escape walks enter
 // diffusely, and the share of light that leaves within the window follows the incidence under a
 // sun (at low albedo light that enters straight down comes straight back, at grazing incidence it
 // drifts sideways: a half-space at a' = 0.68 keeps 1.13x the diffuse near share at normal
 // incidence, 0.81x grazing). Nothing when traced is empty.
+// Returns the noise the scale adds to B_far's in B (the traced near exits' batch variance through
+// the shrinkage, and their covariance with B_far: the same paths), relative RMS over vertices and
+// channels, area-weighted; 0 when nothing is done.
 struct NearCalibration {
   const TriangleMesh& meshMm;
   std::span<const float> areasMm2;
-  std::span<const glm::vec3> farExitance, traced, variance;  // FarField's
-  double smoothingMm = 0.0;                                  // FarFieldReport::smoothingMm
+  // FarField's exitance, nearExitance, nearVariance and nearFarCovariance.
+  std::span<const glm::vec3> farExitance, traced, variance, covariance;
+  double smoothingMm = 0.0;  // FarFieldReport::smoothingMm
   int threads = 0;
 };
-void calibrateNearPart(std::span<glm::vec3> exitance, const NearCalibration& near);
+double calibrateNearPart(std::span<glm::vec3> exitance, const NearCalibration& near);
 
 }  // namespace sss

@@ -19,8 +19,9 @@ struct TracedRound {
   // empty where not tallied.
   std::vector<glm::dvec3> cosineMean, lobeExitance, meanCosineVariance;
   // The near exits (all less the far ones, with the exit cosine tallied over all exits), averaged
-  // like mean, and their variance; empty where not tallied.
-  std::vector<glm::dvec3> nearMean, nearVariance;
+  // like mean, their variance and their covariance with mean (the same paths: a batch that sends
+  // more light into a region has more of both); empty where not tallied.
+  std::vector<glm::dvec3> nearMean, nearVariance, nearFarCovariance;
 };
 
 // Two independent rounds as one: means weighted by their paths, variances accordingly.
@@ -38,6 +39,8 @@ inline TracedRound combineRounds(const TracedRound& a, const TracedRound& b) {
     for (std::size_t i = 0; i < a.nearMean.size(); ++i) {
       out.nearMean.push_back(wa * a.nearMean[i] + wb * b.nearMean[i]);
       out.nearVariance.push_back(wa * wa * a.nearVariance[i] + wb * wb * b.nearVariance[i]);
+      out.nearFarCovariance.push_back(wa * wa * a.nearFarCovariance[i] +
+                                      wb * wb * b.nearFarCovariance[i]);
     }
   if (!a.cosineMean.empty() && !b.cosineMean.empty())
     for (std::size_t i = 0; i < a.cosineMean.size(); ++i) {

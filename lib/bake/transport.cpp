@@ -58,12 +58,13 @@ std::vector<glm::vec3> diffusionSum(const TransportInput& in, TransportReport& r
   DiffusionResult result = diffuseWithEnergy(input, in.profile, options, in.energy, in.material,
                                              in.farExitance, in.weightSums);
   if (in.farField && !in.farExitance.empty())
-    calibrateNearPart(result.exitance,
-                      {in.meshMm, in.areasMm2, in.farExitance, in.farField->nearExitance,
-                       in.farField->nearVariance, in.farField->report.smoothingMm, in.threads});
+    report.nearPartNoise = calibrateNearPart(
+        result.exitance, {in.meshMm, in.areasMm2, in.farExitance, in.farField->nearExitance,
+                          in.farField->nearVariance, in.farField->nearFarCovariance,
+                          in.farField->report.smoothingMm, in.threads});
   report.diffusion = std::move(result.report);
   report.diffusionTolerance = in.diffusionTolerance;
-  report.estimatedError = report.diffusion.estimatedError;
+  report.estimatedError = std::hypot(report.diffusion.estimatedError, report.nearPartNoise);
   return std::move(result.exitance);
 }
 

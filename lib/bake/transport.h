@@ -59,7 +59,11 @@ struct TransportReport {
   DiffusionReport diffusion;  // diffusion methods
   double diffusionTolerance = 0.0;
   PathTraceStageReport pathTracer;  // pathTrace
-  double estimatedError = 0.0;      // the method's own relative RMS error of B
+  // The near part's calibration's noise (far_field.h, calibrateNearPart), relative RMS of B; 0
+  // where the far field is not traced.
+  double nearPartNoise = 0.0;
+  // The method's own relative RMS error of B: the diffusion's and nearPartNoise in quadrature.
+  double estimatedError = 0.0;
   double seconds = 0.0;
   // The name of the method that ran ("hierarchical", "pathtrace", ...).
   std::string methodName() const;

@@ -32,6 +32,32 @@ std::vector<float> vertexAreas(const TriangleMesh& mesh) {
   return std::vector<float>(sum.begin(), sum.end());
 }
 
+std::vector<glm::vec3> hatFunctionAverage(const TriangleMesh& mesh,
+                                          std::span<const glm::vec3> values,
+                                          double minFacetCosine) {
+  std::vector<glm::dvec3> sum(mesh.positions.size(), glm::dvec3(0.0));
+  std::vector<double> weight(mesh.positions.size(), 0.0);
+  std::vector<char> folded(mesh.positions.size(), 0);
+  for (const glm::uvec3& t : mesh.triangles) {
+    const glm::dvec3 a = areaVector(mesh, t);
+    const double twelfth = glm::length(a) / 24.0;  // |cross| / 2 / 12
+    const glm::dvec3 total =
+        glm::dvec3(values[t.x]) + glm::dvec3(values[t.y]) + glm::dvec3(values[t.z]);
+    bool fold = false;
+    for (const unsigned v : {t.x, t.y, t.z})
+      fold = fold || glm::dot(a, glm::dvec3(mesh.normals[v])) < minFacetCosine * glm::length(a);
+    for (const unsigned v : {t.x, t.y, t.z}) {
+      sum[v] += twelfth * (total + glm::dvec3(values[v]));
+      weight[v] += 4.0 * twelfth;
+      folded[v] = folded[v] || fold;
+    }
+  }
+  std::vector<glm::vec3> out(values.begin(), values.end());
+  for (std::size_t i = 0; i < out.size(); ++i)
+    if (weight[i] > 0.0 && !folded[i]) out[i] = glm::vec3(sum[i] / weight[i]);
+  return out;
+}
+
 std::vector<float> projectedVertexAreas(const TriangleMesh& mesh) {
   std::vector<double> sum(mesh.positions.size(), 0.0);
   for (const glm::uvec3& t : mesh.triangles) {

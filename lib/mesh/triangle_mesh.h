@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <span>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -29,6 +30,17 @@ std::vector<float> vertexAreas(const TriangleMesh& mesh);
 // solid angle (on a coarse mesh the facets tilt from the vertex normal: 37 degrees on an
 // icosahedron, whose projected areas are 0.79 of vertexAreas).
 std::vector<float> projectedVertexAreas(const TriangleMesh& mesh);
+
+// The hat-function average of a field linear on each triangle between the given vertex values:
+// per vertex k, integral(f l_k) / integral(l_k) = sum over its triangles of A_t / 12 (2 f_k + f_a +
+// f_b) over A_k (the consistent mass matrix over the lumped one). What a barycentric tally
+// (pathtrace/light_tracer.h) returns for that field, so that per-vertex point values compare with
+// a tally on equal terms on a coarse mesh, where the hat functions span much of the object.
+// Vertices with a triangle whose normal is further than acos(minFacetCosine) from one of its
+// corners' normals keep their value: at a fold (a slab's rim) the field across the triangle is two
+// faces' and not the interpolation of the vertex values.
+std::vector<glm::vec3> hatFunctionAverage(const TriangleMesh& mesh,
+                                          std::span<const glm::vec3> values, double minFacetCosine);
 
 // Total triangle area, accumulated in double.
 double surfaceArea(const TriangleMesh& mesh);

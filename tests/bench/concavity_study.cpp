@@ -151,6 +151,10 @@ void study(const Scene& s, const Shape& shape, uint64_t paths, const std::string
     std::printf("  unscattered: %s (%s), share %.4f, paths %llu, noise %.4f, %.2f s\n",
                 u.traced ? "traced" : "not traced", u.reason.c_str(), u.share,
                 (unsigned long long)u.paths, u.relativeStdError, u.seconds);
+    const FarFieldReport& far = out.report.farField;
+    std::printf("  far field: %s (%s), sensitivity %.4f, paths %llu, noise %.4f, %.2f s\n",
+                far.traced ? "traced" : "not traced", far.reason.c_str(), far.sensitivity,
+                (unsigned long long)far.paths, far.relativeStdError, far.seconds);
     const InterreflectionReport& ir = out.report.interreflection;
     const BakeErrorReport& e = out.report.errors;
     const double predicted = e.total;

@@ -69,7 +69,7 @@ inline void writeAsciiPly(const std::string& path, const TriangleMesh& mesh) {
 // after.
 inline BakeOutput bakeAtDefaults(const TriangleMesh& mesh, const Material& material,
                                  const BakeEnvironment& env, int samples, const std::string& path,
-                                 int bounces = 0) {
+                                 int bounces = 0, uint64_t seed = 1) {
   writeAsciiPly(path, mesh);
   BakeSettings settings;
   settings.meshPath = path;
@@ -77,6 +77,7 @@ inline BakeOutput bakeAtDefaults(const TriangleMesh& mesh, const Material& mater
   settings.mmPerUnit = 1.0;
   settings.samples = samples;
   settings.bounces = bounces;
+  settings.seed = seed;
   settings.quiet = true;
   BakeOutput out = bake(settings, env);
   std::filesystem::remove(path);
@@ -109,6 +110,20 @@ inline double relativeNoise(const std::vector<glm::vec3>& ref, const std::vector
       den += double(ref[v][c]) * ref[v][c];
     }
   return den > 0.0 ? std::sqrt(noise / den) : 0.0;
+}
+
+// The spread between two bakes of different seeds in relativeRmsAgainst's norm,
+// sqrt(sum (a - b)^2 / 2 / sum ref^2): each one's own noise, measured (what a bake's `numerical`
+// error estimates).
+inline double seedSpread(const std::vector<glm::vec3>& a, const std::vector<glm::vec3>& b,
+                         const std::vector<glm::vec3>& ref) {
+  double num = 0.0, den = 0.0;
+  for (std::size_t v = 0; v < ref.size(); ++v)
+    for (int c = 0; c < 3; ++c) {
+      num += (double(a[v][c]) - b[v][c]) * (double(a[v][c]) - b[v][c]);
+      den += double(ref[v][c]) * ref[v][c];
+    }
+  return den > 0.0 ? std::sqrt(num / 2.0 / den) : 0.0;
 }
 
 // The references' seed, apart from the bake's (1): the bake's traced stages (far field, unscattered

@@ -33,7 +33,9 @@
 // rays) per scene, its JSON's predicted error (estimated_error.total; its numerical and model
 // parts in the last columns) beside the relative RMS of
 // its radiance along the normal over every vertex (the reference's noise removed; per vertex,
-// where the band metrics above average the bake's noise away). Resolving 1 % per vertex takes
+// where the band metrics above average the bake's noise away), and seed_noise, the bake's own
+// noise measured as the spread between its bakes with seeds 1 and 2 (what `numerical` predicts).
+// Resolving 1 % per vertex takes
 // about 8M paths (--paths 8000000): at the default 500K the reference's own noise is ~14 % per
 // vertex.
 #include <algorithm>
@@ -204,7 +206,7 @@ DiffusionResult bakeExitance(const Scene& s, const Cubemap& env, const std::vect
   const DiffusionInput input{s.mesh.positions, s.mesh.normals, areas, e};
   DiffusionResult r = diffuseWithEnergy(input, *profile, dopt, plan, s.material, far.exitance);
   calibrateNearPart(r.exitance, {s.mesh, areas, far.exitance, far.nearExitance, far.nearVariance,
-                                 far.report.smoothingMm, 0});
+                                 far.nearFarCovariance, far.report.smoothingMm, 0});
   chosen = std::string(kEnergyModelNames.name(plan.model)) + "/" +
            (far.traced() ? "far-" + std::to_string(far.report.paths) + "/" : std::string()) +
            kEntryModelNames.name(entryModel) + "/" + profileName + "/" +
@@ -235,12 +237,18 @@ void predictedAgainstMeasured(const Scene& s, const Cubemap& env, const LightTra
       relativeRmsAgainst(out.baked.radianceNormal, ref.radiance, ref.radianceStdErr);
   const double predicted = out.report.errors.total;
   const BakeErrorReport& e = out.report.errors;
+  // The bake's own noise, measured: the spread between two seeds, sqrt(sum (a1 - a2)^2 / 2) in
+  // the same norm as the measured error (what `numerical` estimates).
+  const BakeOutput other = bakeAtDefaults(s.mesh, s.material, BakeEnvironment{env, {}},
+                                          kVisibilityRays, outDir + "/" + s.name + ".ply", 0, 2);
+  const double seedNoise =
+      seedSpread(out.baked.radianceNormal, other.baked.radianceNormal, ref.radiance);
   char line[256];
-  std::snprintf(line, sizeof line, "%s,%s,%.5f,%.5f,%.2f,%.5f,%.5f,%.5f,%.5f,%.5f,%.3f,%.5f\n",
+  std::snprintf(line, sizeof line, "%s,%s,%.5f,%.5f,%.2f,%.5f,%.5f,%.5f,%.5f,%.5f,%.3f,%.5f,%.5f\n",
                 s.name.c_str(), s.material.name.c_str(), measured, predicted,
                 predicted > 0.0 ? measured / predicted : 0.0, e.numerical, e.model.exitModel,
                 e.model.facets, e.model.facetLight, e.model.farField, out.report.totalSeconds,
-                relativeNoise(ref.radiance, ref.radianceStdErr));
+                relativeNoise(ref.radiance, ref.radianceStdErr), seedNoise);
   csv << line;
   csv.flush();
   std::printf("  sss-bake defaults: per-vertex RMS %.4f, predicted %.4f (%.2fx)\n", measured,
@@ -420,7 +428,8 @@ int run(int argc, char** argv) {
               "ratio_b\n";
   std::ofstream predictedCsv(outDir + "/sun_predicted.csv");
   predictedCsv << "scene,material,rms_vertex_L,predicted,measured_over_predicted,numerical,"
-                  "model_exit,model_facets,model_facet_light,model_far_field,bake_s,ref_noise\n";
+                  "model_exit,model_facets,model_facet_light,model_far_field,bake_s,ref_noise,"
+                  "seed_noise\n";
   for (const Scene& s : scenes)
     if (only.empty() || s.name.find(only) != std::string::npos)
       study(s, paths, cache, csv, bandsCsv, outDir, predictedCsv);

@@ -1,6 +1,7 @@
 // Generated meshes: counts, closedness, orientation, areas and normals against closed forms.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <numeric>
@@ -73,6 +74,84 @@ TEST(MeshVertexAreas, SumToSurfaceAreaAndAreThirds) {
   EXPECT_NEAR(a[6], 0.25f, 1e-6f);           // interior vertex (1, 1)
   EXPECT_NEAR(a[0], 2 * 0.125f / 3, 1e-6f);  // corner with both triangles of its quad
   EXPECT_NEAR(a[4], 0.125f / 3, 1e-6f);      // corner with one triangle
+}
+
+// hatFunctionAverage against its definition integrated numerically: integral(f l_k) /
+// integral(l_k) with f the vertex values' linear interpolant, summed over barycentric grid points
+// of every triangle (a midpoint rule, exact to its resolution's square).
+std::vector<glm::vec3> hatAverageByQuadrature(const TriangleMesh& mesh,
+                                              const std::vector<glm::vec3>& values) {
+  constexpr int kSteps = 60;
+  std::vector<glm::dvec3> sum(values.size(), glm::dvec3(0.0));
+  std::vector<double> weight(values.size(), 0.0);
+  for (const glm::uvec3& t : mesh.triangles) {
+    const double area = 0.5 * glm::length(glm::cross(mesh.positions[t.y] - mesh.positions[t.x],
+                                                     mesh.positions[t.z] - mesh.positions[t.x]));
+    for (int i = 0; i < kSteps; ++i)
+      for (int j = 0; i + j < kSteps; ++j)
+        for (int up = 0; up < (i + j + 1 < kSteps ? 2 : 1); ++up) {
+          // The centroid of one of the kSteps^2 equal sub-triangles.
+          const double a = (i + (up ? 2.0 : 1.0) / 3.0) / kSteps;
+          const double b = (j + (up ? 2.0 : 1.0) / 3.0) / kSteps;
+          const double l[3] = {1.0 - a - b, a, b};
+          const glm::dvec3 f = l[0] * glm::dvec3(values[t.x]) + l[1] * glm::dvec3(values[t.y]) +
+                               l[2] * glm::dvec3(values[t.z]);
+          const unsigned v[3] = {t.x, t.y, t.z};
+          for (int k = 0; k < 3; ++k) {
+            sum[v[k]] += l[k] * f * (area / (kSteps * kSteps));
+            weight[v[k]] += l[k] * (area / (kSteps * kSteps));
+          }
+        }
+  }
+  std::vector<glm::vec3> out(values.size());
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = glm::vec3(sum[i] / weight[i]);
+  return out;
+}
+
+TEST(MeshHatFunctionAverage, MatchesItsIntegralAndKeepsFolds) {
+  // On a curved surface: a 42-vertex sphere, a field varying over it. Every facet lies within
+  // 30 degrees of its corners' normals, so every vertex is averaged.
+  const TriangleMesh sphere = makeIcosphere(1, 10.0f);
+  std::vector<glm::vec3> values;
+  for (const glm::vec3& p : sphere.positions)
+    values.push_back(glm::vec3(1.0f + p.z / 10.0f, p.x * p.x / 100.0f, 2.0f));
+  const std::vector<glm::vec3> hat = hatFunctionAverage(sphere, values, 0.866);
+  const std::vector<glm::vec3> expected = hatAverageByQuadrature(sphere, values);
+  double moved = 0.0;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(hat[i][c], expected[i][c], 1e-4) << i << " " << c;
+    moved = std::max(moved, double(std::abs(hat[i].x - values[i].x)));
+  }
+  EXPECT_GT(moved, 0.05);  // the top vertex's hat reaches well down the sphere
+
+  // A linear field on a flat grid is its own average where the one-ring is symmetric.
+  const TriangleMesh plane = makeGridPlane(4, 2.0f);
+  std::vector<glm::vec3> linear;
+  for (const glm::vec3& p : plane.positions) linear.push_back(glm::vec3(3.0f * p.x + p.y + 1.0f));
+  EXPECT_NEAR(hatFunctionAverage(plane, linear, 0.866)[12].x, linear[12].x, 1e-5);  // centre
+
+  // At a box's folds (edge normals 45 degrees off their facets) values are kept, and so are
+  // those of face vertices with a triangle at the fold; a face's centre further in is averaged.
+  const TriangleMesh box = makeBox(glm::vec3(4.0f), 4);
+  std::vector<glm::vec3> field;
+  for (const glm::vec3& p : box.positions) field.push_back(glm::vec3(p.x * p.x + p.y));
+  const std::vector<glm::vec3> boxHat = hatFunctionAverage(box, field, 0.866);
+  const std::vector<glm::vec3> boxExpected = hatAverageByQuadrature(box, field);
+  int kept = 0, averaged = 0;
+  for (std::size_t i = 0; i < field.size(); ++i) {
+    const glm::vec3 p = box.positions[i];
+    const bool faceCentre = (p.x == 0.0f) + (p.y == 0.0f) + (p.z == 0.0f) == 2;
+    const bool nearFold = !faceCentre;  // every other vertex of a 4 x 4 face touches an edge
+    if (nearFold) {
+      EXPECT_EQ(boxHat[i], field[i]) << i;
+      ++kept;
+    } else {
+      EXPECT_NEAR(boxHat[i].x, boxExpected[i].x, 1e-4) << i;
+      ++averaged;
+    }
+  }
+  EXPECT_EQ(averaged, 6);  // the faces' centres
+  EXPECT_EQ(kept, int(field.size()) - 6);
 }
 
 TEST(MeshBox, ClosedWeldedExactAreaAndVolume) {

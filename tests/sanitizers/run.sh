@@ -46,6 +46,7 @@ statistical+='|ExitLobe\.PredictsTheRadianceOnTheUnlitHalfOfASphere'
 statistical+='|FarField\.ExitLobeGivesTheRadianceLeavingAThinSlab'
 statistical+='|FarField\.NearPartFollowsTheLightTracerUnderAHighSun'
 statistical+='|FarField\.ReportedLobeNoiseMatchesTheSpreadOverSeeds'
+statistical+='|FarField\.ReportedNearAndFarNoiseMatchTheSpreadOverSeeds'
 statistical+='|ExitLobe\.OneLobeForAllExitsFollowsALowAlbedoFaceUnderAHighSun'
 left_out="^(workflow_test|$command_line_only|$statistical)\$"
 ctest --test-dir "$build" --output-on-failure --no-tests=error -j "$(nproc)" -E "$left_out" \

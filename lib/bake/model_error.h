@@ -39,9 +39,9 @@ namespace sss {
 // of measured to predicted total error, minimized, the exit term's weight held: tests/bench/
 // model_error_fit.py --exit 0.35, results in tests/bench/results/accuracy/model_error.csv).
 inline constexpr double kExitModelWeight = 0.35;
-inline constexpr double kFacetWeight = 0.075;
-inline constexpr double kFacetLightWeight = 0.475;
-inline constexpr double kFarFieldWeight = 0.85;
+inline constexpr double kFacetWeight = 0.1;
+inline constexpr double kFacetLightWeight = 0.325;
+inline constexpr double kFarFieldWeight = 0.5;
 
 struct ModelErrorReport {
   double exitModel = 0.0;   // weighted, relative RMS of the radiance along the normal

@@ -124,9 +124,10 @@ TEST(FarField, SunLitSphereUnlitHalfMatchesTheLightTracer) {
   ASSERT_TRUE(withFar.far.traced) << withFar.far.reason;
   EXPECT_GT(withFar.far.sensitivity, 0.05);
   // Within its budget, or traced to the work cap and saying so (0.54 % at 2.1M paths).
-  if (withFar.far.relativeStdError > 0.006 / std::sqrt(2.0) * 1.05)
+  if (withFar.far.relativeStdError > 0.006 / std::sqrt(2.0) * 1.05) {
     EXPECT_NE(withFar.far.reason.find("traced to the path cap"), std::string::npos)
         << withFar.far.reason;
+  }
   const double ratio = unlitSum(sphere, withFar.exitance, sun) / reference;
   EXPECT_GT(ratio, 0.8);
   EXPECT_LT(ratio, 1.25);

@@ -411,6 +411,15 @@ TEST_F(BakeTool, AutoSamplesFollowTheTolerance) {
     const double tolerance = report["estimated_error"]["tolerance"].get<double>();
     const double visibility = report["visibility"]["estimated_error"].get<double>();
     const double exitance = report["exitance"]["estimated_error"].get<double>();
+    // The transport's error holds the noise of the near part's calibration where the far field
+    // is traced (far_field.h, calibrateNearPart).
+    const double nearNoise = report["exitance"]["near_part_noise"].get<double>();
+    if (report["far_field"]["traced"].get<bool>()) {
+      EXPECT_GT(nearNoise, 0.0);
+    } else {
+      EXPECT_EQ(nearNoise, 0.0);
+    }
+    EXPECT_GE(exitance, nearNoise);
     // A 30 mm ketchup sphere is small against its red diffusion length: the escape energy model's
     // walks add their noise as a third term.
     ASSERT_EQ(report["energy"]["model"], "escape") << report["energy"].dump();

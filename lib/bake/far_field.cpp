@@ -50,7 +50,7 @@ constexpr double kKernelErrorPerSensitivity = 0.25;
 // barycentric tally where a vertex's facets lie within 30 degrees of its corners' normals (a
 // 42-vertex sphere's do), and the point values themselves at folds (a 2 mm slab's rim of one
 // strip, 45 degrees), where the hat average made the calibrated rim 19 % off its reference against
-// 12 % (README, "Under a sun", has both).
+// 12 % (README, Physics, "Far field", has both).
 constexpr double kSmoothOneRingCosine = 0.866;
 // Auto leaves out meshes over this many vertices: the tracer keeps 16 batches of tallies per
 // vertex (B, the exit cosine and its exitance: ~1.7 KB a vertex with their float copies), which

@@ -92,22 +92,19 @@ void addLobeMoments(const LightTraceResult& r, const SurfaceAverage& lobeAverage
   }
 }
 
-// Per vertex the covariance of two batched estimates' means from the batches' joint spread
-// (a's with itself: the mean's variance).
+// Per vertex the covariance of two batched estimates' means (meanA, meanB: the batches' means)
+// from the batches' joint spread (a's with itself: the mean's variance).
 std::vector<glm::dvec3> covarianceOfMeans(const std::vector<std::vector<glm::vec3>>& a,
-                                          const std::vector<std::vector<glm::vec3>>& b) {
-  const std::size_t n = a.empty() ? 0 : a[0].size();
+                                          const std::vector<std::vector<glm::vec3>>& b,
+                                          std::span<const glm::dvec3> meanA,
+                                          std::span<const glm::dvec3> meanB) {
   const double k = double(a.size());
-  std::vector<glm::dvec3> meanA(n, glm::dvec3(0.0)), meanB(n, glm::dvec3(0.0));
-  std::vector<glm::dvec3> sumProduct(n, glm::dvec3(0.0));
+  std::vector<glm::dvec3> sumProduct(meanA.size(), glm::dvec3(0.0));
   for (std::size_t j = 0; j < a.size(); ++j)
-    for (std::size_t i = 0; i < n; ++i) {
-      meanA[i] += glm::dvec3(a[j][i]) / k;
-      meanB[i] += glm::dvec3(b[j][i]) / k;
+    for (std::size_t i = 0; i < meanA.size(); ++i)
       sumProduct[i] += glm::dvec3(a[j][i]) * glm::dvec3(b[j][i]);
-    }
-  std::vector<glm::dvec3> covariance(n);
-  for (std::size_t i = 0; i < n; ++i)
+  std::vector<glm::dvec3> covariance(meanA.size());
+  for (std::size_t i = 0; i < meanA.size(); ++i)
     covariance[i] = (sumProduct[i] / k - meanA[i] * meanB[i]) / (k - 1.0);
   return covariance;
 }
@@ -120,7 +117,7 @@ void meanOverBatches(const std::vector<std::vector<glm::vec3>>& batches,
   mean.assign(n, glm::dvec3(0.0));
   for (const std::vector<glm::vec3>& batch : batches)
     for (std::size_t i = 0; i < n; ++i) mean[i] += glm::dvec3(batch[i]) / k;
-  variance = covarianceOfMeans(batches, batches);
+  variance = covarianceOfMeans(batches, batches, mean, mean);
   for (glm::dvec3& v : variance) v = glm::max(glm::dvec3(0.0), v);
 }
 
@@ -160,7 +157,7 @@ TracedRound traceRound(const FarFieldInput& in, const SurfaceAverage& average,
       for (std::size_t i = 0; i < n; ++i) near[b][i] -= r.batchExitance[b][i];
     near = average(near);
     meanOverBatches(near, round.nearMean, round.nearVariance);
-    round.nearFarCovariance = covarianceOfMeans(near, far);
+    round.nearFarCovariance = covarianceOfMeans(near, far, round.nearMean, round.mean);
   }
   return round;
 }

@@ -97,21 +97,25 @@ BakeErrorReport errorReport(const BakeReport& r, const ModelErrorReport& model, 
 // With a traced far field only vertexModel (B - B_far's radiance) is the vertex model's, whose
 // exit model and light across facets the model error counts (B_far's paths met the facets
 // themselves); without it (empty), all of the radiance.
+// interreflected: the radiance of what the bounces added to B (empty without bounces).
 ModelErrorReport modelErrorStage(const BakeSettings& s, const TriangleMesh& meshMm,
                                  std::span<const glm::vec3> radianceNormal,
-                                 std::span<const glm::vec3> vertexModel, const Cubemap& radiance,
+                                 std::span<const glm::vec3> vertexModel,
+                                 std::span<const glm::vec3> interreflected, const Cubemap& radiance,
                                  const FarField& far) {
   const ModelErrorReport model = estimateModelError(
       {meshMm, radianceNormal, radiance, float(s.material.eta), exitModelSpread(s.material),
-       far.traced() ? far.report.averagingBias : far.report.sensitivity, s.threads, vertexModel});
+       far.traced() ? far.report.averagingBias : far.report.sensitivity, s.threads, vertexModel,
+       interreflected});
   if (model.total > s.tolerance) {
     char line[300];
     std::snprintf(line, sizeof line,
                   "model error: about %.1f%% of the radiance here (exit model %.1f%%, facets "
-                  "%.1f%%, light across facets %.1f%%, far field %.1f%%), beyond what "
-                  "--tolerance %g bounds",
+                  "%.1f%%, light across facets %.1f%%, far field %.1f%%, interreflection "
+                  "%.1f%%), beyond what --tolerance %g bounds",
                   100.0 * model.total, 100.0 * model.exitModel, 100.0 * model.facets,
-                  100.0 * model.facetLight, 100.0 * model.farField, s.tolerance);
+                  100.0 * model.facetLight, 100.0 * model.farField, 100.0 * model.interreflection,
+                  s.tolerance);
     info(line, s.quiet);
   }
   return model;
@@ -139,11 +143,14 @@ constexpr uint64_t kReplicaSeedOffset = 0x9e3779b9;
 constexpr double kLoosestIncrementTolerance = 0.03;
 
 // Stage 4b: the light the object sends to itself (interreflection.h), iterated with the transport;
-// E and B become the converged ones.
-void addInterreflection(const BakeSettings& s, const PreparedMesh& mesh, const Cubemap& radiance,
-                        const TransportInput& transportIn, const DirectionalAlbedoWeight& weight,
-                        VertexLighting& lighting, VertexExitance& exitance,
-                        InterreflectionReport& report) {
+// E and B become the converged ones. Returns what the bounces added to B (B - B_direct), whose
+// radiance the model error counts (model_error.h).
+std::vector<glm::vec3> addInterreflection(const BakeSettings& s, const PreparedMesh& mesh,
+                                          const Cubemap& radiance,
+                                          const TransportInput& transportIn,
+                                          const DirectionalAlbedoWeight& weight,
+                                          VertexLighting& lighting, VertexExitance& exitance,
+                                          InterreflectionReport& report) {
   const Stopwatch clock;
   const InterreflectionOptions options = interreflectionOptions(s, lighting, weight);
   const TriangleMesh& m = mesh.meshMm;
@@ -191,6 +198,8 @@ void addInterreflection(const BakeSettings& s, const PreparedMesh& mesh, const C
       r.irradiance[i] += lighting.irradiance[i] - direct[i];
   lighting.irradiance = std::move(r.irradiance);
   lighting.entryWeighted.clear();
+  std::vector<glm::vec3> added = r.exitance;
+  for (std::size_t i = 0; i < added.size(); ++i) added[i] -= exitance.exitance[i];
   exitance.exitance = std::move(r.exitance);
   report.enabled = true;
   report.automatic = s.bounces == kAutoBounces;
@@ -199,6 +208,7 @@ void addInterreflection(const BakeSettings& s, const PreparedMesh& mesh, const C
   report.remaining = r.remaining;
   report.blockedFraction = gather.blockedFraction();
   report.seconds = clock.seconds();
+  return added;
 }
 
 // Stage 4b without bounces (and before auto bounces): a pilot gather (about 1,000 spread
@@ -346,9 +356,10 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
   EnergyWeightSums weightSums;  // kept for the bounces
   transportIn.weightSums = &weightSums;
   VertexExitance exitance = transport(transportIn);
+  std::vector<glm::vec3> bounced;  // what the bounces added to B; empty without them
   if (diffusion && s.bounces > 0) {
-    addInterreflection(s, mesh, radiance, transportIn, weight, lighting, exitance,
-                       report.interreflection);
+    bounced = addInterreflection(s, mesh, radiance, transportIn, weight, lighting, exitance,
+                                 report.interreflection);
   } else if (diffusion) {
     // Without bounces, and first with auto: the pilot's estimate. Auto bounces only when it says
     // they would change B by more than the bounces' own convergence target (a tenth of the
@@ -360,8 +371,8 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
     // (Bouncing builds its own gather over every vertex: the pilot's ray scene is not kept.)
     if (automatic && report.interreflection.estimatedMissing > 0.1 * s.tolerance) {
       report.interreflection = {};
-      addInterreflection(s, mesh, radiance, transportIn, weight, lighting, exitance,
-                         report.interreflection);
+      bounced = addInterreflection(s, mesh, radiance, transportIn, weight, lighting, exitance,
+                                   report.interreflection);
     }
   }
 
@@ -376,8 +387,10 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
   report.energy = std::move(energy.report);
   report.lighting = std::move(lighting.report);
   report.transport = std::move(exitance.report);
-  const ModelErrorReport model =
-      modelErrorStage(s, mesh.meshMm, radianceNormal, normal.vertexModel, radiance, far);
+  std::vector<glm::vec3> interreflected;
+  if (!bounced.empty()) interreflected = radianceAlongNormal(bounced, far, s.material.eta).all;
+  const ModelErrorReport model = modelErrorStage(s, mesh.meshMm, radianceNormal, normal.vertexModel,
+                                                 interreflected, radiance, far);
   report.errors = errorReport(report, model, s.tolerance);
   out.baked = assembleBakedMesh(std::move(mesh.mesh), lighting, exitance, std::move(radianceNormal),
                                 std::move(far), s, report);

@@ -185,6 +185,7 @@ Json toJson(const BakeErrorReport& r) {
             {"facets", r.model.facets},
             {"facet_light", r.model.facetLight},
             {"far_field", r.model.farField},
+            {"interreflection", r.model.interreflection},
             {"total", r.model.total},
             {"seconds", r.model.seconds}}},
           {"total", r.total},

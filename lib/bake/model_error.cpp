@@ -75,7 +75,7 @@ ModelErrorReport estimateModelError(const ModelErrorInput& in) {
       in.radiance.size() > kRadianceFaceSize ? in.radiance.resized(kRadianceFaceSize) : in.radiance;
   const Facets facets = facetsOf(in.mesh, computeIrradiance(radiance, options).irradiance);
   const glm::dvec3 spread2 = glm::dvec3(in.exitModelSpread) * glm::dvec3(in.exitModelSpread);
-  double exit2 = 0.0, tilt2 = 0.0, light2 = 0.0, weight = 0.0;
+  double exit2 = 0.0, tilt2 = 0.0, light2 = 0.0, bounce2 = 0.0, weight = 0.0;
   for (std::size_t v = 0; v < in.radianceAlongNormal.size(); ++v)
     for (int c = 0; c < 3; ++c) {
       const double l2 = double(in.radianceAlongNormal[v][c]) * in.radianceAlongNormal[v][c];
@@ -86,6 +86,8 @@ ModelErrorReport estimateModelError(const ModelErrorInput& in) {
       exit2 += m2 * spread2[c];
       tilt2 += l2 * facets.tilt[v] * facets.tilt[v];
       light2 += m2 * facets.lightContrast[v][c] * facets.lightContrast[v][c];
+      if (!in.interreflectedRadiance.empty())
+        bounce2 += double(in.interreflectedRadiance[v][c]) * in.interreflectedRadiance[v][c];
     }
   ModelErrorReport r;
   if (weight > 0.0) {  // else a black environment
@@ -93,8 +95,10 @@ ModelErrorReport estimateModelError(const ModelErrorInput& in) {
     r.facets = kFacetWeight * std::sqrt(tilt2 / weight);
     r.facetLight = kFacetLightWeight * std::sqrt(light2 / weight);
     r.farField = kFarFieldWeight * in.farFieldError;
-    r.total = std::sqrt(r.exitModel * r.exitModel + r.facets * r.facets +
-                        r.facetLight * r.facetLight + r.farField * r.farField);
+    r.interreflection = kInterreflectionWeight * std::sqrt(bounce2 / weight);
+    r.total =
+        std::sqrt(r.exitModel * r.exitModel + r.facets * r.facets + r.facetLight * r.facetLight +
+                  r.farField * r.farField + r.interreflection * r.interreflection);
   }
   r.seconds = clock.seconds();
   return r;

@@ -1,5 +1,5 @@
 // The model's own error, beside the numerical error the tolerance controls (error_budget.h): what
-// no number of rays or walks removes, estimated from four approximations of the per-vertex model
+// no number of rays or walks removes, estimated from five approximations of the per-vertex model
 // and sized on the accuracy studies (README, "The bake's predicted error"):
 //  - exitModel: the exit model's spread. The radiance along the normal per unit B is the
 //    normalized model's (isotropic interior radiance at the boundary, optics/fresnel.h) or the
@@ -15,14 +15,20 @@
 //    even light, most at a crease facing a sun.
 //  These two count only the radiance the vertex model makes (E at the vertex normal, B through
 //  an exit model): a traced far field's light paths met the facets themselves.
+//  - interreflection: with bounces, the light the object sent itself is modelled more coarsely
+//    than the environment's (interreflection.h): it leaves each hit point through the normalized
+//    exit model at whatever angle the ray came, from B interpolated over the hit triangle, with
+//    the mirrored sky box-filtered to ~11 degrees, and the escape model's geometry-blind kernel
+//    spreads it (a traced far field holds only the environment's light). Its error scales with
+//    the share of the radiance those bounces carry (L of B - B_direct against L).
 //  - farField: where the far field (far_field.h) was not traced, the escape model's excess is
 //    spread by a geometry-blind kernel (README, "No geometry-blind kernel"); its error scales
 //    with the share of B the far field would move (its sensitivity, auto's test). Where it was
 //    traced, the bias of its surface averaging (FarFieldReport::averagingBias), largest where B
 //    changes fastest over the averaging's width (a sphere's terminator).
-// The first three are per vertex and channel, weighted by L^2 (the studies' metric: relative RMS
-// of the radiance along the normal over vertices and channels); the four add in quadrature with
-// the weights below.
+// All but the far field are per vertex and channel, weighted by L^2 (the studies' metric:
+// relative RMS of the radiance along the normal over vertices and channels); the five add in
+// quadrature with the weights below.
 #pragma once
 
 #include <span>
@@ -39,16 +45,18 @@ namespace sss {
 // of measured to predicted total error, minimized, the exit term's weight held: tests/bench/
 // model_error_fit.py --exit 0.35, results in tests/bench/results/accuracy/model_error.csv).
 inline constexpr double kExitModelWeight = 0.35;
-inline constexpr double kFacetWeight = 0.1;
-inline constexpr double kFacetLightWeight = 0.325;
-inline constexpr double kFarFieldWeight = 0.5;
+inline constexpr double kInterreflectionWeight = 0.325;
+inline constexpr double kFacetWeight = 0.075;
+inline constexpr double kFacetLightWeight = 0.375;
+inline constexpr double kFarFieldWeight = 0.2;
 
 struct ModelErrorReport {
-  double exitModel = 0.0;   // weighted, relative RMS of the radiance along the normal
-  double facets = 0.0;      // likewise
-  double facetLight = 0.0;  // likewise
-  double farField = 0.0;    // of B, so of the radiance along the normal alike
-  double total = 0.0;       // the four in quadrature
+  double exitModel = 0.0;        // weighted, relative RMS of the radiance along the normal
+  double facets = 0.0;           // likewise
+  double facetLight = 0.0;       // likewise
+  double farField = 0.0;         // of B, so of the radiance along the normal alike
+  double interreflection = 0.0;  // weighted, relative RMS of the radiance along the normal
+  double total = 0.0;            // the five in quadrature
   double seconds = 0.0;
 };
 
@@ -64,6 +72,8 @@ struct ModelErrorInput {
   // The part of L the vertex model makes (B less a traced far field, whose light paths met the
   // facets themselves); empty: all of L.
   std::span<const glm::vec3> vertexModelRadiance{};
+  // The part of L the bounces added (the radiance of B - B_direct); empty: no bounces.
+  std::span<const glm::vec3> interreflectedRadiance{};
 };
 
 ModelErrorReport estimateModelError(const ModelErrorInput& in);

@@ -74,6 +74,25 @@ TEST(ModelError, FlatPlaneHasOnlyTheExitModelsSpread) {
   EXPECT_NEAR(estimateModelError(withLobe).exitModel, kExitModelWeight * 0.04 * 0.25, 1e-7);
 }
 
+TEST(ModelError, InterreflectionScalesWithTheShareTheBouncesCarry) {
+  const TriangleMesh plane = makeGridPlane(8, 10.0f);
+  const std::size_t n = plane.positions.size();
+  const Cubemap sun = sunOverhead();
+  const std::vector<glm::vec3> grey(n, glm::vec3(1.0f));
+  // Without bounces the term is 0.
+  EXPECT_EQ(estimateModelError({plane, grey, sun, 1.3f, glm::vec3(0.0f)}).interreflection, 0.0);
+  // Half the vertices took a fifth of their light from the bounces, the others none: weighted
+  // by L^2 (equal here) the share's RMS is 0.2 / sqrt(2), in red only (a third of the squares).
+  std::vector<glm::vec3> bounced(n, glm::vec3(0.0f));
+  for (std::size_t v = 0; v < n; v += 2) bounced[v] = glm::vec3(0.2f, 0.0f, 0.0f);
+  const double share = 0.2 * std::sqrt(double((n + 1) / 2) / double(3 * n));
+  ModelErrorInput in{plane, grey, sun, 1.3f, glm::vec3(0.0f)};
+  in.interreflectedRadiance = bounced;
+  const ModelErrorReport r = estimateModelError(in);
+  EXPECT_NEAR(r.interreflection, kInterreflectionWeight * share, 1e-7);
+  EXPECT_NEAR(r.total, std::hypot(r.facets, r.facetLight, r.interreflection), 1e-7);
+}
+
 TEST(ModelError, PyramidApexUnderEvenLightHasOnlyItsFacetsTilt) {
   const Cubemap even(16, glm::vec3(1.0f));
   const ModelErrorReport r =

@@ -16,6 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bake/model_error.h"
 #include "box_with_pit.h"
 #include "envmap/cubemap_io.h"
 #include "mesh/baked_mesh.h"
@@ -245,15 +246,25 @@ TEST_F(BakeTool, InterreflectionBrightensAPit) {
     litPit += lit.baked.irradiance[v].g;
   }
   EXPECT_GT(litPit, 1.15 * darkPit);  // marble: 1.43x measured
-  double num = 0.0, den = 0.0;
+  double num = 0.0, den = 0.0, litSquares = 0.0;
   for (std::size_t v = 0; v < box.positions.size(); ++v)
     for (int c = 0; c < 3; ++c) {
       num += std::pow(double(lit.baked.exitance[v][c]) - dark.baked.exitance[v][c], 2);
       den += std::pow(double(dark.baked.exitance[v][c]), 2);
+      litSquares += std::pow(double(lit.baked.exitance[v][c]), 2);
     }
   const double change = std::sqrt(num / den);
   EXPECT_GT(change, 0.02);
   EXPECT_NEAR(missing / change, 1.0, 0.35) << missing << " against " << change;
+  // The model error's interreflection term: its weight times the share of the radiance the
+  // bounces carry (the bake's B without bounces is the dark bake's: same seed and rays; one exit
+  // model for both, and marble's unscattered light is negligible), 0 without bounces.
+  const auto modelTerm = [](const nlohmann::json& j) {
+    return j["estimated_error"]["model"]["interreflection"].get<double>();
+  };
+  EXPECT_EQ(modelTerm(report0), 0.0);
+  EXPECT_NEAR(modelTerm(report), kInterreflectionWeight * std::sqrt(num / litSquares),
+              0.02 * modelTerm(report));
   // With bounces the interreflection term is the gather's noise and what the bounces not done
   // would add (interreflection_test measures both): small against the light the bounces added.
   const double gatherNoise = report["interreflection"]["gather_noise"].get<double>();
@@ -456,7 +467,8 @@ TEST_F(BakeTool, AutoSamplesFollowTheTolerance) {
       EXPECT_GT(term("exit_model"), 0.02);
     EXPECT_NEAR(term("total"),
                 std::sqrt(std::pow(term("exit_model"), 2) + std::pow(term("facets"), 2) +
-                          std::pow(term("facet_light"), 2) + std::pow(term("far_field"), 2)),
+                          std::pow(term("facet_light"), 2) + std::pow(term("far_field"), 2) +
+                          std::pow(term("interreflection"), 2)),
                 1e-12);
     EXPECT_NEAR(report["estimated_error"]["total"].get<double>(),
                 std::hypot(numerical, model["total"].get<double>()), 1e-12);

@@ -231,11 +231,12 @@ void predictedAgainstMeasured(const Scene& scene, const Reference& ref, int visi
   const double measured = err.corrected;
   const BakeErrorReport& e = out.report.errors;
   char line[256];
-  std::snprintf(line, sizeof line, "%s,%s,%s,%.5f,%.5f,%.5f,%.2f,%.5f,%.5f,%.5f,%.5f,%.5f,%.3f\n",
+  std::snprintf(line, sizeof line,
+                "%s,%s,%s,%.5f,%.5f,%.5f,%.2f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.3f\n",
                 scene.name.c_str(), scene.material.name.c_str(), scene.envName.c_str(), measured,
                 err.noise, e.total, e.total > 0.0 ? measured / e.total : 0.0, e.numerical,
                 e.model.exitModel, e.model.facets, e.model.facetLight, e.model.farField,
-                out.report.totalSeconds);
+                e.model.interreflection, out.report.totalSeconds);
   csv << line;
   csv.flush();
   std::printf("%s: sss-bake defaults: RMS %.4f at the reference's vertices, predicted %.4f\n",
@@ -512,7 +513,8 @@ int run(int argc, char** argv) {
   std::ofstream predictedCsv(outDir + "/scenes_predicted.csv");
   predictedCsv << "scene,material,environment,rms_vertex_L,ref_noise,predicted,"
                   "measured_over_predicted,"
-                  "numerical,model_exit,model_facets,model_facet_light,model_far_field,bake_s\n";
+                  "numerical,model_exit,model_facets,model_facet_light,model_far_field,"
+                  "model_interreflection,bake_s\n";
   for (const Scene& s : scenes) {
     if (!only.empty() && only != s.name) continue;
     sceneStudy(s, walks, 128, entry, csv, outDir, predictedCsv);

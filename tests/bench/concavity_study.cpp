@@ -161,13 +161,13 @@ void study(const Scene& s, const Shape& shape, uint64_t paths, const std::string
     char line[512];
     std::snprintf(line, sizeof line,
                   "%s,%s,%s,%s,%d,%.5f,%.5f,%.4f,%.5f,%.2f,%.3f,%llu,%.5f,%.5f,%.4f,%.5f,%.5f,%.5f,"
-                  "%.5f,%.5f,%.5f\n",
+                  "%.5f,%.5f,%.5f,%.5f\n",
                   s.name.c_str(), s.material.name.c_str(), lightName(s.light),
                   bounces == 0 ? "0" : "auto", ir.bounces, m.rmsAll, m.rmsConcave, m.ratioConcave,
                   predicted, predicted > 0 ? m.rmsAll / predicted : 0.0, out.report.totalSeconds,
                   (unsigned long long)paths, mc.rmsAll, mc.rmsConcave, mc.ratioConcave, e.numerical,
                   e.model.exitModel, e.model.facets, e.model.facetLight, e.model.farField,
-                  relativeNoise(ref.radiance, ref.radianceStdErr));
+                  e.model.interreflection, relativeNoise(ref.radiance, ref.radianceStdErr));
     csv << line;
     csv.flush();
     std::printf(
@@ -180,7 +180,8 @@ void study(const Scene& s, const Shape& shape, uint64_t paths, const std::string
 }
 
 int run(int argc, char** argv) {
-  const StudyArguments args = parseStudyArguments(argc, argv, 4000000);
+  // 32M paths per reference: what the committed rows use (README, "The bake's predicted error").
+  const StudyArguments args = parseStudyArguments(argc, argv, 32000000);
   if (args.outDir.empty()) {
     std::fprintf(stderr,
                  "usage: concavity_study OUT_DIR [--paths N] [--only NAME] [--cache DIR]\n");
@@ -207,7 +208,7 @@ int run(int argc, char** argv) {
   csv << "scene,material,light,bounces_asked,bounces_done,rms_all,rms_concave,ratio_concave,"
          "predicted,measured_over_predicted,bake_s,ref_paths,rms_all_calibrated,"
          "rms_concave_calibrated,ratio_concave_calibrated,numerical,model_exit,model_facets,"
-         "model_facet_light,model_far_field,ref_noise\n";
+         "model_facet_light,model_far_field,model_interreflection,ref_noise\n";
   for (const Shape& shape : shapes)
     for (const char* m : {"marble", "skimmilk"})
       for (Light light : {Light::Uniform, shape.name == "pit" ? Light::Sun : Light::Forest}) {

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Fits the model error's four weights (lib/bake/model_error.h) on the study rows.
+"""Fits the model error's five weights (lib/bake/model_error.h) on the study rows.
 
   tests/bench/model_error_fit.py RESULTS_DIR [--exit W]        (Python 3 with numpy)
 
@@ -8,8 +8,9 @@ whose model_* columns are the bake's terms at the weights in model_error.h, so t
 are model_* / weight. Chooses, on a grid, the weights that minimize the worst
 |log(measured / predicted)| over every row (predicted = sqrt(numerical^2 + sum (weight *
 feature)^2)), prints them with each row's ratio and the leave-one-out ratio (each row predicted
-with weights fitted without it), and writes RESULTS_DIR/model_error.csv. About a minute.
---exit W holds the exit term's weight at W and fits the other three (the weights in use: with
+with weights fitted without it), and writes RESULTS_DIR/model_error.csv. 20 s with --exit,
+about 15 min without.
+--exit W holds the exit term's weight at W and fits the other four (the weights in use: with
 the exit lobe the free minimax drops the exit term to 0 for a worst ratio 0.01 better and one row
 fewer within 1.5x; README, "The bake's predicted error").
 Rows whose measured error is below a quarter of their reference's own noise (ref_noise, what the
@@ -25,10 +26,13 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[2]
-NAMES = ("kExitModelWeight", "kFacetWeight", "kFacetLightWeight", "kFarFieldWeight")
-COLUMNS = ("model_exit", "model_facets", "model_facet_light", "model_far_field")
-GRID = (np.arange(0, 2.0001, 0.05), np.arange(0, 1.0001, 0.025), np.arange(0, 1.0001, 0.025),
-        np.arange(0, 1.0001, 0.025))
+NAMES = ("kExitModelWeight", "kInterreflectionWeight", "kFacetWeight", "kFacetLightWeight",
+         "kFarFieldWeight")
+COLUMNS = ("model_exit", "model_interreflection", "model_facets", "model_facet_light",
+           "model_far_field")
+# The first two weights are searched one pair at a time (an outer loop), the last three at once.
+GRID = (np.arange(0, 2.0001, 0.05), np.arange(0, 0.5001, 0.025), np.arange(0, 1.0001, 0.025),
+        np.arange(0, 1.0001, 0.025), np.arange(0, 1.0001, 0.025))
 
 
 def current_weights():
@@ -56,12 +60,13 @@ def predicted(numerical, features, weights):
 
 
 def fit(measured, numerical, features, exit_weights=GRID[0]):
-    """The grid point with the smallest worst |log ratio|, searched one exit weight at a time."""
+    """The grid point with the smallest worst |log ratio|, searched one exit and interreflection
+    weight at a time."""
     best = (np.inf, None)
-    b, c, d = np.meshgrid(*GRID[1:], indexing="ij")
-    rest = np.stack([b.ravel(), c.ravel(), d.ravel()], 1)  # (K, 3)
-    for a in exit_weights:
-        w2 = np.concatenate([np.full((len(rest), 1), a), rest], 1) ** 2  # (K, 4)
+    c, d, e = np.meshgrid(*GRID[2:], indexing="ij")
+    rest = np.stack([c.ravel(), d.ravel(), e.ravel()], 1)  # (K, 3)
+    for a, b in ((a, b) for a in exit_weights for b in GRID[1]):
+        w2 = np.concatenate([np.full((len(rest), 2), (a, b)), rest], 1) ** 2  # (K, 5)
         p = np.sqrt(numerical[None, :] ** 2 + w2 @ (features**2).T)  # (K, rows)
         worst = np.abs(np.log(measured[None, :] / p)).max(1)
         k = worst.argmin()
@@ -80,7 +85,8 @@ def main():
     results = Path(args[0] if args else ROOT / "tests/bench/results/accuracy")
     names, measured, numerical, features, resolved = load_rows(results)
     worst, weights = fit(measured[resolved], numerical[resolved], features[resolved], exits)
-    print("weights exit %.3f facets %.3f facet light %.3f far field %.4f: worst ratio %.2f"
+    print("weights exit %.3f interreflection %.3f facets %.3f facet light %.3f far field %.4f: "
+          "worst ratio %.2f"
           % (*weights, np.exp(worst)))
     p = predicted(numerical, features, weights)
     with open(results / "model_error.csv", "w") as f:

@@ -242,31 +242,35 @@ void estimateInterreflection(const BakeSettings& s, const PreparedMesh& mesh,
   }
 }
 
-// The radiance along the normal: B through the exit model sss-render uses by default, the
-// normalized one (optics/fresnel.h: L = B F_t(1, eta) / (pi (1 - 2 C_1))), or where the far field
-// was traced through the exit lobe its exits measured (far_field.h; slope 0 is the normalized
-// model). vertexModel: the radiance of B - B_far, the part the vertex model made, whose exit and
-// light across facets the model error counts (model_error.h); empty without a far field.
+// The radiance along the normal of an exitance per vertex: through the exit model sss-render uses
+// by default, the normalized one (optics/fresnel.h: L = B F_t(1, eta) / (pi (1 - 2 C_1))), or
+// where the far field was traced through the exit lobe its exits measured (far_field.h; slope 0
+// is the normalized model).
+std::vector<glm::vec3> radianceOf(std::span<const glm::vec3> exitance, const FarField& far,
+                                  double eta) {
+  std::vector<glm::vec3> radiance(exitance.size());
+  const ExitLobe lobe{float(eta)};
+  const float normalized = float(normalExitRadianceScale(float(eta)));
+  for (std::size_t i = 0; i < exitance.size(); ++i)
+    radiance[i] = exitance[i] * (far.traced() ? glm::vec3(lobe.normalRadiance(far.slope[i]))
+                                              : glm::vec3(normalized));
+  return radiance;
+}
+
+// The radiance along the normal of B, and (vertexModel) of B - B_far, the part the vertex model
+// made, whose exit and light across facets the model error counts (model_error.h); empty without
+// a far field.
 struct RadianceAlongNormal {
   std::vector<glm::vec3> all, vertexModel;
 };
 
 RadianceAlongNormal radianceAlongNormal(std::span<const glm::vec3> exitance, const FarField& far,
                                         double eta) {
-  RadianceAlongNormal r;
-  r.all.resize(exitance.size());
-  if (far.traced()) r.vertexModel.resize(exitance.size());
-  const ExitLobe lobe{float(eta)};
-  const float normalized = float(normalExitRadianceScale(float(eta)));
-  for (std::size_t i = 0; i < exitance.size(); ++i) {
-    if (!far.traced()) {
-      r.all[i] = exitance[i] * normalized;
-      continue;
-    }
-    const glm::vec3 perExitance(lobe.normalRadiance(far.slope[i]));
-    r.all[i] = exitance[i] * perExitance;
-    r.vertexModel[i] = (exitance[i] - far.exitance[i]) * perExitance;
-  }
+  RadianceAlongNormal r{radianceOf(exitance, far, eta), {}};
+  if (!far.traced()) return r;
+  std::vector<glm::vec3> vertexModel(exitance.begin(), exitance.end());
+  for (std::size_t i = 0; i < vertexModel.size(); ++i) vertexModel[i] -= far.exitance[i];
+  r.vertexModel = radianceOf(vertexModel, far, eta);
   return r;
 }
 
@@ -388,7 +392,7 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
   report.lighting = std::move(lighting.report);
   report.transport = std::move(exitance.report);
   std::vector<glm::vec3> interreflected;
-  if (!bounced.empty()) interreflected = radianceAlongNormal(bounced, far, s.material.eta).all;
+  if (!bounced.empty()) interreflected = radianceOf(bounced, far, s.material.eta);
   const ModelErrorReport model = modelErrorStage(s, mesh.meshMm, radianceNormal, normal.vertexModel,
                                                  interreflected, radiance, far);
   report.errors = errorReport(report, model, s.tolerance);

@@ -4,7 +4,7 @@
 #   release   build Release into build/ (SSS_BUILD_DIR overrides) and run every test through ctest
 #   sanitize  the same suite under ASan + UBSan in the checked build <build>-checked/ (clang;
 #             tests/sanitizers/run.sh)
-#   fuzz      every reader's fuzz target for SSS_FUZZ_SECONDS (default 30) each, in the same checked
+#   fuzz      every reader's fuzz target for SSS_FUZZ_SECONDS (default 20) each, in the same checked
 #             build (tests/fuzz/run.sh)
 # Exits non-zero when a step or a test fails, or when there is no test at all.
 #   SSS_TEST_SUITES=release bash tools/test.sh   # the Release suite only
@@ -35,7 +35,7 @@ for suite in $suites; do
       ctest --test-dir "$build" --output-on-failure --no-tests=error -j "$jobs"
       ;;
     sanitize) bash tests/sanitizers/run.sh "$build-checked" ;;
-    fuzz) bash tests/fuzz/run.sh "${SSS_FUZZ_SECONDS:-30}" "$build-checked" ;;
+    fuzz) bash tests/fuzz/run.sh "${SSS_FUZZ_SECONDS:-20}" "$build-checked" ;;
   esac
   echo "test: suite $suite passed in $((SECONDS - start)) s"
 done

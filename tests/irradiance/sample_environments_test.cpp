@@ -23,7 +23,7 @@ const char* const kMaps[] = {"city",  "courtyard", "forest",  "interior",
                              "night", "studio",    "sunrise", "sunset"};
 
 std::string mapPath(const std::string& name) {
-  return std::string(SSS_SOURCE_DIR) + "/data/cache/env/" + name + ".exr";
+  return (std::filesystem::path(SSS_SOURCE_DIR) / "data/cache/env" / (name + ".exr")).string();
 }
 
 TEST(SampleEnvironments, ShOrderTwoWithinRamamoorthiHanrahanError) {

@@ -6,6 +6,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "bake/facet_light.h"
 #include "core/barycentric.h"
 #include "core/bounds.h"
 #include "core/error.h"
@@ -78,7 +79,8 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
   const DirectionalAlbedoWeight diffuse;
   const DirectionalAlbedoWeight& weight = options.entry ? *options.entry : diffuse;
   const uint32_t rays = uint32_t(options.rays);
-  const float perRay = float(M_PI / options.rays);
+  const float perRay = 1.0f / float(options.rays);
+  const VertexFacets facets = lightFacets(positions, normals, triangles);
   std::vector<std::vector<Hit>> perVertex(n);
   std::atomic<uint64_t> blocked{0};
   // The light leaving a hit towards where the ray came from: its exit radiance from B, and the
@@ -115,21 +117,20 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
       Pcg32 rng(options.seed, v);
       const float r0 = rng.uniform(), r1 = rng.uniform();
       const glm::vec3 nv = normals[v], p = positions[v];
-      glm::vec3 tangent, bitangent;
-      orthonormalBasis(nv, tangent, bitangent);
       const float offset = surfaceRayOffset(p, extent);
       for (uint32_t j = 0; j < rays; ++j) {
         float u1, u2;
         hammersley(j, rays, r0, r1, u1, u2);
-        const glm::vec3 local = sampleCosineHemisphereConcentric(u1, u2);
-        if (local.z <= 0.0f) continue;
-        const glm::vec3 w = glm::normalize(local.x * tangent + local.y * bitangent + local.z * nv);
+        // The light the vertex's facets take in (facet_light.h), as the environment's is taken.
+        const glm::vec3 w = sampleFacetCosine(facets, v, nv, u1, u2);
+        const FacetIntake intake = facetIntake(facets, v, nv, w, eta, &weight);
+        if (!(intake.transmitted > 0.0f)) continue;
         const SurfaceHit first =
             traceSurface(scene, positions, normals, triangles, p + offset * nv, w, offset);
         if (!first.hit) continue;
         ++count;
         if (!first.valid) continue;
-        const glm::vec3 entry = perRay * fresnelTransmittance(local.z, eta) * weight.at(local.z);
+        const glm::vec3 entry = perRay / intake.cosinePdf * intake.entryWeighted;
         const auto [second, mirror] = addHit(perVertex[v], first, w, entry, true);
         if (second.valid)
           addHit(perVertex[v], second, mirror, entry * fresnelDielectric(first.mu, eta), false);

@@ -1,8 +1,10 @@
 // Interreflection (issue 11, part 3): the light the object sends to itself.
 //
 // The visibility stage (visibility.h) counts a direction the mesh blocks as dark, which leaves
-// concavities 13-29 % dark under uniform light. Here each vertex's hemisphere is sampled again
-// (cosine-weighted, stratified, Pcg32(seed, vertex)), and a ray that meets the object brings back
+// concavities 13-29 % dark under uniform light. Here the directions each vertex's facets face are
+// sampled again (cosine-weighted about the facets' normals, stratified, Pcg32(seed, vertex): the
+// light the facets take in, as the visibility stage takes the environment's: facet_light.h), and
+// a ray that meets the object brings back
 // the radiance leaving the hit point towards the vertex: the exit model's radiance of the exitance
 // interpolated over the hit triangle's vertices, L = B F_t(mu_h, eta) / (pi (1 - 2 C_1(eta)))
 // (optics/fresnel.h), plus the Fresnel-reflected environment F_r(mu_h) L_env(r), r the mirror
@@ -10,8 +12,9 @@
 // (a sun the mirror direction would find by chance, spread over a wider cone: interreflection.cpp).
 // mu_h is the cosine at the hit between the way back to the vertex and the hit's interpolated
 // normal. The vertex's transmitted irradiance gains
-//   E_ir = integral over blocked w of F_t(mu) L_hit(w) cos dw  ~  pi / N sum_k F_t(mu_k) L_hit,k
-// (N cosine-distributed rays; unblocked ones add nothing: the visibility stage has them). The hits
+//   E_ir = integral over blocked w of factor(w) L_hit(w) dw  ~  1 / N sum_k factor / pdf L_hit,k
+// (N rays from the facets' cosine lobes, factor = sum_f share_f F_t(mu_f) mu_f; unblocked ones
+// add nothing: the visibility stage has them). The hits
 // are traced once; each bounce is a gather over them, so B -> E_ir is linear and cheap, and the
 // bake iterates E = E_direct + E_ir(B), B = transport(E) until B stops changing.
 //

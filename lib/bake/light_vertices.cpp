@@ -1,5 +1,6 @@
 #include "bake/light_vertices.h"
 
+#include "bake/facet_light.h"
 #include "core/format.h"
 #include "core/timer.h"
 #include "core/tool.h"
@@ -10,16 +11,23 @@ namespace sss {
 
 namespace {
 
-// E from the irradiance cubemap at each vertex normal: no shadows.
+// E from the irradiance cubemap at each vertex's facets (their area-weighted mean, as the rays
+// take it: visibility.h): no shadows.
 std::vector<glm::vec3> lightFromCubemap(const LightingInput& in, LightingReport& report) {
   IrradianceOptions options;
   options.eta = in.eta;
   options.tolerance = in.tolerance;
   options.threads = in.threads;
   const IrradianceResult irradiance = computeIrradiance(in.radiance, options);
+  const VertexFacets facets =
+      lightFacets(in.meshMm.positions, in.meshMm.normals, in.meshMm.triangles);
   std::vector<glm::vec3> e(in.meshMm.vertexCount());
-  for (std::size_t v = 0; v < e.size(); ++v)
-    e[v] = irradiance.irradiance.sample(in.meshMm.normals[v]);
+  for (std::size_t v = 0; v < e.size(); ++v) {
+    if (facets.begin[v] == facets.begin[v + 1])  // no facet of any area
+      e[v] = irradiance.irradiance.sample(in.meshMm.normals[v]);
+    for (uint32_t k = facets.begin[v]; k < facets.begin[v + 1]; ++k)
+      e[v] += facets.shares[k] * irradiance.irradiance.sample(facets.normals[k]);
+  }
   report.cubemap.method = irradiance.method;
   report.cubemap.faceSize = irradiance.irradiance.size();
   report.cubemap.reason = irradiance.reason;

@@ -47,8 +47,8 @@ namespace sss {
 inline constexpr double kExitModelWeight = 0.35;
 inline constexpr double kInterreflectionWeight = 0.325;
 inline constexpr double kFacetWeight = 0.075;
-inline constexpr double kFacetLightWeight = 0.375;
-inline constexpr double kFarFieldWeight = 0.2;
+inline constexpr double kFacetLightWeight = 0.275;
+inline constexpr double kFarFieldWeight = 0.15;
 
 struct ModelErrorReport {
   double exitModel = 0.0;        // weighted, relative RMS of the radiance along the normal

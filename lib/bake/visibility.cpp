@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cmath>
 
+#include "bake/facet_light.h"
 #include "bake/visibility_pilot.h"
 #include "bake/visibility_vertex_estimator.h"
 #include "core/bounds.h"
@@ -106,8 +107,9 @@ std::vector<glm::vec3> transmittedIrradianceWithVisibility(std::span<const glm::
   const double buildSeconds = buildClock.seconds();
 
   const float extent = boundsOf(positions).longestSide();
+  const VertexFacets facets = lightFacets(positions, normals, triangles);
   const auto makeEstimator = [&]() {
-    return VertexEstimator(positions, normals, sampler, scene, eta, extent, options.entry);
+    return VertexEstimator(positions, normals, facets, sampler, scene, eta, extent, options.entry);
   };
 
   VisibilityPilot pilot;

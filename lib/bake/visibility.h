@@ -1,6 +1,9 @@
 // Fresnel-transmitted irradiance with visibility: Li & Guo Eq. 6 with soft shadows,
 //   E(x) = integral over the hemisphere of (1 - F_r(eta, w.n)) L(w) (w.n) V(x, w) dw,
-// estimated per vertex by Monte Carlo with Embree occlusion rays.
+// estimated per vertex by Monte Carlo with Embree occlusion rays, with (w.n) and F_r's argument
+// those of the vertex's facets, averaged by area (mesh/triangle_mesh.h, VertexFacets): the light
+// the surface around the vertex receives, which at a crease is not the light its averaged normal
+// would (visibility_vertex_estimator.h).
 //
 // Estimator: two techniques combined by multiple importance sampling (Veach & Guibas 1995,
 // multi-sample balance heuristic): half the samples from the environment (EnvironmentSampler,

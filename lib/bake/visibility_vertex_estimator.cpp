@@ -6,6 +6,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "bake/facet_light.h"
 #include "core/luminance.h"
 #include "core/sampling.h"
 #include "optics/fresnel.h"
@@ -15,40 +16,36 @@ namespace sss {
 void VertexEstimator::traceCandidates(std::size_t v, uint32_t envCount, uint32_t cosCount,
                                       Pcg32& rng) {
   const float nEnv = static_cast<float>(envCount), nCos = static_cast<float>(cosCount);
-  // The cosine technique's pdf is cosine / pi; kept as (n_cos cosine) / pi in this order.
-  const float invPi = static_cast<float>(1.0 / M_PI);
   const glm::vec3 n = normals_[v];
   const glm::vec3 p = positions_[v];
   const float r0 = rng.uniform(), r1 = rng.uniform(), r2 = rng.uniform(), r3 = rng.uniform();
-  glm::vec3 tangent, bitangent;
-  orthonormalBasis(n, tangent, bitangent);
   const float offset = surfaceRayOffset(p, extent_);
   const glm::vec3 origin = p + offset * n;
 
   // Candidate rays: direction and unoccluded contribution f / (n_env p_env + n_cos p_cos).
   rays_.clear();
   candidates_.clear();
-  auto add = [&](const glm::vec3& w, float cosine, const glm::vec3& l, float pdfEnv, int tech) {
-    const glm::vec3 f = fresnelTransmittance(cosine, eta_) * cosine * l;
+  // The cosine technique samples the facets' mixture of cosine lobes (facet_light.h); the
+  // environment's reaches every direction the facets face.
+  auto add = [&](const glm::vec3& w, const glm::vec3& l, float pdfEnv, int tech) {
+    const FacetIntake facet = facetIntake(facets_, v, n, w, eta_, entry_);
+    const glm::vec3 f = facet.transmitted * l;
     if (f.r <= 0.0f && f.g <= 0.0f && f.b <= 0.0f) return;
     rays_.push_back({origin, w, offset, std::numeric_limits<float>::infinity()});
-    candidates_.push_back({f / (nEnv * pdfEnv + nCos * cosine * invPi), cosine, tech});
+    candidates_.push_back({f / (nEnv * pdfEnv + nCos * facet.cosinePdf),
+                           facet.entryWeighted / facet.transmitted, tech});
   };
   for (uint32_t j = 0; j < envCount; ++j) {
     float u1, u2;
     hammersley(j, envCount, r0, r1, u1, u2);
     const EnvironmentSampler::Sample s = sampler_.sample(u1, u2);
-    const float cosine = glm::dot(s.direction, n);
-    if (cosine > 0.0f) add(s.direction, cosine, s.radiance, s.pdf, 0);
+    add(s.direction, s.radiance, s.pdf, 0);
   }
   for (uint32_t j = 0; j < cosCount; ++j) {
     float u1, u2;
     hammersley(j, cosCount, r2, r3, u1, u2);
-    const glm::vec3 local = sampleCosineHemisphereConcentric(u1, u2);
-    const float cosine = local.z;
-    if (cosine <= 0.0f) continue;
-    const glm::vec3 w = glm::normalize(local.x * tangent + local.y * bitangent + local.z * n);
-    add(w, cosine, sampler_.radiance(w), sampler_.pdf(w), 1);
+    const glm::vec3 w = sampleFacetCosine(facets_, v, n, u1, u2);
+    add(w, sampler_.radiance(w), sampler_.pdf(w), 1);
   }
   scene_.occluded(rays_, blocked_);
 }
@@ -68,7 +65,7 @@ VertexEstimate VertexEstimator::estimate(std::size_t v, int samples, Pcg32& rng)
     }
     const glm::vec3 c = candidates_[k].contribution;
     result.irradiance += c;
-    if (entry_) result.entryWeighted += c * entry_->at(candidates_[k].cosine);
+    if (entry_) result.entryWeighted += c * candidates_[k].entryScale;
     const double y = luminance(c);
     sum[candidates_[k].technique] += y;
     sumSq[candidates_[k].technique] += y * y;

@@ -1,6 +1,7 @@
 // One vertex's estimate of the transmitted irradiance with visibility (visibility.h): the
 // multiple-importance-sampling estimator over environment and cosine samples, traced as one
 // stream of Embree occlusion rays. Private to lib/bake.
+// The integrand is the light the vertex's facets take in (facet_light.h).
 #pragma once
 
 #include <cstddef>
@@ -13,6 +14,7 @@
 #include "core/random.h"
 #include "envmap/environment_sampler.h"
 #include "material/directional_albedo_weight.h"
+#include "mesh/triangle_mesh.h"
 #include "raytrace/triangle_scene.h"
 
 namespace sss {
@@ -29,10 +31,12 @@ class VertexEstimator {
  public:
   // `extent`: the mesh's longest bounding-box side, a floor for the ray offset's scale.
   VertexEstimator(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
-                  const EnvironmentSampler& sampler, const TriangleScene& scene, float eta,
-                  float extent, const DirectionalAlbedoWeight* entry)
+                  const VertexFacets& facets, const EnvironmentSampler& sampler,
+                  const TriangleScene& scene, float eta, float extent,
+                  const DirectionalAlbedoWeight* entry)
       : positions_(positions),
         normals_(normals),
+        facets_(facets),
         sampler_(sampler),
         scene_(scene),
         entry_(entry),
@@ -46,13 +50,14 @@ class VertexEstimator {
  private:
   struct Candidate {
     glm::vec3 contribution;  // if unoccluded
-    float cosine;            // at the vertex, for the directional entry's w
+    glm::vec3 entryScale;    // E_w's contribution over E's (the directional entry's w)
     int technique;           // 0: environment, 1: cosine
   };
   // Fills rays_ and candidates_ with the samples that can contribute, and traces them.
   void traceCandidates(std::size_t v, uint32_t envCount, uint32_t cosCount, Pcg32& rng);
 
   std::span<const glm::vec3> positions_, normals_;
+  const VertexFacets& facets_;
   const EnvironmentSampler& sampler_;
   const TriangleScene& scene_;
   const DirectionalAlbedoWeight* entry_;  // null: no E_w

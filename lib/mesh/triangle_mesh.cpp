@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include <glm/geometric.hpp>
 
@@ -81,6 +82,73 @@ double signedVolume(const TriangleMesh& mesh) {
     volume += glm::dot(corner(mesh, t.x), glm::cross(corner(mesh, t.y), corner(mesh, t.z)));
   }
   return volume / 6.0;
+}
+
+VertexFacets vertexFacets(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
+                          std::span<const glm::uvec3> triangles, double smoothCosine,
+                          double mergeCosine) {
+  const std::size_t n = positions.size();
+  // Each vertex's triangles (of any area) as (normal turned to the vertex's side, area), in
+  // compressed rows; then per vertex the distinct ones merged (a vertex inside a flat region has
+  // one; a box corner three).
+  std::vector<uint32_t> start(n + 1, 0);
+  std::vector<glm::dvec3> areaVectors(triangles.size());
+  for (std::size_t i = 0; i < triangles.size(); ++i) {
+    const glm::uvec3 t = triangles[i];
+    const glm::dvec3 o(positions[t.x]);
+    areaVectors[i] = glm::cross(glm::dvec3(positions[t.y]) - o, glm::dvec3(positions[t.z]) - o);
+    const double area = glm::length(areaVectors[i]);
+    if (!(area > 0.0) || !std::isfinite(area)) continue;
+    for (int k = 0; k < 3; ++k) ++start[t[k] + 1];
+  }
+  for (std::size_t v = 0; v < n; ++v) start[v + 1] += start[v];
+  std::vector<std::pair<glm::dvec3, double>> around(start[n]);
+  std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+  for (std::size_t i = 0; i < triangles.size(); ++i) {
+    const double area = glm::length(areaVectors[i]);
+    if (!(area > 0.0) || !std::isfinite(area)) continue;
+    const glm::dvec3 normal = areaVectors[i] / area;
+    for (int k = 0; k < 3; ++k) {
+      const unsigned v = triangles[i][k];
+      const bool away = glm::dot(normal, glm::dvec3(normals[v])) < 0.0;
+      around[fill[v]++] = {away ? -normal : normal, area};
+    }
+  }
+  VertexFacets out;
+  out.begin.reserve(n + 1);
+  out.begin.push_back(0);
+  for (std::size_t v = 0; v < n; ++v) {
+    const auto first = around.begin() + start[v], last = around.begin() + start[v + 1];
+    const glm::dvec3 normal(normals[v]);
+    const bool smooth = std::all_of(
+        first, last, [&](const auto& f) { return glm::dot(f.first, normal) >= smoothCosine; });
+    double total = 0.0;
+    for (auto f = first; f != last; ++f) total += f->second;
+    if (smooth && first != last) {
+      out.normals.push_back(glm::vec3(normal));
+      out.shares.push_back(1.0f);
+    } else {
+      // Groups: a facet joins the first group whose first facet lies within acos(mergeCosine).
+      std::vector<std::pair<glm::dvec3, glm::dvec3>> groups;  // (first normal, sum of area n)
+      std::vector<double> areas;
+      for (auto f = first; f != last; ++f) {
+        std::size_t k = 0;
+        while (k < groups.size() && !(glm::dot(groups[k].first, f->first) >= mergeCosine)) ++k;
+        if (k == groups.size()) {
+          groups.push_back({f->first, glm::dvec3(0.0)});
+          areas.push_back(0.0);
+        }
+        groups[k].second += f->second * f->first;
+        areas[k] += f->second;
+      }
+      for (std::size_t k = 0; k < groups.size(); ++k) {
+        out.normals.push_back(glm::vec3(glm::normalize(groups[k].second)));
+        out.shares.push_back(static_cast<float>(areas[k] / total));
+      }
+    }
+    out.begin.push_back(static_cast<uint32_t>(out.normals.size()));
+  }
+  return out;
 }
 
 std::vector<glm::vec3> computeVertexNormals(const TriangleMesh& mesh) {

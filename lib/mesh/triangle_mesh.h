@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -41,6 +42,24 @@ std::vector<float> projectedVertexAreas(const TriangleMesh& mesh);
 // faces' and not the interpolation of the vertex values.
 std::vector<glm::vec3> hatFunctionAverage(const TriangleMesh& mesh,
                                           std::span<const glm::vec3> values, double minFacetCosine);
+
+// The facets around each vertex: the unit normals of its triangles and their shares of its area
+// (summing to 1; facets of one plane merged), vertex v's at [begin[v], begin[v + 1]). What the
+// surface around a vertex faces where its one normal is an average: on a box's edge the vertex
+// normal points 45 degrees from both faces, and light on the faces is not light on that normal
+// (bake/facet_light.h). A facet normal is turned to its vertex normal's side (a face of
+// inconsistent winding, or normals that disagree with the winding). A vertex whose facets all lie
+// within acos(smoothCosine) of its normal gets its normal as its one facet (a smooth part, where
+// the two differ in second order); elsewhere a facet within acos(mergeCosine) of a group's first
+// joins the group, which takes their area-weighted normal (the default merges one plane's).
+struct VertexFacets {
+  std::vector<uint32_t> begin;  // vertexCount + 1 offsets
+  std::vector<glm::vec3> normals;
+  std::vector<float> shares;
+};
+VertexFacets vertexFacets(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
+                          std::span<const glm::uvec3> triangles, double smoothCosine = 1.0,
+                          double mergeCosine = 1.0 - 1e-9);
 
 // Total triangle area, accumulated in double.
 double surfaceArea(const TriangleMesh& mesh);

@@ -1,6 +1,7 @@
 // Visibility (Li & Guo Eq. 6 with shadows) against independent references: the texel sum of the
 // transmitted-cosine kernel (no shadows), and direction quadrature with an analytic occluder.
 #include "bake/visibility.h"
+#include "bake/facet_light.h"
 
 #include <gtest/gtest.h>
 
@@ -174,6 +175,50 @@ TEST(Visibility, SmallBrightSunGivesNoFireflies) {
   EXPECT_GT(lo / mean, 0.9);
 }
 
+// Black but for a sun of 1.8 degrees' radius (the texels within it) towards `sun`.
+Cubemap smallSun(const glm::vec3& sun) {
+  Cubemap env(64, glm::vec3(0.0f));
+  for (int f = 0; f < 6; ++f)
+    for (int y = 0; y < 64; ++y)
+      for (int x = 0; x < 64; ++x)
+        if (glm::dot(env.direction(f, x, y), sun) > 0.9995f) env.at(f, x, y) = glm::vec3(1e3f);
+  return env;
+}
+
+// A box's edge between a face the sun lights and one it does not: the edge vertex's normal (45
+// degrees from both) faces away from the sun, but the facets around it take in the lit face's
+// light in proportion to their share of its area (facet_light.h).
+TEST(Visibility, ABoxEdgeTakesTheLightOfTheFacetsAroundIt) {
+  const TriangleMesh box = makeBox(glm::vec3(20.0f), 4);
+  const glm::vec3 sun = glm::normalize(glm::vec3(0.5f, 0.0f, 0.866f));
+  const Cubemap sunEnv = smallSun(sun);
+  VisibilityOptions options;
+  options.samples = 64;
+  const auto e = transmittedIrradianceWithVisibility(box.positions, box.normals, box.triangles,
+                                                     sunEnv, kEta, options);
+  const VertexFacets facets = vertexFacets(box.positions, box.normals, box.triangles);
+  const auto vertexAt = [&](const glm::vec3& p) {
+    const auto it = std::find(box.positions.begin(), box.positions.end(), p);
+    return static_cast<std::size_t>(it - box.positions.begin());
+  };
+  const std::size_t face = vertexAt(glm::vec3(10.0f, 0.0f, 0.0f));    // +x: lit
+  const std::size_t edge = vertexAt(glm::vec3(10.0f, 0.0f, -10.0f));  // +x / -z
+  ASSERT_LT(edge, box.vertexCount());
+  ASSERT_LT(glm::dot(box.normals[edge], sun), 0.0f);
+  ASSERT_EQ(facets.begin[edge + 1] - facets.begin[edge], 2u);
+  float litShare = 0.0f;
+  for (uint32_t k = facets.begin[edge]; k < facets.begin[edge + 1]; ++k)
+    if (facets.normals[k].x > 0.5f) litShare = facets.shares[k];
+  EXPECT_GT(litShare, 0.3f);
+  EXPECT_NEAR(e[edge].y / e[face].y, litShare, 0.01f);
+  // The lit face itself takes what a plane facing +x takes: cos 60 degrees times the sun's.
+  const glm::vec3 top = e[vertexAt(glm::vec3(0.0f, 0.0f, 10.0f))];
+  EXPECT_NEAR(
+      e[face].y / top.y,
+      fresnelTransmittance(0.5f, kEta) * 0.5f / (fresnelTransmittance(0.866f, kEta) * 0.866f),
+      0.01f);
+}
+
 // The directional entry's E_w: under a small sun every sample comes from one direction, so
 // E_w / E is w at the sun's cosine at each vertex; under an even sky it averages to E.
 TEST(Visibility, EntryWeightFollowsTheSunAndAveragesOutUnderAnEvenSky) {
@@ -183,24 +228,28 @@ TEST(Visibility, EntryWeightFollowsTheSunAndAveragesOutUnderAnEvenSky) {
   options.samples = 64;
   options.entry = &entry;
   const glm::vec3 sun = glm::normalize(glm::vec3(0.2f, 0.9f, 0.3f));
-  Cubemap sunEnv(64, glm::vec3(0.0f));
-  for (int f = 0; f < 6; ++f)
-    for (int y = 0; y < 64; ++y)
-      for (int x = 0; x < 64; ++x)
-        if (glm::dot(sunEnv.direction(f, x, y), sun) > 0.9995f)
-          sunEnv.at(f, x, y) = glm::vec3(1e3f);
+  const Cubemap sunEnv = smallSun(sun);
   VisibilityReport report;
   const auto e = transmittedIrradianceWithVisibility(
       sphere.positions, sphere.normals, sphere.triangles, sunEnv, kEta, options, &report);
   ASSERT_EQ(report.entryWeighted.size(), e.size());
+  // The light is the facets' (facet_light.h): w at each facet's cosine, weighted by its share of
+  // the transmitted light; the facets of this 642-vertex sphere tilt ~5 degrees from the vertex
+  // normal, a smooth part where the facets' light is the normal's, so that is w at its cosine.
+  // (The sun is a disc of 1.8 degrees: its texels' cosines spread the ratio, by 0.005 at most.)
+  const VertexFacets facets = lightFacets(sphere.positions, sphere.normals, sphere.triangles);
   int lit = 0;
   for (std::size_t v = 0; v < e.size(); ++v) {
     const float mu = glm::dot(sphere.normals[v], sun);
     if (mu < 0.1f || e[v].x <= 0.0f) continue;
     ++lit;
-    const glm::vec3 w = entry.at(mu);
-    for (int c = 0; c < 3; ++c)
+    ASSERT_EQ(facets.begin[v + 1] - facets.begin[v], 1u);
+    const FacetIntake intake = facetIntake(facets, v, sphere.normals[v], sun, kEta, &entry);
+    const glm::vec3 w = intake.entryWeighted / intake.transmitted;
+    for (int c = 0; c < 3; ++c) {
       EXPECT_NEAR(report.entryWeighted[v][c] / e[v][c], w[c], 0.01f) << v << " channel " << c;
+      EXPECT_NEAR(w[c], entry.at(mu)[c], 1e-6f) << v << " channel " << c;
+    }
   }
   EXPECT_GT(lit, 200);
 

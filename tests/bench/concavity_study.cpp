@@ -26,7 +26,8 @@
 //   ref_noise    the reference's own noise in rms_all's norm (what it subtracts);
 //   *_calibrated  the first three with the calibrated exit model for B's part (sss-render
 //                --exit-model calibrated).
-// Writes OUT_DIR/concavity.csv.
+// Writes OUT_DIR/concavity.csv, and each bake's per-vertex values beside the reference's to
+// OUT_DIR/vertices/SCENE-BOUNCES.csv.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -44,6 +45,7 @@
 #include "envmap/environment.h"
 #include "material/directional_albedo_weight.h"
 #include "material/material.h"
+#include "mesh/baked_mesh.h"
 #include "mesh/triangle_mesh.h"
 #include "optics/fresnel.h"
 #include "pathtrace/light_tracer.h"
@@ -108,6 +110,26 @@ Metrics compare(const std::vector<glm::vec3>& l, const LightTraceResult& ref,
   return m;
 }
 
+// One row per vertex (position, normal, concave, the bake's radiance along the normal, B and E,
+// the reference's radiance and its standard error), for locating an error on the mesh.
+void writeVertices(const std::string& path, const TriangleMesh& mesh, const BakedMesh& baked,
+                   const LightTraceResult& ref, const std::vector<char>& concave) {
+  std::ofstream out(path);
+  out << "x,y,z,nx,ny,nz,concave";
+  for (const char* q : {"l", "b", "e", "l_ref", "se"})
+    for (const char* c : {"r", "g", "b"}) out << ',' << q << '_' << c;
+  out << '\n';
+  for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+    const glm::vec3 p = mesh.positions[v], n = mesh.normals[v];
+    out << p.x << ',' << p.y << ',' << p.z << ',' << n.x << ',' << n.y << ',' << n.z << ','
+        << int(concave[v]);
+    for (const glm::vec3& q : {baked.radianceNormal[v], baked.exitance[v], baked.irradiance[v],
+                               ref.radiance[v], ref.radianceStdErr[v]})
+      out << ',' << q.x << ',' << q.y << ',' << q.z;
+    out << '\n';
+  }
+}
+
 Cubemap environmentOf(Light light) {
   switch (light) {
     case Light::Uniform:
@@ -121,7 +143,7 @@ Cubemap environmentOf(Light light) {
 }
 
 void study(const Scene& s, const Shape& shape, uint64_t paths, const std::string& cache,
-           std::ofstream& csv) {
+           const std::string& verticesDir, std::ofstream& csv) {
   const TriangleMesh& mesh = shape.mesh;
   BakeEnvironment env{environmentOf(s.light), {}};
   const HomogeneousMedium medium = homogeneousMediumOf(s.material);
@@ -138,6 +160,8 @@ void study(const Scene& s, const Shape& shape, uint64_t paths, const std::string
     const BakeOutput out =
         bakeAtDefaults(mesh, s.material, env, kVisibilityRays, shape.meshPath, bounces);
     const Metrics m = compare(out.baked.radianceNormal, ref, shape.concave);
+    writeVertices(verticesDir + "/" + s.name + (bounces == 0 ? "-0" : "-auto") + ".csv", mesh,
+                  out.baked, ref, shape.concave);
     // The same with the calibrated exit model (sss-render --exit-model calibrated) for B's part.
     const float eta = float(s.material.eta);
     const glm::vec3 calibrated =
@@ -190,7 +214,7 @@ int run(int argc, char** argv) {
   const std::string& outDir = args.outDir;
   const std::string &only = args.only, &cache = args.cache;
   const uint64_t paths = args.paths;
-  std::filesystem::create_directories(outDir);
+  std::filesystem::create_directories(outDir + "/vertices");
   std::vector<Shape> shapes;
   shapes.push_back({"pit", boxWithPit(), outDir + "/box_with_pit.ply", {}});
   TriangleMesh bunny =
@@ -214,7 +238,7 @@ int run(int argc, char** argv) {
       for (Light light : {Light::Uniform, shape.name == "pit" ? Light::Sun : Light::Forest}) {
         const Scene s{shape.name + "-" + lightName(light) + "-" + m, findMaterialPreset(m), light};
         if (only.empty() || s.name.find(only) != std::string::npos)
-          study(s, shape, paths, cache, csv);
+          study(s, shape, paths, cache, outDir + "/vertices", csv);
       }
   return 0;
 }

@@ -168,6 +168,42 @@ TEST(MeshBox, ClosedWeldedExactAreaAndVolume) {
   }
 }
 
+// The facets around a vertex (bake/facet_light.h takes their light): one inside a face, the two
+// faces on an edge, three at a corner, with their shares of the vertex's area; a triangle wound
+// the other way still faces out.
+TEST(MeshVertexFacets, BoxFacesEdgesAndCornersWithTheirAreaShares) {
+  TriangleMesh box = makeBox(glm::vec3(2.0f), 2);
+  std::swap(box.triangles[0].y, box.triangles[0].z);  // a face of inconsistent winding
+  const VertexFacets f = vertexFacets(box.positions, box.normals, box.triangles);
+  ASSERT_EQ(f.begin.size(), box.vertexCount() + 1);
+  const std::vector<float> areas = vertexAreas(box);
+  for (std::size_t v = 0; v < box.vertexCount(); ++v) {
+    const glm::vec3 p = box.positions[v];
+    const int onFaces = (std::abs(p.x) == 1.0f) + (std::abs(p.y) == 1.0f) + (std::abs(p.z) == 1.0f);
+    ASSERT_EQ(f.begin[v + 1] - f.begin[v], uint32_t(onFaces)) << v;
+    float shares = 0.0f;
+    for (uint32_t k = f.begin[v]; k < f.begin[v + 1]; ++k) {
+      const glm::vec3 n = f.normals[k];
+      // An axis, outwards: the face the vertex lies on.
+      EXPECT_NEAR(glm::dot(n, n), 1.0f, 1e-6f);
+      const int axis = std::abs(n.x) > 0.5f ? 0 : std::abs(n.y) > 0.5f ? 1 : 2;
+      EXPECT_NEAR(n[axis], p[axis], 1e-6f) << v;
+      shares += f.shares[k];
+      // The share is that face's triangles' area at v over the vertex's: each triangle counts a
+      // third of its area (vertexAreas), a unit-square quad's triangles 1/6 each.
+      double onFace = 0.0;
+      for (const glm::uvec3& t : box.triangles) {
+        if (t.x != v && t.y != v && t.z != v) continue;
+        const glm::vec3 c = glm::cross(box.positions[t.y] - box.positions[t.x],
+                                       box.positions[t.z] - box.positions[t.x]);
+        if (std::abs(std::abs(c[axis]) - glm::length(c)) < 1e-6f) onFace += glm::length(c) / 6.0;
+      }
+      EXPECT_NEAR(f.shares[k], onFace / areas[v], 1e-5) << v;
+    }
+    EXPECT_NEAR(shares, 1.0f, 1e-6f) << v;
+  }
+}
+
 TEST(MeshSlab, ThicknessRowsAndVolume) {
   const TriangleMesh slab = makeSlab(10.0f, 1.0f, 20);  // 0.5 cells: 2 rows through z
   EXPECT_NEAR(signedVolume(slab), 100.0, 1e-3);

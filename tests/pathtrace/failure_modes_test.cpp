@@ -19,6 +19,7 @@
 #include "material/material.h"
 #include "mesh/primitives.h"
 #include "optics/fresnel.h"
+#include "pathtrace/light_tracer.h"
 #include "pathtrace/subsurface_path_tracer.h"
 
 namespace sss {
@@ -212,18 +213,21 @@ TEST(FailureModes, SmallObjectsAreUnderestimatedCoarseMeshesAddLittle) {
   EXPECT_NEAR(dipoleOverReference(1, 42, 300, true), 1.0, 0.05);
 }
 
-// Sharp edges: a 20 mm marble cube lit from above, radiance along the (averaged) vertex normal at
-// the top face's centre, the middle of a top edge (normal at 45 degrees) and a side face's centre.
-// With the escape energy model the dipole is within 4% at all three (measured 1.03, 1.04, 0.99):
-// light entering near an edge is not lost. Under the study's blurred forest, though, the cube's
-// edge and corner vertices are 0.5-0.7x the reference, which light from one hemisphere does not
-// reproduce (tests/bench/results/accuracy).
+// Sharp edges: a 20 mm marble cube lit from above. With the escape energy model the dipole's B is
+// within 4% of the reference at the top face's centre and a side face's centre (radiance along
+// the normal against the backward path tracer there: measured 1.03 and 0.99), and along a top
+// edge: light entering near an edge is not lost. A vertex on the edge stands for the facets
+// around it, half on the top face (the whole sky) and half on the side (half of it), so there the
+// reference is the forward light tracer's barycentric tally of B over the edge's inner vertices
+// (0.97; the backward tracer's point value at the edge, along its 45-degree normal, is another
+// quantity: the bake's B over it read 1.04 when E was taken at that normal, and 0.94 with the
+// facets' light, bake/facet_light.h). Under the accuracy study's blurred forest, which lights the
+// cube from every side, its error is in tests/bench/results/accuracy.
 TEST(FailureModes, SharpEdgesHoldUnderLightFromAbove) {
   const Material marble = findMaterialPreset("marble");
   const TriangleMesh cube = makeBox(glm::vec3(20.0f), 8);
   const std::vector<uint32_t> vertices = {
       uint32_t(nearestVertex(cube, glm::vec3(0.0f, 0.0f, 10.0f))),
-      uint32_t(nearestVertex(cube, glm::vec3(0.0f, 10.0f, 10.0f))),
       uint32_t(nearestVertex(cube, glm::vec3(0.0f, 10.0f, 0.0f)))};
   const Cubemap light = upperHemisphere();
   PathTraceOptions options;
@@ -235,11 +239,31 @@ TEST(FailureModes, SharpEdgesHoldUnderLightFromAbove) {
   const auto dipole = makeProfile("dipole", marble);
   const std::vector<glm::vec3> b = diffuseExactEscape(cube, e, *dipole, marble);
   const double scale = fresnelTransmittance(1.0f, 1.3f) * exitRadianceScale(1.3f);
-  const char* names[3] = {"top face", "top edge", "side face"};
-  for (int k = 0; k < 3; ++k) {
+  const char* names[2] = {"top face", "side face"};
+  for (int k = 0; k < 2; ++k) {
     EXPECT_LT(pt.radianceStdErr[k].y, 0.02 * pt.radiance[k].y) << names[k];
     EXPECT_NEAR(b[vertices[k]].y * scale / pt.radiance[k].y, 1.0, 0.06) << names[k];
   }
+  LightTraceOptions lo;
+  lo.paths = 1000000;
+  lo.tallyRadiance = false;
+  const LightTraceResult ref =
+      lightTraceSubsurface(cube.positions, cube.normals, cube.triangles,
+                           DistantLight::environment(light), homogeneousMediumOf(marble), lo);
+  double sum = 0.0, sumRef = 0.0, var = 0.0;
+  int edge = 0;
+  for (std::size_t v = 0; v < cube.positions.size(); ++v) {
+    const glm::vec3 p = cube.positions[v];
+    if (std::abs(p.y - 10.0f) > 1e-3f || std::abs(p.z - 10.0f) > 1e-3f || std::abs(p.x) > 9.0f)
+      continue;
+    ++edge;
+    sum += b[v].y;
+    sumRef += ref.exitance[v].y;
+    var += double(ref.exitanceStdErr[v].y) * ref.exitanceStdErr[v].y;
+  }
+  ASSERT_EQ(edge, 7);
+  EXPECT_LT(std::sqrt(var), 0.015 * sumRef);
+  EXPECT_NEAR(sum / sumRef, 1.0, 0.06) << "top edge";
 }
 
 // Strong sun: the reference picks one environment direction per exit, so a small bright sun

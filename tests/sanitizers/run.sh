@@ -49,6 +49,7 @@ statistical+='|FarField\.NearPartFollowsTheLightTracerUnderAHighSun'
 statistical+='|FarField\.ReportedLobeNoiseMatchesTheSpreadOverSeeds'
 statistical+='|FarField\.ReportedNearAndFarNoiseMatchTheSpreadOverSeeds'
 statistical+='|ExitLobe\.OneLobeForAllExitsFollowsALowAlbedoFaceUnderAHighSun'
+statistical+='|FailureModes\.SharpEdgesHoldUnderLightFromAbove'
 # And the checks that one bake's numbers follow a policy or repeat across thread counts (9-16 s
 # each under ASan, ~47 s summed): what they compare is arithmetic, not memory, and each stage
 # they run (the pilot, the escape walks, the far field; one thread in several stage tests) runs

@@ -12,8 +12,10 @@
 //  - facetLight: the light those facets receive differs from what the vertex normal receives,
 //    |E(n_f) - E(n)| area-weighted over the faces, relative to max(E(n), mean E(n_f)), per
 //    channel, with E the environment's transmitted irradiance without shadows: nothing under
-//    even light, most at a crease facing a sun.
-//  These two count only the radiance the vertex model makes (E at the vertex normal, B through
+//    even light, most at a crease facing a sun. At a crease the bake takes the facets' mean
+//    (facet_light.h), so what this sizes there is the light's spread over the facets, which one
+//    value per vertex cannot hold (B changes across the vertex's triangles, not linearly).
+//  These two count only the radiance the vertex model makes (E at the vertex, B through
 //  an exit model): a traced far field's light paths met the facets themselves.
 //  - interreflection: with bounces, the light the object sent itself is modelled more coarsely
 //    than the environment's (interreflection.h): it leaves each hit point through the normalized

@@ -245,7 +245,7 @@ TEST(FailureModes, SharpEdgesHoldUnderLightFromAbove) {
     EXPECT_NEAR(b[vertices[k]].y * scale / pt.radiance[k].y, 1.0, 0.06) << names[k];
   }
   LightTraceOptions lo;
-  lo.paths = 1000000;
+  lo.paths = 500000;
   lo.tallyRadiance = false;
   const LightTraceResult ref =
       lightTraceSubsurface(cube.positions, cube.normals, cube.triangles,
@@ -262,7 +262,7 @@ TEST(FailureModes, SharpEdgesHoldUnderLightFromAbove) {
     var += double(ref.exitanceStdErr[v].y) * ref.exitanceStdErr[v].y;
   }
   ASSERT_EQ(edge, 7);
-  EXPECT_LT(std::sqrt(var), 0.015 * sumRef);
+  EXPECT_LT(std::sqrt(var), 0.02 * sumRef);
   EXPECT_NEAR(sum / sumRef, 1.0, 0.06) << "top edge";
 }
 

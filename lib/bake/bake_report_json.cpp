@@ -106,6 +106,7 @@ Json toJson(const LightingReport& r) {
   j["pilot"] = pilotJson(rays);
   j["bvh_build_s"] = rays.visibility.buildSeconds;
   j["trace_s"] = rays.visibility.traceSeconds;
+  j["unoccluded_s"] = rays.visibility.unoccludedSeconds;
   return j;
 }
 

@@ -6,8 +6,10 @@
 
 #include <atomic>
 #include <cmath>
+#include <optional>
 
 #include "bake/facet_light.h"
+#include "bake/unoccluded_intake.h"
 #include "bake/visibility_pilot.h"
 #include "bake/visibility_vertex_estimator.h"
 #include "core/bounds.h"
@@ -108,8 +110,14 @@ std::vector<glm::vec3> transmittedIrradianceWithVisibility(std::span<const glm::
 
   const float extent = boundsOf(positions).longestSide();
   const VertexFacets facets = lightFacets(positions, normals, triangles);
+  Stopwatch unoccludedClock;
+  std::optional<UnoccludedIntake> unoccluded;
+  if (options.ratioToUnoccluded) unoccluded.emplace(radiance, eta, options.entry, options.threads);
+  const double unoccludedSeconds = unoccludedClock.seconds();
+  const UnoccludedIntake* control = unoccluded ? &*unoccluded : nullptr;
   const auto makeEstimator = [&]() {
-    return VertexEstimator(positions, normals, facets, sampler, scene, eta, extent, options.entry);
+    return VertexEstimator(positions, normals, facets, sampler, scene, eta, extent, options.entry,
+                           control);
   };
 
   VisibilityPilot pilot;
@@ -124,6 +132,7 @@ std::vector<glm::vec3> transmittedIrradianceWithVisibility(std::span<const glm::
   if (report) {
     report->buildSeconds = buildSeconds;
     report->traceSeconds = pass.seconds;
+    report->unoccludedSeconds = unoccludedSeconds;
     report->rays = pass.rays;
     report->occludedFraction =
         pass.rays > 0 ? static_cast<double>(pass.occluded) / static_cast<double>(pass.rays) : 0.0;

@@ -5,17 +5,19 @@
 // the surface around the vertex receives, which at a crease is not the light its averaged normal
 // would (visibility_vertex_estimator.h).
 //
-// Estimator: two techniques combined by multiple importance sampling (Veach & Guibas 1995,
-// multi-sample balance heuristic): half the samples from the environment (EnvironmentSampler,
-// lib/envmap/environment_sampler.h: piecewise constant over cubemap texels, probability
-// proportional to luminance x solid angle, so a small bright sun is found by every vertex facing
-// it) and half cosine-weighted over the hemisphere (so dim, wide parts of the sky are not
-// starved). Each sample contributes f(w) / (n_env p_env(w) + n_cos p_cos(w)), which is bounded
-// where either technique fits the integrand: no fireflies from a sun.
-// Radiance is the cubemap texel a direction falls in (piecewise constant, the same function the
-// sampling pdf describes), so the estimate converges to the texel sum an irradiance cubemap
-// computes. Sample points are Cranley-Patterson-rotated Hammersley sets seeded per vertex
-// (Pcg32(seed, vertex)): stratified, and identical for any thread count.
+// Estimator: the ratio of the unblocked samples' sum to all samples' sum times the light with
+// nothing in the way, known in closed form (visibility_vertex_estimator.h): the rays measure only
+// what is blocked, so a convex part needs none. The samples: two techniques combined by multiple
+// importance sampling (Veach & Guibas 1995, multi-sample balance heuristic): half the samples from
+// the environment (EnvironmentSampler, lib/envmap/environment_sampler.h: piecewise constant over
+// cubemap texels, probability proportional to luminance x solid angle, so a small bright sun is
+// found by every vertex facing it) and half cosine-weighted over the hemisphere (so dim, wide parts
+// of the sky are not starved). Each sample contributes f(w) / (n_env p_env(w) + n_cos p_cos(w)),
+// which is bounded where either technique fits the integrand: no fireflies from a sun. Radiance is
+// the cubemap texel a direction falls in (piecewise constant, the same function the sampling pdf
+// describes), so the estimate converges to the texel sum an irradiance cubemap computes. Sample
+// points are Cranley-Patterson-rotated Hammersley sets seeded per vertex (Pcg32(seed, vertex)):
+// stratified, and identical for any thread count.
 //
 // Ray origins: the vertex moved along its normal by 2e-5 of its largest coordinate magnitude
 // (or of the mesh's extent, if larger), with tnear the same distance, so that float rounding
@@ -76,16 +78,21 @@ struct VisibilityOptions {
   // returns E_w, the same samples weighted by w(cosine) (VisibilityReport::entryWeighted). Not
   // owned.
   const DirectionalAlbedoWeight* entry = nullptr;
+  // The ratio estimator against the light with nothing in the way (visibility_vertex_estimator.h,
+  // unoccluded_intake.h): the rays estimate only the blocked fraction. false: the plain sum of
+  // the unblocked samples (the tests' comparison).
+  bool ratioToUnoccluded = true;
   // Called with the pilot (if one runs) before the full pass; returns the rays per vertex to use
   // (>= 2). Empty: `samples`.
   std::function<int(const VisibilityPilot&)> chooseSamples;
 };
 
 struct VisibilityReport {
-  double buildSeconds = 0.0;      // Embree BVH
-  double traceSeconds = 0.0;      // sampling and occlusion rays
-  uint64_t rays = 0;              // occlusion rays traced (samples with w.n > 0)
-  double occludedFraction = 0.0;  // of the traced rays
+  double buildSeconds = 0.0;       // Embree BVH
+  double traceSeconds = 0.0;       // sampling and occlusion rays
+  double unoccludedSeconds = 0.0;  // the unoccluded light's cubemaps (ratioToUnoccluded)
+  uint64_t rays = 0;               // occlusion rays traced (samples with w.n > 0)
+  double occludedFraction = 0.0;   // of the traced rays
   // Root mean square over lit vertices of the estimated relative standard error of the
   // luminance of E (per-technique sample variance; stratification makes it an overestimate).
   double relativeStdError = 0.0;

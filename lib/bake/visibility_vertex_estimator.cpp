@@ -50,6 +50,19 @@ void VertexEstimator::traceCandidates(std::size_t v, uint32_t envCount, uint32_t
   scene_.occluded(rays_, blocked_);
 }
 
+namespace {
+
+// Per channel, the ratio estimate U Y / X (visibility_vertex_estimator.h); Y where X is 0.
+glm::vec3 ratioToUnoccluded(const glm::vec3& unoccluded, const glm::dvec3& visible,
+                            const glm::dvec3& all) {
+  glm::vec3 e;
+  for (int c = 0; c < 3; ++c)
+    e[c] = all[c] > 0.0 ? float(unoccluded[c] * (visible[c] / all[c])) : float(visible[c]);
+  return e;
+}
+
+}  // namespace
+
 VertexEstimate VertexEstimator::estimate(std::size_t v, int samples, Pcg32& rng) {
   const uint32_t envCount = static_cast<uint32_t>((samples + 1) / 2);
   const uint32_t cosCount = static_cast<uint32_t>(samples) - envCount;
@@ -57,18 +70,29 @@ VertexEstimate VertexEstimator::estimate(std::size_t v, int samples, Pcg32& rng)
 
   VertexEstimate result{glm::vec3(0.0f), glm::vec3(0.0f), -1.0f,
                         static_cast<uint32_t>(rays_.size()), 0};
-  double sum[2] = {0.0, 0.0}, sumSq[2] = {0.0, 0.0};
+  glm::dvec3 visible(0.0), all(0.0), visibleW(0.0), allW(0.0);
   for (std::size_t k = 0; k < candidates_.size(); ++k) {
+    const glm::dvec3 c(candidates_[k].contribution);
+    const glm::dvec3 cw = entry_ ? c * glm::dvec3(candidates_[k].entryScale) : glm::dvec3(0.0);
+    all += c;
+    allW += cw;
     if (blocked_[k]) {
       ++result.occluded;
       continue;
     }
-    const glm::vec3 c = candidates_[k].contribution;
-    result.irradiance += c;
-    if (entry_) result.entryWeighted += c * candidates_[k].entryScale;
-    const double y = luminance(c);
-    sum[candidates_[k].technique] += y;
-    sumSq[candidates_[k].technique] += y * y;
+    visible += c;
+    visibleW += cw;
+  }
+  // The ratio's residual per sample, y - R x (R = Y / X in luminance), carries its noise to first
+  // order: Var(E) / E^2 = Var(sum of residuals) / Y^2. The direct sum's residual is y itself.
+  const double yVisible = luminance(glm::vec3(visible)), yAll = luminance(glm::vec3(all));
+  const double ratio = unoccluded_ && yAll > 0.0 ? yVisible / yAll : 0.0;
+  double sum[2] = {0.0, 0.0}, sumSq[2] = {0.0, 0.0};
+  for (std::size_t k = 0; k < candidates_.size(); ++k) {
+    const double x = luminance(candidates_[k].contribution);
+    const double residual = (blocked_[k] ? 0.0 : x) - ratio * x;
+    sum[candidates_[k].technique] += residual;
+    sumSq[candidates_[k].technique] += residual * residual;
   }
   // Var(sum of n iid terms) = n Var(term); per technique, zeros included.
   double variance = 0.0;
@@ -78,8 +102,16 @@ VertexEstimate VertexEstimator::estimate(std::size_t v, int samples, Pcg32& rng)
     const double mean = sum[t] / counts[t];
     variance += counts[t] / (counts[t] - 1.0) * std::max(0.0, sumSq[t] - counts[t] * mean * mean);
   }
-  const double y = luminance(result.irradiance);
-  if (y > 0.0) result.relativeVariance = static_cast<float>(variance / (y * y));
+  if (unoccluded_) {
+    const UnoccludedIntake::Value u = unoccluded_->at(facets_, v, normals_[v]);
+    result.irradiance = ratioToUnoccluded(u.transmitted, visible, all);
+    if (entry_) result.entryWeighted = ratioToUnoccluded(u.entryWeighted, visibleW, allW);
+  } else {
+    result.irradiance = glm::vec3(visible);
+    result.entryWeighted = glm::vec3(visibleW);
+  }
+  if (yVisible > 0.0)
+    result.relativeVariance = static_cast<float>(variance / (yVisible * yVisible));
   return result;
 }
 

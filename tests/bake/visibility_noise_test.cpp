@@ -84,7 +84,7 @@ struct Scene {
 TEST(VisibilityNoiseModel, PredictsTheMeasuredErrorOfB) {
   const Scene scene;
   const std::vector<glm::vec3> reference = scene.exitance(1024, 99, nullptr);
-  for (int samples : {16, 64}) {
+  for (int samples : {16, 32}) {
     VisibilityNoiseModel model;
     const double measured = relativeRms(scene.exitance(samples, 1, &model), reference);
     // The reference's own noise adds in quadrature.

@@ -50,7 +50,7 @@ inline constexpr double kExitModelWeight = 0.35;
 inline constexpr double kInterreflectionWeight = 0.325;
 inline constexpr double kFacetWeight = 0.075;
 inline constexpr double kFacetLightWeight = 0.275;
-inline constexpr double kFarFieldWeight = 0.15;
+inline constexpr double kFarFieldWeight = 0.175;
 
 struct ModelErrorReport {
   double exitModel = 0.0;        // weighted, relative RMS of the radiance along the normal

@@ -65,8 +65,22 @@ std::vector<SourceTexel> sourceTexels(const Cubemap& radiance, int size) {
             {map.direction(f, x, y), l * solidAngles[std::size_t(y) * map.size() + x]});
       }
   };
+  if (radiance.size() < size) {
+    // A coarse environment is piecewise constant over texels as wide as 20 degrees (the studies'
+    // blurred ones: 4 a face), which the estimator integrates exactly and texel-centre quadrature
+    // would not (the cosine bends across a texel, and a horizon cuts it): split each texel into
+    // k x k of the same radiance.
+    const int k = (size + radiance.size() - 1) / radiance.size();
+    Cubemap split(radiance.size() * k);
+    for (int f = 0; f < 6; ++f)
+      for (int y = 0; y < split.size(); ++y)
+        for (int x = 0; x < split.size(); ++x) split.at(f, x, y) = radiance.at(f, x / k, y / k);
+    const std::vector<float> angles = split.faceSolidAngles();
+    for (int f = 0; f < 6; ++f) addFace(split, angles, f);
+    return texels;
+  }
   const std::vector<float> fineAngles = radiance.faceSolidAngles();
-  if (radiance.size() <= size) {
+  if (radiance.size() == size) {
     for (int f = 0; f < 6; ++f) addFace(radiance, fineAngles, f);
     return texels;
   }

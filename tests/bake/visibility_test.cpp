@@ -307,6 +307,33 @@ TEST(UnoccludedIntake, MatchesTheExactSumUnderASmallSunAndASky) {
   EXPECT_LT(worst / peak, 0.003);
 }
 
+// A coarse environment (the accuracy study's blurred ones: 4 texels a face, 22 degrees wide) is
+// piecewise constant over its texels, which the estimator integrates exactly: the control must
+// too, not take each texel at its centre. Against the exact integral (every texel split 32 x 32).
+TEST(UnoccludedIntake, IntegratesACoarseEnvironmentsTexelsWhole) {
+  Cubemap coarse(4);
+  for (int f = 0; f < 6; ++f)
+    for (int y = 0; y < 4; ++y)
+      for (int x = 0; x < 4; ++x)
+        coarse.at(f, x, y) = glm::vec3(0.3f, 0.5f, 0.8f) * (1.2f + coarse.direction(f, x, y).y);
+  coarse.at(static_cast<int>(CubeFace::PosY), 1, 2) = glm::vec3(40.0f, 30.0f, 20.0f);
+  Cubemap fine(128);
+  for (int f = 0; f < 6; ++f)
+    for (int y = 0; y < 128; ++y)
+      for (int x = 0; x < 128; ++x) fine.at(f, x, y) = coarse.at(f, x / 32, y / 32);
+  const UnoccludedIntake intake(coarse, kEta, nullptr, 0);
+  const VertexFacets none{std::vector<uint32_t>(2, 0u), {}, {}};
+  std::vector<glm::vec3> t, exact, centres;
+  for (const glm::vec3& n : fibonacciSphere(300)) {
+    t.push_back(intake.at(none, 0, n).transmitted);
+    exact.push_back(glm::vec3(texelSum(fine, n)));
+    centres.push_back(glm::vec3(texelSum(coarse, n)));
+  }
+  // Measured 0.036 %; 2.4 % with the texels taken at their centres.
+  EXPECT_LT(relativeRmsError(t, exact), 0.002);
+  EXPECT_GT(relativeRmsError(centres, exact), 0.01);
+}
+
 // A box's edge between a face the sun lights and one it does not: the edge vertex's normal (45
 // degrees from both) faces away from the sun, but the facets around it take in the lit face's
 // light in proportion to their share of its area (facet_light.h).

@@ -46,6 +46,16 @@ inline VertexFacets lightFacets(std::span<const glm::vec3> positions,
   return vertexFacets(positions, normals, triangles, kSmoothFacetCosine, kFacetGroupCosine);
 }
 
+// Calls add(n_f, share_f) for each of vertex v's facets; a vertex without facets (no triangle of
+// any area) takes its normal as its one facet, add(normal, 1).
+template <typename Add>
+inline void forEachLightFacet(const VertexFacets& facets, std::size_t v, const glm::vec3& normal,
+                              Add&& add) {
+  const uint32_t first = facets.begin[v], last = facets.begin[v + 1];
+  if (first == last) add(normal, 1.0f);
+  for (uint32_t k = first; k < last; ++k) add(facets.normals[k], facets.shares[k]);
+}
+
 struct FacetIntake {
   float transmitted = 0.0f;       // factor(w)
   glm::vec3 entryWeighted{0.0f};  // the same with each facet's term times the entry's w(w . n_f)
@@ -66,9 +76,7 @@ inline FacetIntake facetIntake(const VertexFacets& facets, std::size_t v, const 
     if (entry) in.entryWeighted += t * entry->at(c);
     in.cosinePdf += share * c * static_cast<float>(1.0 / M_PI);
   };
-  const uint32_t first = facets.begin[v], last = facets.begin[v + 1];
-  if (first == last) add(normal, 1.0f);
-  for (uint32_t k = first; k < last; ++k) add(facets.normals[k], facets.shares[k]);
+  forEachLightFacet(facets, v, normal, add);
   return in;
 }
 

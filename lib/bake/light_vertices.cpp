@@ -22,12 +22,10 @@ std::vector<glm::vec3> lightFromCubemap(const LightingInput& in, LightingReport&
   const VertexFacets facets =
       lightFacets(in.meshMm.positions, in.meshMm.normals, in.meshMm.triangles);
   std::vector<glm::vec3> e(in.meshMm.vertexCount());
-  for (std::size_t v = 0; v < e.size(); ++v) {
-    if (facets.begin[v] == facets.begin[v + 1])  // no facet of any area
-      e[v] = irradiance.irradiance.sample(in.meshMm.normals[v]);
-    for (uint32_t k = facets.begin[v]; k < facets.begin[v + 1]; ++k)
-      e[v] += facets.shares[k] * irradiance.irradiance.sample(facets.normals[k]);
-  }
+  for (std::size_t v = 0; v < e.size(); ++v)
+    forEachLightFacet(facets, v, in.meshMm.normals[v], [&](const glm::vec3& n, float share) {
+      e[v] += share * irradiance.irradiance.sample(n);
+    });
   report.cubemap.method = irradiance.method;
   report.cubemap.faceSize = irradiance.irradiance.size();
   report.cubemap.reason = irradiance.reason;

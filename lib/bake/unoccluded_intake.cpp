@@ -7,6 +7,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "bake/facet_light.h"
 #include "core/luminance.h"
 #include "core/parallel.h"
 #include "optics/fresnel.h"
@@ -56,14 +57,17 @@ constexpr std::size_t kSharpTexels = 512;
 
 std::vector<SourceTexel> sourceTexels(const Cubemap& radiance, int size) {
   std::vector<SourceTexel> texels;
+  // Texel (f, x, y) of `map`, unless black (a sky's ground); false if it was.
+  const auto addTexel = [&](const Cubemap& map, float solidAngle, int f, int x, int y) {
+    const glm::vec3 l = map.at(f, x, y);
+    if (l.r <= 0.0f && l.g <= 0.0f && l.b <= 0.0f) return false;
+    texels.push_back({map.direction(f, x, y), l * solidAngle});
+    return true;
+  };
   const auto addFace = [&](const Cubemap& map, const std::vector<float>& solidAngles, int f) {
     for (int y = 0; y < map.size(); ++y)
-      for (int x = 0; x < map.size(); ++x) {
-        const glm::vec3 l = map.at(f, x, y);
-        if (l.r <= 0.0f && l.g <= 0.0f && l.b <= 0.0f) continue;  // a sky's black ground
-        texels.push_back(
-            {map.direction(f, x, y), l * solidAngles[std::size_t(y) * map.size() + x]});
-      }
+      for (int x = 0; x < map.size(); ++x)
+        addTexel(map, solidAngles[std::size_t(y) * map.size() + x], f, x, y);
   };
   if (radiance.size() < size) {
     // A coarse environment is piecewise constant over texels as wide as 20 degrees (the studies'
@@ -97,10 +101,7 @@ std::vector<SourceTexel> sourceTexels(const Cubemap& radiance, int size) {
     const std::size_t i = flux[k].second;
     const int f = int(i / perFace), y = int(i % perFace) / radiance.size(),
               x = int(i % radiance.size());
-    const glm::vec3 l = radiance.at(f, x, y);
-    if (l.r <= 0.0f && l.g <= 0.0f && l.b <= 0.0f) continue;
-    texels.push_back({radiance.direction(f, x, y), l * fineAngles[i % perFace]});
-    rest.at(f, x, y) = glm::vec3(0.0f);
+    if (addTexel(radiance, fineAngles[i % perFace], f, x, y)) rest.at(f, x, y) = glm::vec3(0.0f);
   }
   const Cubemap coarse = rest.resized(size);
   const std::vector<float> coarseAngles = coarse.faceSolidAngles();
@@ -139,9 +140,7 @@ UnoccludedIntake::Value UnoccludedIntake::at(const VertexFacets& facets, std::si
     value.transmitted += share * transmitted_.sample(n);
     if (hasEntry_) value.entryWeighted += share * entryWeighted_.sample(n);
   };
-  const uint32_t first = facets.begin[v], last = facets.begin[v + 1];
-  if (first == last) add(normal, 1.0f);
-  for (uint32_t k = first; k < last; ++k) add(facets.normals[k], facets.shares[k]);
+  forEachLightFacet(facets, v, normal, add);
   return value;
 }
 

@@ -37,8 +37,6 @@ class UnoccludedIntake {
   // A vertex without facets (no triangle of any area, or a smooth one) takes its normal.
   Value at(const VertexFacets& facets, std::size_t v, const glm::vec3& normal) const;
 
-  const Cubemap& transmitted() const { return transmitted_; }
-
  private:
   Cubemap transmitted_, entryWeighted_;
   bool hasEntry_ = false;

@@ -215,9 +215,10 @@ std::vector<glm::vec3> addInterreflection(const BakeSettings& s, const PreparedM
 // vertices, the bounces' rays) estimates how much the light the object sends itself would add to
 // B, so that the reported error counts it and a concave object is not baked dark without a word.
 void estimateInterreflection(const BakeSettings& s, const PreparedMesh& mesh,
-                             const Cubemap& radiance, const DirectionalAlbedoWeight& weight,
-                             const VertexLighting& lighting, const VertexExitance& exitance,
-                             bool warnAboveTolerance, InterreflectionReport& report) {
+                             const Cubemap& radiance, const DiffusionProfile& profile,
+                             const DirectionalAlbedoWeight& weight, const VertexLighting& lighting,
+                             const VertexExitance& exitance, bool warnAboveTolerance,
+                             InterreflectionReport& report) {
   const Stopwatch clock;
   const TriangleMesh& m = mesh.meshMm;
   InterreflectionOptions options = interreflectionOptions(s, lighting, weight);
@@ -225,7 +226,8 @@ void estimateInterreflection(const BakeSettings& s, const PreparedMesh& mesh,
   const InterreflectionGather gather(m.positions, m.normals, m.triangles, radiance,
                                      float(s.material.eta), options);
   const MissingInterreflection missing = estimateMissingInterreflection(
-      gather, options.vertices, exitance.exitance, lighting.transportIrradiance(), mesh.areasMm2);
+      gather, options.vertices, exitance.exitance, lighting.transportIrradiance(), mesh.areasMm2,
+      {m.positions, &profile, s.threads});
   report.estimated = true;
   report.estimatedMissing = missing.relativeRms;
   report.pilotVertices = int(options.vertices.size());
@@ -369,8 +371,8 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
     // they would change B by more than the bounces' own convergence target (a tenth of the
     // tolerance): a convex or nearly convex object costs the pilot alone.
     const bool automatic = s.bounces == kAutoBounces;
-    estimateInterreflection(s, mesh, radiance, weight, lighting, exitance, !automatic,
-                            report.interreflection);
+    estimateInterreflection(s, mesh, radiance, *energy.profile, weight, lighting, exitance,
+                            !automatic, report.interreflection);
     report.interreflection.automatic = automatic;
     // (Bouncing builds its own gather over every vertex: the pilot's ray scene is not kept.)
     if (automatic && report.interreflection.estimatedMissing > 0.1 * s.tolerance) {

@@ -13,6 +13,7 @@
 #include "core/parallel.h"
 #include "core/random.h"
 #include "core/sampling.h"
+#include "material/diffusion_profile.h"
 #include "optics/fresnel.h"
 #include "raytrace/triangle_scene.h"
 
@@ -203,32 +204,88 @@ glm::dvec3 energyRatio(std::span<const glm::vec3> exitance, std::span<const glm:
   return k;
 }
 
+// The first bounce's light at the pilot's vertices as the transport would spread it
+// (TransportSmoothing), with its rays' variance carried through the same weights.
+struct PilotLight {
+  std::vector<glm::dvec3> light, variance;  // per pilot vertex, in `vertices`' order
+};
+
+PilotLight smoothOverPilot(std::span<const uint32_t> vertices, std::span<const glm::vec3> added,
+                           std::span<const glm::vec3> variance, std::span<const float> areas,
+                           const TransportSmoothing& smoothing) {
+  const std::size_t n = vertices.size();
+  PilotLight p{std::vector<glm::dvec3>(n), std::vector<glm::dvec3>(n)};
+  if (!smoothing.profile) {
+    for (std::size_t i = 0; i < n; ++i) {
+      p.light[i] = glm::dvec3(added[vertices[i]]);
+      p.variance[i] = glm::dvec3(variance[vertices[i]]);
+    }
+    return p;
+  }
+  if (smoothing.positionsMm.size() != added.size())
+    fail("", "interreflection: one position per vertex needed for the transport's smoothing");
+  // Each pilot vertex stands for its share of the whole surface.
+  double total = 0.0, pilot = 0.0;
+  for (const float a : areas) total += a;
+  for (const uint32_t v : vertices) pilot += areas[v];
+  const double scale = pilot > 0.0 ? total / pilot : 0.0;
+  const DiffusionProfile& profile = *smoothing.profile;
+  const double reach = profile.radiusContaining(0.999);
+  parallelFor(n, smoothing.threads, 16, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      const glm::vec3 x = smoothing.positionsMm[vertices[i]];
+      glm::dvec3 sum(0.0), sumVariance(0.0), weights(0.0);
+      for (std::size_t j = 0; j < n; ++j) {
+        const uint32_t u = vertices[j];
+        const double share = scale * areas[u];
+        const double r = glm::length(smoothing.positionsMm[u] - x);
+        if (j != i && r > reach) continue;
+        // The vertex's own share integrates the profile's peak (as the diffusion sum's self term).
+        const glm::dvec3 w =
+            j == i ? profile.integrateDisc(std::sqrt(share / M_PI)) : profile.evaluate(r) * share;
+        sum += w * glm::dvec3(added[u]);
+        sumVariance += w * w * glm::dvec3(variance[u]);
+        weights += w;
+      }
+      for (int c = 0; c < 3; ++c) {
+        if (!(weights[c] > 0.0)) continue;
+        p.light[i][c] = sum[c] / weights[c];
+        p.variance[i][c] = sumVariance[c] / (weights[c] * weights[c]);
+      }
+    }
+  });
+  return p;
+}
+
 }  // namespace
 
 MissingInterreflection estimateMissingInterreflection(const InterreflectionGather& gather,
                                                       std::span<const uint32_t> vertices,
                                                       std::span<const glm::vec3> exitance,
                                                       std::span<const glm::vec3> irradiance,
-                                                      std::span<const float> areas) {
+                                                      std::span<const float> areas,
+                                                      const TransportSmoothing& smoothing) {
   const glm::dvec3 k = energyRatio(exitance, irradiance, areas);
   std::vector<glm::vec3> variance;
   const std::vector<glm::vec3> added = gather.gather(exitance, &variance);
+  const PilotLight light = smoothOverPilot(vertices, added, variance, areas, smoothing);
   // The squares' sum less the rays' noise in it (a sun the mirror direction finds by chance
-  // would otherwise count as light).
+  // would otherwise count as light). The gain is the light's, before the smoothing.
   double sumAdded = 0.0, sumB = 0.0, squaredAdded = 0.0, noise = 0.0, squaredB = 0.0;
-  for (const uint32_t v : vertices) {
-    const glm::dvec3 dB = k * glm::dvec3(added[v]), b(exitance[v]);
-    sumAdded += dB.x + dB.y + dB.z;
+  for (std::size_t i = 0; i < vertices.size(); ++i) {
+    const uint32_t v = vertices[i];
+    const glm::dvec3 dB = k * light.light[i], b(exitance[v]), unsmoothed = k * glm::dvec3(added[v]);
+    sumAdded += unsmoothed.x + unsmoothed.y + unsmoothed.z;
     sumB += b.x + b.y + b.z;
     squaredAdded += glm::dot(dB, dB);
-    noise += glm::dot(k * k, glm::dvec3(variance[v]));
+    noise += glm::dot(k * k, light.variance[i]);
     squaredB += glm::dot(b, b);
   }
   MissingInterreflection m;
   if (!(sumB > 0.0 && squaredB > 0.0)) return m;
   m.gain = sumAdded / sumB;
-  m.relativeRms =
-      std::sqrt(std::max(0.0, squaredAdded - noise) / squaredB) / (1.0 - std::min(m.gain, 0.9));
+  m.firstBounce = std::sqrt(std::max(0.0, squaredAdded - noise) / squaredB);
+  m.relativeRms = m.firstBounce / (1.0 - std::min(m.gain, 0.9));
   return m;
 }
 

@@ -34,6 +34,8 @@
 
 namespace sss {
 
+class DiffusionProfile;  // material/diffusion_profile.h
+
 struct InterreflectionOptions {
   int rays = 64;  // cosine-distributed rays per vertex (>= 1)
   // The directional entry (material/directional_albedo_weight.h): the light arriving at a vertex
@@ -93,21 +95,34 @@ struct BounceResult {
 // traced vertices of a pilot gather (InterreflectionOptions::vertices) from one gather of the
 // bake's B. The first bounce adds dE_v = gather(B)_v; B answers E through the transport, whose
 // energy ratio over the object is k = sum B A / sum E A (per channel: what leaves per what
-// enters), so dB_v ~ k dE_v (the transport's smoothing left out: an upper estimate where dE
-// varies within a diffusion length). Each later bounce sends back about the same share again,
-// q = sum dB / sum B over the traced vertices, so the bounces add dB / (1 - q) (q capped at 0.9).
-// The rays' own noise is taken out of the RMS (a sun found by a mirror direction by chance).
-// Weighting q by where the light is added (the pit's own gain) overestimated the studies' rows
-// more; the measured agreement is in the README ("Interreflection").
+// enters), so dB_v ~ k dE'_v, dE' the light as the transport spreads it: with a profile
+// (TransportSmoothing) dE averaged over the pilot's vertices with the weights of the diffusion
+// sum (Li & Guo Eq. 7), R_d(r_vu) a_u, a_u the vertex's area scaled so that the pilot's vertices
+// stand for the whole surface, and for the vertex itself the profile integrated over its a_v;
+// without one, dE itself (a local transport: an upper estimate where dE varies within a
+// diffusion length, most in a material whose diffusion length is a concavity's size, as skim
+// milk's in the concavity study's pit). Each later bounce sends back
+// about the same share again, q = sum k dE / sum B over the traced vertices, so the bounces add
+// dB / (1 - q) (q capped at 0.9). The rays' own noise is taken out of the RMS (a sun found by a
+// mirror direction by chance). Weighting q by where the light is added (the pit's own gain)
+// overestimated the studies' rows, with the spreading or without; the measured agreement is in
+// the README ("Interreflection").
 struct MissingInterreflection {
   double relativeRms = 0.0;  // of the added B against B, over traced vertices and channels
   double gain = 0.0;         // q: the first bounce's mean relative gain
+  double firstBounce = 0.0;  // the first bounce's alone (relativeRms = firstBounce / (1 - q))
+};
+struct TransportSmoothing {
+  std::span<const glm::vec3> positionsMm;  // every mesh vertex's
+  const DiffusionProfile* profile = nullptr;
+  int threads = 0;  // <= 0: all cores
 };
 MissingInterreflection estimateMissingInterreflection(const InterreflectionGather& gather,
                                                       std::span<const uint32_t> vertices,
                                                       std::span<const glm::vec3> exitance,
                                                       std::span<const glm::vec3> irradiance,
-                                                      std::span<const float> areas);
+                                                      std::span<const float> areas,
+                                                      const TransportSmoothing& smoothing = {});
 
 // With bounces, the noise the gather's rays leave in B, as a relative RMS over vertices and
 // channels. The hits are traced once, so one draw of noise serves every bounce. Its variance per

@@ -34,7 +34,8 @@ command_line_only+='|BakeTool\.EveryToolHasVersionAndHelpEndsWithExamples'
 # And the statistical checks of a model against its reference at many samples (5-11 s each under
 # ASan, ~55 of the suite's summed seconds): the same code runs under the sanitizers in the quicker
 # tests of each subject (UnscatteredLight.*, FarField.*, Diffusion.*, EscapeProbability.*,
-# LightTracer.*, ExitLobe.* with its thin slab); the Release suite runs these.
+# LightTracer.*, ExitLobe.* with its thin slab, Visibility.* with the ratio estimator beside a wall
+# and in a concave corner); the Release suite runs these.
 statistical='UnscatteredLight\.BackLitSlabMatchesTheClosedForm'
 statistical+='|UnscatteredLight\.ReportedNoiseMatchesTheSpreadOverSeeds'
 statistical+='|FarField\.SunLitSphereUnlitHalfMatchesTheLightTracer'
@@ -50,6 +51,7 @@ statistical+='|FarField\.ReportedLobeNoiseMatchesTheSpreadOverSeeds'
 statistical+='|FarField\.ReportedNearAndFarNoiseMatchTheSpreadOverSeeds'
 statistical+='|ExitLobe\.OneLobeForAllExitsFollowsALowAlbedoFaceUnderAHighSun'
 statistical+='|FailureModes\.SharpEdgesHoldUnderLightFromAbove'
+statistical+='|Visibility\.TheRatioEstimatorIsUnbiasedAndQuieterBesideAWall'
 # And the checks that one bake's numbers follow a policy or repeat across thread counts (9-18 s
 # each under ASan, ~65 s summed): what they compare is arithmetic, not memory, and each stage
 # they run (the pilot, the escape walks, the far field; one thread in several stage tests) runs

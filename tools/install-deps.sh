@@ -5,7 +5,7 @@
 set -euo pipefail
 
 packages=(
-  build-essential cmake pkg-config git # toolchain (CMake >= 3.25)
+  build-essential cmake pkg-config git lld # toolchain (CMake >= 3.25; lld links faster)
   libopenmesh-dev libembree-dev libglm-dev libopenimageio-dev libcli11-dev nlohmann-json3-dev
   libopengl-dev libegl-dev libgl1-mesa-dri # OpenGL + EGL (glvnd) and Mesa's drivers (llvmpipe)
   libgtest-dev libbenchmark-dev gnuplot-nox # tests, benchmarks, charts

@@ -7,14 +7,14 @@
 #include <utility>
 
 #include "bake/error_budget.h"
-#include "bake/interreflection.h"
-#include "bake/visibility_pilot.h"
 #include "core/timer.h"
 #include "core/tool.h"
 #include "envmap/environment.h"
+#include "lighting/visibility_pilot.h"
 #include "material/directional_albedo_weight.h"
 #include "optics/exit_lobe.h"
 #include "optics/fresnel.h"
+#include "transport/interreflection.h"
 
 namespace sss {
 

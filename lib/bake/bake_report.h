@@ -4,14 +4,14 @@
 
 #include <string>
 
-#include "bake/far_field.h"
 #include "bake/light_vertices.h"
-#include "bake/model_error.h"
 #include "bake/plan_energy.h"
 #include "bake/prepare_mesh.h"
 #include "bake/transport.h"
-#include "bake/unscattered_light.h"
 #include "material/material.h"
+#include "transport/far_field.h"
+#include "transport/model_error.h"
+#include "transport/unscattered_light.h"
 
 namespace sss {
 

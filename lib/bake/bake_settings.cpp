@@ -4,6 +4,7 @@
 
 #include "core/error.h"
 #include "material/diffusion_profile.h"
+#include "material/profile_factory.h"
 #include "mesh/units.h"
 
 namespace sss {

@@ -6,23 +6,23 @@
 #include <cstdint>
 #include <string>
 
-#include "bake/far_field.h"
-#include "bake/finite_object_energy.h"
-#include "bake/unscattered_light.h"
 #include "core/enum_names.h"
 #include "envmap/orientation.h"
 #include "material/material.h"
+#include "transport/far_field.h"
+#include "transport/finite_object_energy.h"
+#include "transport/unscattered_light.h"
 
 namespace sss {
 
 // E per vertex: the irradiance cubemap looked up at the vertex normal (no shadows), or Embree
-// visibility rays against the mesh itself (lib/bake/visibility.h).
+// visibility rays against the mesh itself (lib/lighting/visibility.h).
 enum class VisibilityMode { None, Rays };
 inline constexpr EnumNames<VisibilityMode, 2> kVisibilityModeNames{
     "visibility", {{{VisibilityMode::None, "none"}, {VisibilityMode::Rays, "rays"}}}};
 
-// B per vertex: a diffusion sum of Li & Guo Eq. 7 (lib/bake/diffusion.h; Auto picks the cheapest
-// that meets the tolerance) or the volumetric Monte Carlo reference (lib/pathtrace).
+// B per vertex: a diffusion sum of Li & Guo Eq. 7 (lib/diffusion/diffusion.h; Auto picks the
+// cheapest that meets the tolerance) or the volumetric Monte Carlo reference (lib/pathtrace).
 enum class BakeMethod { Auto, Exact, Gauss, Incremental, Hierarchical, PathTrace };
 inline constexpr EnumNames<BakeMethod, 6> kBakeMethodNames{
     "method",

@@ -1,10 +1,10 @@
 #include "bake/light_vertices.h"
 
-#include "bake/facet_light.h"
 #include "core/format.h"
 #include "core/timer.h"
 #include "core/tool.h"
 #include "envmap/cubemap.h"
+#include "lighting/facet_light.h"
 #include "mesh/triangle_mesh.h"
 
 namespace sss {

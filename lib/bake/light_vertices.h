@@ -12,9 +12,9 @@
 #include <glm/vec3.hpp>
 
 #include "bake/bake_settings.h"
-#include "bake/visibility.h"
-#include "bake/visibility_noise_model.h"
 #include "irradiance/irradiance.h"
+#include "lighting/visibility.h"
+#include "lighting/visibility_noise_model.h"
 
 namespace sss {
 

@@ -2,6 +2,7 @@
 
 #include "core/timer.h"
 #include "core/tool.h"
+#include "material/profile_factory.h"
 
 namespace sss {
 

@@ -9,8 +9,8 @@
 #include <string>
 
 #include "bake/bake_settings.h"
-#include "bake/finite_object_energy.h"
 #include "material/diffusion_profile.h"
+#include "transport/finite_object_energy.h"
 
 namespace sss {
 

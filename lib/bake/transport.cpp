@@ -2,13 +2,13 @@
 
 #include <cmath>
 
-#include "bake/far_field.h"
 #include "core/format.h"
 #include "core/luminance.h"
 #include "core/timer.h"
 #include "core/tool.h"
 #include "mesh/triangle_mesh.h"
 #include "pathtrace/subsurface_path_tracer.h"
+#include "transport/far_field.h"
 
 namespace sss {
 

@@ -11,8 +11,8 @@
 #include <glm/vec3.hpp>
 
 #include "bake/bake_settings.h"
-#include "bake/diffusion.h"
-#include "bake/finite_object_energy.h"
+#include "diffusion/diffusion.h"
+#include "transport/finite_object_energy.h"
 
 namespace sss {
 

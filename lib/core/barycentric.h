@@ -1,5 +1,6 @@
 // Barycentric weights of a point on a triangle, shared by the light tracer's exit tallies
-// (lib/pathtrace/light_tracer.cpp) and the interreflection gather (lib/bake/interreflection.cpp).
+// (lib/pathtrace/light_tracer.cpp) and the interreflection gather
+// (lib/transport/interreflection.cpp).
 #pragma once
 
 #include <algorithm>

@@ -1,7 +1,7 @@
 // Importance sampling of a radiance cubemap, piecewise constant over its texels: texel
 // probability proportional to luminance x solid angle, so that a small bright sun is found by
 // every sample that can see it, and uniform across the chosen texel's (s, t) square. Used by the
-// bake's visibility rays (lib/bake/visibility.h) in a multiple-importance-sampling estimator.
+// bake's visibility rays (lib/lighting/visibility.h) in a multiple-importance-sampling estimator.
 //
 // The CDF runs over the texels in Morton (Z-curve) order within each face, so that a stratum of
 // u1 is a compact 2D patch of a face, not a strip of rows: stratified sample sets keep more of

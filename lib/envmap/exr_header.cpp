@@ -6,7 +6,7 @@
 #include <string_view>
 
 #include "core/error.h"
-#include "envmap/image.h"
+#include "envmap/image_limits.h"
 
 namespace sss {
 namespace {

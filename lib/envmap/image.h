@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "core/srgb.h"  // linearToSrgb / srgbToLinear for 8-bit images
+#include "envmap/image_limits.h"
 
 namespace sss {
 
@@ -33,11 +34,6 @@ struct ImageReadOptions {
   bool sanitize = false;  // replace NaN/Inf by 0 (with a warning) instead of failing
   bool quiet = false;     // --quiet: no warnings about what was replaced or clamped
 };
-
-// What a header may declare, checked before any pixel is allocated: at most kMaxImagePixels,
-// 2^28 (16384 x 16384, twice a 16K equirect, the largest common HDRI; the reader's two float RGB
-// buffers then take 6 GiB), and no more than the file's size can hold (minimumImageFileBytes).
-inline constexpr long long kMaxImagePixels = 1LL << 28;
 
 // The fewest bytes a file of OIIO format `format` ("hdr", "pnm", "openexr", ...) can hold a
 // width x height image with `channels` channels in: Radiance HDR scanlines are flat (4 bytes a

@@ -22,7 +22,7 @@ class DiffusionProfile {
  public:
   virtual ~DiffusionProfile() = default;
 
-  // Short model name as accepted by makeProfile ("dipole", "beam", "burley").
+  // Short model name as accepted by makeProfile (profile_factory.h: "dipole", "beam", "burley").
   virtual std::string name() const = 0;
   // R_d(r) in mm^-2 for r >= 0 in mm; finite at r = 0 except where a model says otherwise
   // (Burley ~ 1/r: evaluate returns the value at a tiny r).
@@ -38,10 +38,6 @@ class DiffusionProfile {
   // channel: the support the bake needs. Bisection on integrateDisc.
   double radiusContaining(double fraction) const;
 };
-
-// kind: one of listProfiles(). Validates the material; throws sss::Error naming the kinds.
-std::unique_ptr<DiffusionProfile> makeProfile(const std::string& kind, const Material& material);
-std::vector<std::string> listProfiles();
 
 // Reference quadrature of integral_a^b 2 pi r R_d(r) dr on log-spaced panels (Gauss-Legendre),
 // for tests and for models without closed forms.

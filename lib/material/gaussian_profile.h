@@ -1,9 +1,9 @@
 // A single normalized 2D Gaussian as a profile:
 //   G(v, r) = e^{-r^2 / 2v} / (2 pi v),  total 1,  disc 1 - e^{-rho^2 / 2v},
 // the same variance v (mm^2) in every channel. Not a diffusion model: the wide kernel over which
-// the escape energy model (lib/bake/finite_object_energy.h) spreads the light that a finite object
-// returns beyond a half-space's albedo. As a DiffusionProfile it runs through every method of
-// lib/bake/diffusion.h (its fit is one Gaussian).
+// the escape energy model (lib/transport/finite_object_energy.h) spreads the light that a finite
+// object returns beyond a half-space's albedo. As a DiffusionProfile it runs through every method
+// of lib/diffusion/diffusion.h (its fit is one Gaussian).
 #pragma once
 
 #include "material/diffusion_profile.h"

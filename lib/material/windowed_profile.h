@@ -1,7 +1,7 @@
 // A profile's near field: R_d(r) W_c(r), W_c(r) = exp(-r^2 / (2 w_c^2)) per channel.
 //
-// Why: the bake's far field (lib/bake/far_field.h) traces the light that leaves far from where it
-// entered with the weight 1 - W_c(d) of its exit distance d; the diffusion sum then spreads only
+// Why: the bake's far field (lib/transport/far_field.h) traces the light that leaves far from where
+// it entered with the weight 1 - W_c(d) of its exit distance d; the diffusion sum then spreads only
 // the rest, with this profile, so that near and far add up to the whole transport without
 // counting any of it twice. A Gaussian window keeps the product smooth (the sum-of-Gaussians fit
 // of the fast methods still applies, gaussian_sum_fit.h) where a hard cut-off would ring.

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "mesh/load_mesh.h"
+#include "mesh/raw_mesh.h"
 
 namespace sss {
 

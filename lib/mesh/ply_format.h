@@ -14,7 +14,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "mesh/load_mesh.h"
+#include "mesh/raw_mesh.h"
 
 namespace sss::ply {
 

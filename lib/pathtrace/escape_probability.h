@@ -50,7 +50,8 @@ struct EscapeOptions {
   std::size_t maxProbes = 2048;  // probe vertices (an even stride when the mesh has more)
   double smoothing = 2.0;        // Gaussian sigma in each channel's diffusion length
   // When > 0 (mm, per channel): also the near share of P, the walks' weights times
-  // W(d) = exp(-d^2 / (2 w^2)) of their exit's distance d from the entry (lib/bake/far_field.h).
+  // W(d) = exp(-d^2 / (2 w^2)) of their exit's distance d from the entry
+  // (lib/transport/far_field.h).
   glm::dvec3 nearWindowMm{0.0};
   uint64_t seed = 1;
   int threads = 0;    // <= 0: all cores

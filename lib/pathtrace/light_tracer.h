@@ -101,11 +101,11 @@ struct LightTraceOptions {
   int minScatteringOrder = 0;
   // Only the light that is never scattered, in expectation (medium_walk.h: each flight weighted by
   // its transmittance instead of sampled): the unscattered part of the count above at a fraction
-  // of its cost and noise (sss-bake's unscattered light, lib/bake/unscattered_light.h).
+  // of its cost and noise (sss-bake's unscattered light, lib/transport/unscattered_light.h).
   bool unscatteredOnly = false;
-  // The far field beside a windowed profile (lib/bake/far_field.h): when > 0 (mm, per channel),
-  // an exit at distance d from where its path last entered counts with the weight
-  // 1 - exp(-d^2 / (2 w^2)).
+  // The far field beside a windowed profile (lib/transport/far_field.h): when > 0 (mm, per
+  // channel), an exit at distance d from where its path last entered counts with the weight 1 -
+  // exp(-d^2 / (2 w^2)).
   glm::dvec3 nearWindowMm{0.0};
   // Stop a path at its first exit (the far field leaves the light the object sends to itself to
   // the interreflection stage); false follows it, as the reference does.

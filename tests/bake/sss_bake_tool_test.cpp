@@ -16,16 +16,16 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bake/model_error.h"
-#include "bake/visibility_noise_model.h"
-#include "box_with_pit.h"
 #include "envmap/cubemap_io.h"
+#include "lighting/visibility_noise_model.h"
 #include "mesh/baked_mesh.h"
 #include "mesh/baked_ply.h"
 #include "mesh/primitives.h"
 #include "optics/fresnel.h"
+#include "support/box_with_pit.h"
 #include "support/glb_test.h"
 #include "support/tool_test.h"
+#include "transport/model_error.h"
 
 namespace fs = std::filesystem;
 

@@ -1,7 +1,7 @@
 // The accuracy study of issue 5: every profile x diffusion method x tolerance against the Monte
 // Carlo reference (lib/pathtrace), on small scenes where the reference is affordable, plus the
 // half-space totals of every preset, the guard's cost and effect, the escape energy model
-// (lib/bake/finite_object_energy.h) and the bake's automatic choice.
+// (lib/transport/finite_object_energy.h) and the bake's automatic choice.
 //
 //   accuracy_study OUT_DIR [--quick] [--only NAME] [--walks N] [--entry onering|vertex]
 //
@@ -41,23 +41,24 @@
 
 #include "bake/bake.h"
 #include "bake/bake_settings.h"
-#include "bake/diffusion.h"
 #include "bake/error_budget.h"
-#include "bake/far_field.h"
-#include "bake/finite_object_energy.h"
-#include "bake/visibility.h"
 #include "bench/interior_segment_guard.h"
 #include "core/error.h"
 #include "core/timer.h"
+#include "diffusion/diffusion.h"
 #include "envmap/environment.h"
+#include "lighting/visibility.h"
 #include "material/diffusion_profile.h"
 #include "material/directional_albedo_weight.h"
 #include "material/material.h"
+#include "material/profile_factory.h"
 #include "mesh/load_mesh.h"
 #include "mesh/primitives.h"
 #include "optics/fresnel.h"
 #include "pathtrace/subsurface_path_tracer.h"
 #include "study_support.h"
+#include "transport/far_field.h"
+#include "transport/finite_object_energy.h"
 
 namespace {
 

@@ -22,12 +22,13 @@
 #include <glm/common.hpp>
 
 #include "bake/bake.h"
-#include "bake/diffusion.h"
-#include "bake/visibility.h"
 #include "core/timer.h"
+#include "diffusion/diffusion.h"
 #include "envmap/environment.h"
+#include "lighting/visibility.h"
 #include "material/diffusion_profile.h"
 #include "material/material.h"
+#include "material/profile_factory.h"
 #include "mesh/load_mesh.h"
 #include "mesh/triangle_mesh.h"
 

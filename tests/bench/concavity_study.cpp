@@ -1,11 +1,11 @@
 // Issue 11's concavity rows: the light an object sends to itself (sss-bake --bounces,
-// lib/bake/interreflection.h) against the forward light tracer (lib/pathtrace/light_tracer.h),
+// lib/transport/interreflection.h) against the forward light tracer (lib/pathtrace/light_tracer.h),
 // which follows light that leaves the object and meets it again.
 //
 //   concavity_study OUT_DIR [--paths N] [--only NAME] [--cache DIR]
 //
 // Scenes, each in marble and in skim milk (a high-albedo and a low-density material):
-//  - the closed 20 mm box with a pit 6 mm deep (tests/bake/box_with_pit.h; its floor sees about
+//  - the closed 20 mm box with a pit 6 mm deep (tests/support/box_with_pit.h; its floor sees about
 //    70 % of the sky) under uniform radiance 1 and under a sun of 1 degree angular radius 30
 //    degrees from the pit's axis;
 //  - the sample bunny (data/cache/meshes/bunny.ply: closed, 1,839 vertices) scaled to 50 mm along
@@ -38,11 +38,10 @@
 
 #include <glm/geometric.hpp>
 
-#include "../bake/box_with_pit.h"
 #include "bake/bake.h"
-#include "bake/visibility.h"
 #include "core/error.h"
 #include "envmap/environment.h"
+#include "lighting/visibility.h"
 #include "material/directional_albedo_weight.h"
 #include "material/material.h"
 #include "mesh/baked_mesh.h"
@@ -50,6 +49,7 @@
 #include "optics/fresnel.h"
 #include "pathtrace/light_tracer.h"
 #include "study_support.h"
+#include "support/box_with_pit.h"
 
 namespace {
 

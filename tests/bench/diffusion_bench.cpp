@@ -1,5 +1,5 @@
-// Diffusion sums (lib/bake/diffusion.h): methods x tolerances on the Stanford dragon at its four
-// resolutions, scaled to 150 mm, marble, lit by a directional light with a hard edge in blue
+// Diffusion sums (lib/diffusion/diffusion.h): methods x tolerances on the Stanford dragon at its
+// four resolutions, scaled to 150 mm, marble, lit by a directional light with a hard edge in blue
 // (no visibility: the bake benchmark covers the whole pipeline). Counters per case: vertices,
 // Gaussians, interactions, and the relative RMS error of B against a reference: gauss at
 // tolerance 0.001 (hierarchical at 0.001 for the full dragon). Not exact: on dragon_res4 the
@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "bake/diffusion.h"
+#include "diffusion/diffusion.h"
 #include "material/dipole_profile.h"
 #include "material/material.h"
 #include "mesh/load_mesh.h"

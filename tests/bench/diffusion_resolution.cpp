@@ -8,7 +8,7 @@
 #include <glm/geometric.hpp>
 #include <vector>
 
-#include "bake/diffusion.h"
+#include "diffusion/diffusion.h"
 #include "material/dipole_profile.h"
 #include "material/material.h"
 #include "mesh/primitives.h"

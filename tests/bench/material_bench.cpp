@@ -4,6 +4,7 @@
 
 #include "material/diffusion_profile.h"
 #include "material/gaussian_sum_fit.h"
+#include "material/profile_factory.h"
 
 namespace {
 

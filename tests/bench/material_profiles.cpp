@@ -16,6 +16,7 @@
 #include "material/diffusion_profile.h"
 #include "material/gaussian_sum_fit.h"
 #include "material/halfspace_albedo.h"
+#include "material/profile_factory.h"
 
 int main(int argc, char** argv) {
   return sss::runTool("material_profiles", [&]() {

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Fits the model error's five weights (lib/bake/model_error.h) on the study rows.
+"""Fits the model error's five weights (lib/transport/model_error.h) on the study rows.
 
   tests/bench/model_error_fit.py RESULTS_DIR [--exit W] [--far-field W]   (Python 3 with numpy)
 
@@ -39,7 +39,7 @@ GRID = (np.arange(0, 2.0001, 0.05), np.arange(0, 0.5001, 0.025), np.arange(0, 1.
 
 
 def current_weights():
-    text = (ROOT / "lib/bake/model_error.h").read_text()
+    text = (ROOT / "lib/transport/model_error.h").read_text()
     return [float(re.search(name + r" = ([0-9.]+);", text).group(1)) for name in NAMES]
 
 

@@ -53,22 +53,23 @@
 
 #include "bake/bake.h"
 #include "bake/bake_settings.h"
-#include "bake/diffusion.h"
 #include "bake/error_budget.h"
-#include "bake/far_field.h"
-#include "bake/finite_object_energy.h"
-#include "bake/unscattered_light.h"
-#include "bake/visibility.h"
 #include "core/error.h"
 #include "core/timer.h"
+#include "diffusion/diffusion.h"
+#include "lighting/visibility.h"
 #include "material/diffusion_profile.h"
 #include "material/directional_albedo_weight.h"
 #include "material/material.h"
+#include "material/profile_factory.h"
 #include "mesh/primitives.h"
 #include "optics/exit_lobe.h"
 #include "optics/fresnel.h"
 #include "pathtrace/light_tracer.h"
 #include "study_support.h"
+#include "transport/far_field.h"
+#include "transport/finite_object_energy.h"
+#include "transport/unscattered_light.h"
 
 namespace {
 

@@ -1,7 +1,7 @@
-// The diffusion sums of Li & Guo Eq. 7 (lib/bake/diffusion.h) against analytic cases (a plane under
-// uniform light), refinement (a sphere at four subdivision levels), the O(N^2) reference, and
+// The diffusion sums of Li & Guo Eq. 7 (lib/diffusion/diffusion.h) against analytic cases (a plane
+// under uniform light), refinement (a sphere at four subdivision levels), the O(N^2) reference, and
 // thread counts.
-#include "bake/diffusion.h"
+#include "diffusion/diffusion.h"
 
 #include <gtest/gtest.h>
 
@@ -17,6 +17,7 @@
 #include "material/diffusion_profile.h"
 #include "material/dipole_profile.h"
 #include "material/material.h"
+#include "material/profile_factory.h"
 #include "mesh/primitives.h"
 #include "mesh/triangle_mesh.h"
 

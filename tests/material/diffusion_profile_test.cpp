@@ -13,6 +13,7 @@
 #include "material/directional_albedo_weight.h"
 #include "material/halfspace_albedo.h"
 #include "material/material.h"
+#include "material/profile_factory.h"
 #include "material/windowed_profile.h"
 #include "optics/fresnel.h"
 

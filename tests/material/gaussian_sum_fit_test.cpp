@@ -8,6 +8,7 @@
 #include "material/diffusion_profile.h"
 #include "material/gaussian_profile.h"
 #include "material/gaussian_sum_fit.h"
+#include "material/profile_factory.h"
 
 namespace sss {
 namespace {

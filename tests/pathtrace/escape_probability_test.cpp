@@ -355,8 +355,8 @@ TEST(EscapeProbability, RoundsOfWalksAddUp) {
   EXPECT_THROW(rounds.add(0), Error);
 }
 
-// The near share (the far field's window, lib/bake/far_field.h) from the same walks: all of P for a
-// window much wider than the object, none for a window far below a mean free path, in between
+// The near share (the far field's window, lib/transport/far_field.h) from the same walks: all of P
+// for a window much wider than the object, none for a window far below a mean free path, in between
 // and growing with the window otherwise; a bad window is refused.
 TEST(EscapeProbability, NearShareLimits) {
   const TriangleMesh sphere = makeIcosphere(2, 6.0f);

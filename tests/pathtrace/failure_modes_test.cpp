@@ -10,17 +10,18 @@
 
 #include <glm/geometric.hpp>
 
-#include "bake/diffusion.h"
-#include "bake/finite_object_energy.h"
-#include "bake/visibility.h"
+#include "diffusion/diffusion.h"
 #include "envmap/cubemap.h"
+#include "lighting/visibility.h"
 #include "material/diffusion_profile.h"
 #include "material/directional_albedo_weight.h"
 #include "material/material.h"
+#include "material/profile_factory.h"
 #include "mesh/primitives.h"
 #include "optics/fresnel.h"
 #include "pathtrace/light_tracer.h"
 #include "pathtrace/subsurface_path_tracer.h"
+#include "transport/finite_object_energy.h"
 
 namespace sss {
 namespace {
@@ -60,7 +61,7 @@ std::vector<glm::vec3> diffuseExact(const TriangleMesh& mesh, const std::vector<
   return diffuse({mesh.positions, mesh.normals, areas, e}, profile, options).exitance;
 }
 
-// The same sum with the escape energy model (lib/bake/finite_object_energy.h).
+// The same sum with the escape energy model (lib/transport/finite_object_energy.h).
 std::vector<glm::vec3> diffuseExactEscape(const TriangleMesh& mesh, const std::vector<glm::vec3>& e,
                                           const DiffusionProfile& profile, const Material& m) {
   const std::vector<float> areas = vertexAreas(mesh);

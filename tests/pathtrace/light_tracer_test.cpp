@@ -8,7 +8,6 @@
 #include <cmath>
 #include <vector>
 
-#include "bake/box_with_pit.h"
 #include "core/error.h"
 #include "envmap/cubemap.h"
 #include "mesh/primitives.h"
@@ -16,6 +15,7 @@
 #include "optics/fresnel.h"
 #include "pathtrace/light_tracer.h"
 #include "pathtrace/subsurface_path_tracer.h"
+#include "support/box_with_pit.h"
 #include "support/plane_parallel_slab.h"
 
 namespace sss {
@@ -380,8 +380,8 @@ TEST(LightTracer, SameResultForAnyThreadCount) {
   EXPECT_EQ(one.exitanceStdErr, three.exitanceStdErr);
 }
 
-// The far field's options (lib/bake/far_field.h): rounds of paths add up to one run; a window far
-// below any exit distance leaves the tallies as they are, one far above every distance empties
+// The far field's options (lib/transport/far_field.h): rounds of paths add up to one run; a window
+// far below any exit distance leaves the tallies as they are, one far above every distance empties
 // them; stopping at the first exit drops only light that entered again.
 TEST(LightTracer, RoundsWindowsAndFirstExits) {
   const TriangleMesh sphere = makeIcosphere(1, 3.0f);

@@ -1,0 +1,40 @@
+// The diffusion sums of Li & Guo Eq. 7: the exitance at every vertex from the transmitted
+// irradiance at all vertices,
+//
+//   B(x_o) = sum_i R_d(|x_i - x_o|) E(x_i) A_i,
+//
+// with positions in mm, A_i the area a vertex stands for (mm^2, one third of its triangles:
+// Li & Guo's M) and R_d a diffusion profile (lib/material) or its sum of normalized Gaussians
+// G(v, r) = exp(-r^2 / 2v) / (2 pi v) (Li & Guo Eq. 9 drops the 1/v; corrected here).
+//
+// Methods:
+//   exact         every pair with the profile itself, O(N^2): the reference
+//                 (exact_diffusion_sum.h).
+//   gauss         the Gaussian fit, every pair closer than a cutoff radius per Gaussian (energy
+//                 beyond r_c of a 2D Gaussian is exp(-r_c^2 / 2v)), over an octree
+//                 (octree_gaussian_sum.h, diffusion_octree.h).
+//   incremental   Li & Guo Eq. 11: pass k convolves pass k-1 with G(v_k - v_(k-1)); exact on
+//                 a plane, approximate on a discrete curved surface (incremental_diffusion.h;
+//                 measured in the README).
+//   hierarchical  Jensen & Buhler 2002: octree clusters (area-weighted irradiance sums, centroid,
+//                 spread) replace far groups of points when the cluster is small against the
+//                 narrowest Gaussian that still reaches it; for wide (translucent) kernels.
+//   auto          the cheapest of exact, gauss and hierarchical that meets the tolerance, from
+//                 cost estimates (diffusion.cpp).
+// Error budget of the Gaussian methods: the fit gets half the tolerance, truncation a quarter,
+// clusters about a sixth.
+// Stability: the self term integrates the profile over the vertex's disc of area A_i, and each
+// source point is a disc (per-axis variance rho^2 / 4), so meshes coarser than the mean free path
+// stay finite and close to the continuous answer.
+// Determinism: every vertex sums its terms in a fixed order: identical for any thread count.
+#pragma once
+
+#include "diffusion/diffusion_types.h"
+
+namespace sss {
+
+// Throws sss::Error on mismatched array lengths, non-finite input or negative areas.
+DiffusionResult diffuse(const DiffusionInput& input, const DiffusionProfile& profile,
+                        const DiffusionOptions& options = {});
+
+}  // namespace sss

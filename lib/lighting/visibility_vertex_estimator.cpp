@@ -1,0 +1,118 @@
+#include "lighting/visibility_vertex_estimator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <glm/geometric.hpp>
+
+#include "core/luminance.h"
+#include "core/sampling.h"
+#include "lighting/facet_light.h"
+#include "optics/fresnel.h"
+
+namespace sss {
+
+void VertexEstimator::traceCandidates(std::size_t v, uint32_t envCount, uint32_t cosCount,
+                                      Pcg32& rng) {
+  const float nEnv = static_cast<float>(envCount), nCos = static_cast<float>(cosCount);
+  const glm::vec3 n = normals_[v];
+  const glm::vec3 p = positions_[v];
+  const float r0 = rng.uniform(), r1 = rng.uniform(), r2 = rng.uniform(), r3 = rng.uniform();
+  const float offset = surfaceRayOffset(p, extent_);
+  const glm::vec3 origin = p + offset * n;
+
+  // Candidate rays: direction and unoccluded contribution f / (n_env p_env + n_cos p_cos).
+  rays_.clear();
+  candidates_.clear();
+  // The cosine technique samples the facets' mixture of cosine lobes (facet_light.h); the
+  // environment's reaches every direction the facets face.
+  auto add = [&](const glm::vec3& w, const glm::vec3& l, float pdfEnv, int tech) {
+    const FacetIntake facet = facetIntake(facets_, v, n, w, eta_, entry_);
+    const glm::vec3 f = facet.transmitted * l;
+    if (f.r <= 0.0f && f.g <= 0.0f && f.b <= 0.0f) return;
+    rays_.push_back({origin, w, offset, std::numeric_limits<float>::infinity()});
+    candidates_.push_back({f / (nEnv * pdfEnv + nCos * facet.cosinePdf),
+                           facet.entryWeighted / facet.transmitted, tech});
+  };
+  for (uint32_t j = 0; j < envCount; ++j) {
+    float u1, u2;
+    hammersley(j, envCount, r0, r1, u1, u2);
+    const EnvironmentSampler::Sample s = sampler_.sample(u1, u2);
+    add(s.direction, s.radiance, s.pdf, 0);
+  }
+  for (uint32_t j = 0; j < cosCount; ++j) {
+    float u1, u2;
+    hammersley(j, cosCount, r2, r3, u1, u2);
+    const glm::vec3 w = sampleFacetCosine(facets_, v, n, u1, u2);
+    add(w, sampler_.radiance(w), sampler_.pdf(w), 1);
+  }
+  scene_.occluded(rays_, blocked_);
+}
+
+namespace {
+
+// Per channel, the ratio estimate U Y / X (visibility_vertex_estimator.h); Y where X is 0.
+glm::vec3 ratioToUnoccluded(const glm::vec3& unoccluded, const glm::dvec3& visible,
+                            const glm::dvec3& all) {
+  glm::vec3 e;
+  for (int c = 0; c < 3; ++c)
+    e[c] = all[c] > 0.0 ? float(unoccluded[c] * (visible[c] / all[c])) : float(visible[c]);
+  return e;
+}
+
+}  // namespace
+
+VertexEstimate VertexEstimator::estimate(std::size_t v, int samples, Pcg32& rng) {
+  const uint32_t envCount = static_cast<uint32_t>((samples + 1) / 2);
+  const uint32_t cosCount = static_cast<uint32_t>(samples) - envCount;
+  traceCandidates(v, envCount, cosCount, rng);
+
+  VertexEstimate result{glm::vec3(0.0f), glm::vec3(0.0f), -1.0f,
+                        static_cast<uint32_t>(rays_.size()), 0};
+  glm::dvec3 visible(0.0), all(0.0), visibleW(0.0), allW(0.0);
+  for (std::size_t k = 0; k < candidates_.size(); ++k) {
+    const glm::dvec3 c(candidates_[k].contribution);
+    const glm::dvec3 cw = entry_ ? c * glm::dvec3(candidates_[k].entryScale) : glm::dvec3(0.0);
+    all += c;
+    allW += cw;
+    if (blocked_[k]) {
+      ++result.occluded;
+      continue;
+    }
+    visible += c;
+    visibleW += cw;
+  }
+  // The ratio's residual per sample, y - R x (R = Y / X in luminance), carries its noise to first
+  // order: Var(E) / E^2 = Var(sum of residuals) / Y^2. The direct sum's residual is y itself.
+  const double yVisible = luminance(glm::vec3(visible)), yAll = luminance(glm::vec3(all));
+  const double ratio = unoccluded_ && yAll > 0.0 ? yVisible / yAll : 0.0;
+  double sum[2] = {0.0, 0.0}, sumSq[2] = {0.0, 0.0};
+  for (std::size_t k = 0; k < candidates_.size(); ++k) {
+    const double x = luminance(candidates_[k].contribution);
+    const double residual = (blocked_[k] ? 0.0 : x) - ratio * x;
+    sum[candidates_[k].technique] += residual;
+    sumSq[candidates_[k].technique] += residual * residual;
+  }
+  // Var(sum of n iid terms) = n Var(term); per technique, zeros included.
+  double variance = 0.0;
+  const double counts[2] = {static_cast<float>(envCount), static_cast<float>(cosCount)};
+  for (int t = 0; t < 2; ++t) {
+    if (counts[t] < 2) continue;
+    const double mean = sum[t] / counts[t];
+    variance += counts[t] / (counts[t] - 1.0) * std::max(0.0, sumSq[t] - counts[t] * mean * mean);
+  }
+  if (unoccluded_) {
+    const UnoccludedIntake::Value u = unoccluded_->at(facets_, v, normals_[v]);
+    result.irradiance = ratioToUnoccluded(u.transmitted, visible, all);
+    if (entry_) result.entryWeighted = ratioToUnoccluded(u.entryWeighted, visibleW, allW);
+  } else {
+    result.irradiance = glm::vec3(visible);
+    result.entryWeighted = glm::vec3(visibleW);
+  }
+  if (yVisible > 0.0)
+    result.relativeVariance = static_cast<float>(variance / (yVisible * yVisible));
+  return result;
+}
+
+}  // namespace sss

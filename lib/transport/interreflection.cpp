@@ -1,0 +1,348 @@
+#include "transport/interreflection.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+#include "core/barycentric.h"
+#include "core/bounds.h"
+#include "core/error.h"
+#include "core/parallel.h"
+#include "core/random.h"
+#include "core/sampling.h"
+#include "lighting/facet_light.h"
+#include "material/diffusion_profile.h"
+#include "optics/fresnel.h"
+#include "raytrace/triangle_scene.h"
+
+namespace sss {
+
+namespace {
+
+// The sky the gather's hits mirror is looked up at this face size (texels of ~11 degrees, the
+// flux of each kept: Cubemap::resized). A mirror direction finds a small sun only by chance, and
+// brings far more than the sky when it does, so at full resolution the bounces spread a few
+// vertices' fireflies (the pit box under a sun: README, "Interreflection", where the face sizes
+// tried are measured). The bias is a reflected sun's patch blurred by the texels' width.
+constexpr int kMirrorSkyFaceSize = 8;
+
+// Where a ray meets the mesh, as the gather needs it: the hit triangle's vertices and barycentric
+// weights, the smooth normal there and the cosine between it and the way back along the ray.
+struct SurfaceHit {
+  bool hit = false;    // met the mesh
+  bool valid = false;  // met the front of a surface
+  glm::uvec3 vertices{0};
+  glm::vec3 barycentric{0.0f}, point{0.0f}, normal{0.0f}, faceNormal{0.0f};
+  float mu = 0.0f;  // cosine between the normal and -direction
+};
+
+SurfaceHit traceSurface(const TriangleScene& scene, std::span<const glm::vec3> positions,
+                        std::span<const glm::vec3> normals, std::span<const glm::uvec3> triangles,
+                        const glm::vec3& origin, const glm::vec3& direction, float offset) {
+  SurfaceHit s;
+  const SceneHit hit = scene.intersect(origin, direction, offset);
+  if (!hit.hit) return s;
+  s.hit = true;
+  s.vertices = triangles[hit.triangle];
+  s.point = origin + hit.t * direction;
+  s.barycentric = glm::vec3(barycentricWeights(s.point, positions[s.vertices.x],
+                                               positions[s.vertices.y], positions[s.vertices.z]));
+  s.normal = glm::normalize(s.barycentric.x * normals[s.vertices.x] +
+                            s.barycentric.y * normals[s.vertices.y] +
+                            s.barycentric.z * normals[s.vertices.z]);
+  s.faceNormal = hit.faceNormal;
+  // The cosine by the smooth normal, as B's exit model is; where a facet seen from its front has
+  // a smooth normal turned away (the rim of a concavity), by the facet's.
+  s.mu = -glm::dot(direction, s.normal);
+  if (!(s.mu > 0.0f)) s.mu = -glm::dot(direction, hit.faceNormal);
+  s.valid = s.mu > 0.0f;  // else the back of a surface: no light leaves towards the origin
+  return s;
+}
+
+}  // namespace
+
+InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> positions,
+                                             std::span<const glm::vec3> normals,
+                                             std::span<const glm::uvec3> triangles,
+                                             const Cubemap& radiance, float eta,
+                                             const InterreflectionOptions& options) {
+  const std::size_t n = positions.size();
+  if (normals.size() != n || triangles.empty()) fail("", "interreflection: empty mesh");
+  if (options.rays < 1) fail("", "interreflection: at least one ray per vertex");
+  const TriangleScene scene(positions, triangles,
+                            TriangleSceneOptions::surfaceRays(options.threads));
+  const float extent = boundsOf(positions).longestSide();
+  const float exitScale = float(exitRadianceScale(eta));
+  const Cubemap mirrorSky =
+      radiance.size() > kMirrorSkyFaceSize ? radiance.resized(kMirrorSkyFaceSize) : radiance;
+  const DirectionalAlbedoWeight diffuse;
+  const DirectionalAlbedoWeight& weight = options.entry ? *options.entry : diffuse;
+  const uint32_t rays = uint32_t(options.rays);
+  const float perRay = 1.0f / float(options.rays);
+  const VertexFacets facets = lightFacets(positions, normals, triangles);
+  std::vector<std::vector<Hit>> perVertex(n);
+  std::atomic<uint64_t> blocked{0};
+  // The light leaving a hit towards where the ray came from: its exit radiance from B, and the
+  // sky it mirrors; where the mirror direction meets the object again, the light leaving that
+  // second hit instead (its exit radiance and its mirrored sky: one specular bounce more, which
+  // keeps a white furnace at 1 up to third-order mirror paths).
+  const auto addHit = [&](std::vector<Hit>& hits, const SurfaceHit& h, const glm::vec3& incoming,
+                          const glm::vec3& throughput, bool followMirror) {
+    const bool sameRay = !followMirror;  // the second hit continues the first's ray
+    const glm::vec3 mirror = incoming + 2.0f * h.mu * h.normal;
+    const float fr = fresnelDielectric(h.mu, eta);
+    const float offset = surfaceRayOffset(h.point, extent);
+    const SurfaceHit second = followMirror
+                                  ? traceSurface(scene, positions, normals, triangles,
+                                                 h.point + offset * h.faceNormal, mirror, offset)
+                                  : SurfaceHit{};
+    const bool open = !followMirror || (!second.hit && glm::dot(mirror, h.faceNormal) > 0.0f);
+    hits.push_back({h.vertices, h.barycentric,
+                    throughput * fresnelTransmittance(h.mu, eta) * exitScale,
+                    open ? throughput * fr * mirrorSky.sample(mirror) : glm::vec3(0.0f), sameRay});
+    return std::make_pair(second, mirror);
+  };
+  std::vector<uint32_t> traced = options.vertices;
+  if (traced.empty()) {
+    traced.resize(n);
+    for (std::size_t v = 0; v < n; ++v) traced[v] = uint32_t(v);
+  }
+  for (const uint32_t v : traced)
+    if (v >= n) fail("", "interreflection: a traced vertex is not in the mesh");
+  parallelFor(traced.size(), options.threads, 64, [&](std::size_t begin, std::size_t end) {
+    uint64_t count = 0;
+    for (std::size_t i = begin; i < end; ++i) {
+      const uint32_t v = traced[i];
+      Pcg32 rng(options.seed, v);
+      const float r0 = rng.uniform(), r1 = rng.uniform();
+      const glm::vec3 nv = normals[v], p = positions[v];
+      const float offset = surfaceRayOffset(p, extent);
+      for (uint32_t j = 0; j < rays; ++j) {
+        float u1, u2;
+        hammersley(j, rays, r0, r1, u1, u2);
+        // The light the vertex's facets take in (facet_light.h), as the environment's is taken.
+        const glm::vec3 w = sampleFacetCosine(facets, v, nv, u1, u2);
+        const FacetIntake intake = facetIntake(facets, v, nv, w, eta, &weight);
+        if (!(intake.transmitted > 0.0f)) continue;
+        const SurfaceHit first =
+            traceSurface(scene, positions, normals, triangles, p + offset * nv, w, offset);
+        if (!first.hit) continue;
+        ++count;
+        if (!first.valid) continue;
+        const glm::vec3 entry = perRay / intake.cosinePdf * intake.entryWeighted;
+        const auto [second, mirror] = addHit(perVertex[v], first, w, entry, true);
+        if (second.valid)
+          addHit(perVertex[v], second, mirror, entry * fresnelDielectric(first.mu, eta), false);
+      }
+    }
+    blocked += count;
+  });
+  offsets_.assign(n + 1, 0);
+  for (std::size_t v = 0; v < n; ++v) offsets_[v + 1] = offsets_[v] + uint32_t(perVertex[v].size());
+  hits_.reserve(offsets_[n]);
+  for (auto& hits : perVertex) hits_.insert(hits_.end(), hits.begin(), hits.end());
+  rays_ = options.rays;
+  blockedFraction_ = double(blocked) / double(std::max<std::size_t>(traced.size() * rays, 1));
+}
+
+std::vector<glm::vec3> InterreflectionGather::gather(std::span<const glm::vec3> exitance,
+                                                     std::vector<glm::vec3>* variance,
+                                                     bool mirrored) const {
+  const std::size_t n = offsets_.size() - 1;
+  if (exitance.size() != n) fail("", "interreflection: one exitance per vertex needed");
+  std::vector<glm::vec3> e(n, glm::vec3(0.0f));
+  if (variance) variance->assign(n, glm::vec3(0.0f));
+  for (std::size_t v = 0; v < n; ++v) {
+    glm::dvec3 ray(0.0), squares(0.0);  // the current ray's light; the sum of squares over rays
+    for (uint32_t k = offsets_[v]; k < offsets_[v + 1]; ++k) {
+      const Hit& h = hits_[k];
+      const glm::vec3 b = h.barycentric.x * exitance[h.vertices.x] +
+                          h.barycentric.y * exitance[h.vertices.y] +
+                          h.barycentric.z * exitance[h.vertices.z];
+      const glm::vec3 light = h.exitWeight * b + (mirrored ? h.reflection : glm::vec3(0.0f));
+      e[v] += light;
+      if (!h.sameRay) {
+        squares += ray * ray;
+        ray = glm::dvec3(0.0);
+      }
+      ray += glm::dvec3(light);
+    }
+    squares += ray * ray;
+    if (variance && rays_ > 1) {
+      // Var(sum of N rays) = N var(one ray) = N (sum x^2 - (sum x)^2 / N) / (N - 1).
+      const double count = double(rays_);
+      const glm::dvec3 sum(e[v]);
+      (*variance)[v] = glm::vec3(count * (squares - sum * sum / count) / (count - 1.0));
+    }
+  }
+  return e;
+}
+
+namespace {
+
+double squaredNorm(std::span<const glm::vec3> values) {
+  double sum = 0.0;
+  for (const glm::vec3& x : values) sum += glm::dot(glm::dvec3(x), glm::dvec3(x));
+  return sum;
+}
+
+// The transport's energy ratio over the object per channel, k = sum B A / sum E A (what leaves per
+// what enters): how a change of E at a vertex shows in B, the transport's smoothing left out.
+glm::dvec3 energyRatio(std::span<const glm::vec3> exitance, std::span<const glm::vec3> irradiance,
+                       std::span<const float> areas) {
+  if (irradiance.size() != exitance.size() || areas.size() != exitance.size())
+    fail("", "interreflection: one irradiance and area per vertex needed");
+  glm::dvec3 leaving(0.0), entering(0.0);
+  for (std::size_t v = 0; v < exitance.size(); ++v) {
+    leaving += double(areas[v]) * glm::dvec3(exitance[v]);
+    entering += double(areas[v]) * glm::dvec3(irradiance[v]);
+  }
+  glm::dvec3 k(0.0);
+  for (int c = 0; c < 3; ++c) k[c] = entering[c] > 0.0 ? leaving[c] / entering[c] : 0.0;
+  return k;
+}
+
+// The first bounce's light at the pilot's vertices as the transport would spread it
+// (TransportSmoothing), with its rays' variance carried through the same weights.
+struct PilotLight {
+  std::vector<glm::dvec3> light, variance;  // per pilot vertex, in `vertices`' order
+};
+
+PilotLight smoothOverPilot(std::span<const uint32_t> vertices, std::span<const glm::vec3> added,
+                           std::span<const glm::vec3> variance, std::span<const float> areas,
+                           const TransportSmoothing& smoothing) {
+  const std::size_t n = vertices.size();
+  PilotLight p{std::vector<glm::dvec3>(n), std::vector<glm::dvec3>(n)};
+  if (!smoothing.profile) {
+    for (std::size_t i = 0; i < n; ++i) {
+      p.light[i] = glm::dvec3(added[vertices[i]]);
+      p.variance[i] = glm::dvec3(variance[vertices[i]]);
+    }
+    return p;
+  }
+  if (smoothing.positionsMm.size() != added.size())
+    fail("", "interreflection: one position per vertex needed for the transport's smoothing");
+  // Each pilot vertex stands for its share of the whole surface.
+  double total = 0.0, pilot = 0.0;
+  for (const float a : areas) total += a;
+  for (const uint32_t v : vertices) pilot += areas[v];
+  const double scale = pilot > 0.0 ? total / pilot : 0.0;
+  const DiffusionProfile& profile = *smoothing.profile;
+  const double reach = profile.radiusContaining(0.999);
+  parallelFor(n, smoothing.threads, 16, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      const glm::vec3 x = smoothing.positionsMm[vertices[i]];
+      glm::dvec3 sum(0.0), sumVariance(0.0), weights(0.0);
+      for (std::size_t j = 0; j < n; ++j) {
+        const uint32_t u = vertices[j];
+        const double share = scale * areas[u];
+        const double r = glm::length(smoothing.positionsMm[u] - x);
+        if (j != i && r > reach) continue;
+        // The vertex's own share integrates the profile's peak (as the diffusion sum's self term).
+        const glm::dvec3 w =
+            j == i ? profile.integrateDisc(std::sqrt(share / M_PI)) : profile.evaluate(r) * share;
+        sum += w * glm::dvec3(added[u]);
+        sumVariance += w * w * glm::dvec3(variance[u]);
+        weights += w;
+      }
+      for (int c = 0; c < 3; ++c) {
+        if (!(weights[c] > 0.0)) continue;
+        p.light[i][c] = sum[c] / weights[c];
+        p.variance[i][c] = sumVariance[c] / (weights[c] * weights[c]);
+      }
+    }
+  });
+  return p;
+}
+
+}  // namespace
+
+MissingInterreflection estimateMissingInterreflection(const InterreflectionGather& gather,
+                                                      std::span<const uint32_t> vertices,
+                                                      std::span<const glm::vec3> exitance,
+                                                      std::span<const glm::vec3> irradiance,
+                                                      std::span<const float> areas,
+                                                      const TransportSmoothing& smoothing) {
+  const glm::dvec3 k = energyRatio(exitance, irradiance, areas);
+  std::vector<glm::vec3> variance;
+  const std::vector<glm::vec3> added = gather.gather(exitance, &variance);
+  const PilotLight light = smoothOverPilot(vertices, added, variance, areas, smoothing);
+  // The squares' sum less the rays' noise in it (a sun the mirror direction finds by chance
+  // would otherwise count as light). The gain is the light's, before the smoothing.
+  double sumAdded = 0.0, sumB = 0.0, squaredAdded = 0.0, noise = 0.0, squaredB = 0.0;
+  for (std::size_t i = 0; i < vertices.size(); ++i) {
+    const uint32_t v = vertices[i];
+    const glm::dvec3 dB = k * light.light[i], b(exitance[v]), unsmoothed = k * glm::dvec3(added[v]);
+    sumAdded += unsmoothed.x + unsmoothed.y + unsmoothed.z;
+    sumB += b.x + b.y + b.z;
+    squaredAdded += glm::dot(dB, dB);
+    noise += glm::dot(k * k, light.variance[i]);
+    squaredB += glm::dot(b, b);
+  }
+  MissingInterreflection m;
+  if (!(sumB > 0.0 && squaredB > 0.0)) return m;
+  m.gain = sumAdded / sumB;
+  m.firstBounce = std::sqrt(std::max(0.0, squaredAdded - noise) / squaredB);
+  m.relativeRms = m.firstBounce / (1.0 - std::min(m.gain, 0.9));
+  return m;
+}
+
+double predictGatherNoise(const InterreflectionGather& gather, const InterreflectionGather& replica,
+                          std::span<const uint32_t> vertices, std::span<const glm::vec3> exitance,
+                          std::span<const glm::vec3> irradiance, std::span<const float> areas,
+                          double effectiveVertices) {
+  const glm::dvec3 k = energyRatio(exitance, irradiance, areas);
+  const double squaredB = squaredNorm(exitance);
+  if (!(squaredB > 0.0) || vertices.empty()) return 0.0;
+  const std::vector<glm::vec3> a = gather.gather(exitance), b = replica.gather(exitance);
+  double noise = 0.0;  // sum over the replica's vertices of k^2 Var(E_ir)
+  for (const uint32_t v : vertices) {
+    const glm::dvec3 d = k * (glm::dvec3(a[v]) - glm::dvec3(b[v]));
+    noise += 0.5 * glm::dot(d, d);
+  }
+  noise *= double(exitance.size()) / double(vertices.size());
+  return std::sqrt(noise / std::max(effectiveVertices, 1.0) / squaredB);
+}
+
+BounceResult iterateInterreflection(const InterreflectionGather& gather,
+                                    std::span<const glm::vec3> direct,
+                                    std::vector<glm::vec3> initial,
+                                    const BounceTransport& increment, int maxBounces,
+                                    double tolerance) {
+  constexpr int kAutoBounceLimit = 64;
+  const std::size_t n = direct.size();
+  if (initial.size() != n) fail("", "interreflection: one initial exitance per vertex needed");
+  BounceResult r;
+  r.irradiance.assign(direct.begin(), direct.end());
+  r.exitance = std::move(initial);
+  std::vector<glm::vec3> added = r.exitance;  // what the last bounce added to B (B_0 at first)
+  const double directSquares = squaredNorm(direct);
+  double lastLight = 0.0;  // |dE_k|^2 of the last bounce
+  const int limit = maxBounces > 0 ? maxBounces : kAutoBounceLimit;
+  for (int bounce = 0; bounce < limit; ++bounce) {
+    const std::vector<glm::vec3> light = gather.gather(added, nullptr, bounce == 0);
+    lastLight = squaredNorm(light);
+    const double share = std::sqrt(lastLight / std::max(directSquares, 1e-300));
+    const double looseness = std::max(1.0, std::ldexp(1.0, -(bounce + 2)) / share);
+    added = increment(light, looseness);
+    if (added.size() != n) fail("", "interreflection: one exitance per vertex needed");
+    const double before = squaredNorm(r.exitance);  // |B_(k-1)|^2
+    for (std::size_t v = 0; v < n; ++v) {
+      r.irradiance[v] += light[v];
+      r.exitance[v] += added[v];
+    }
+    r.change = before > 0.0 ? std::sqrt(squaredNorm(added) / before) : 0.0;
+    r.bounces = bounce + 1;
+    if (maxBounces <= 0 && r.change < tolerance) break;
+  }
+  if (r.bounces > 0 && lastLight > 0.0) {
+    const double ratio = std::sqrt(squaredNorm(gather.gather(added, nullptr, false)) / lastLight);
+    const double rho = std::min(ratio, 0.95);
+    r.remaining = r.change * rho / (1.0 - rho);
+  }
+  return r;
+}
+
+}  // namespace sss

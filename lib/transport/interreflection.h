@@ -1,0 +1,163 @@
+// Interreflection (issue 11, part 3): the light the object sends to itself.
+//
+// The visibility stage (visibility.h) counts a direction the mesh blocks as dark, which leaves
+// concavities 13-29 % dark under uniform light. Here the directions each vertex's facets face are
+// sampled again (cosine-weighted about the facets' normals, stratified, Pcg32(seed, vertex): the
+// light the facets take in, as the visibility stage takes the environment's: facet_light.h), and
+// a ray that meets the object brings back
+// the radiance leaving the hit point towards the vertex: the exit model's radiance of the exitance
+// interpolated over the hit triangle's vertices, L = B F_t(mu_h, eta) / (pi (1 - 2 C_1(eta)))
+// (optics/fresnel.h), plus the Fresnel-reflected environment F_r(mu_h) L_env(r), r the mirror
+// direction at the hit, L_env looked up in the environment box-filtered to texels of ~11 degrees
+// (a sun the mirror direction would find by chance, spread over a wider cone: interreflection.cpp).
+// mu_h is the cosine at the hit between the way back to the vertex and the hit's interpolated
+// normal. The vertex's transmitted irradiance gains
+//   E_ir = integral over blocked w of factor(w) L_hit(w) dw  ~  1 / N sum_k factor / pdf L_hit,k
+// (N rays from the facets' cosine lobes, factor = sum_f share_f F_t(mu_f) mu_f; unblocked ones
+// add nothing: the visibility stage has them). The hits
+// are traced once; each bounce is a gather over them, so B -> E_ir is linear and cheap, and the
+// bake iterates E = E_direct + E_ir(B), B = transport(E) until B stops changing.
+//
+// Closed, non-absorbing objects under uniform radiance 1 (the white furnace) then send radiance 1
+// everywhere, concavities included (tests/transport/interreflection_test.cpp).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "envmap/cubemap.h"
+#include "material/directional_albedo_weight.h"
+
+namespace sss {
+
+class DiffusionProfile;  // material/diffusion_profile.h
+
+struct InterreflectionOptions {
+  int rays = 64;  // cosine-distributed rays per vertex (>= 1)
+  // The directional entry (material/directional_albedo_weight.h): the light arriving at a vertex
+  // is weighted as the transport's direct light is. Null: diffuse entry. Not kept.
+  const DirectionalAlbedoWeight* entry = nullptr;
+  uint64_t seed = 1;
+  int threads = 0;  // <= 0: all cores
+  // Only these vertices trace rays (a pilot, estimateMissingInterreflection); the others gather
+  // nothing. Empty: every vertex.
+  std::vector<uint32_t> vertices;
+};
+
+class InterreflectionGather {
+ public:
+  // Positions in mm, unit vertex normals pointing out. Keeps no reference to its arguments.
+  InterreflectionGather(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
+                        std::span<const glm::uvec3> triangles, const Cubemap& radiance, float eta,
+                        const InterreflectionOptions& options);
+
+  // E_ir per vertex for the exitance B per vertex (one per mesh vertex). With `variance`, also
+  // each vertex's Monte Carlo variance of E_ir (from its rays' spread, rays that met nothing
+  // counting 0; an upper bound, the rays being stratified).
+  // `mirrored` false: without the Fresnel-reflected sky, which does not depend on B (the linear
+  // part, for the bounces' increments).
+  std::vector<glm::vec3> gather(std::span<const glm::vec3> exitance,
+                                std::vector<glm::vec3>* variance = nullptr,
+                                bool mirrored = true) const;
+  // Of the rays traced, the fraction that met the object.
+  double blockedFraction() const { return blockedFraction_; }
+
+ private:
+  struct Hit {
+    glm::uvec3 vertices;
+    glm::vec3 barycentric;
+    glm::vec3 exitWeight;  // pi / N F_t(mu) w(mu) F_t(mu_h) / (pi (1 - 2 C_1))
+    glm::vec3 reflection;  // pi / N F_t(mu) w(mu) F_r(mu_h) L_env(r)
+    bool sameRay;          // the mirror bounce of the hit before it: one ray's light with it
+  };
+  int rays_ = 0;
+  std::vector<uint32_t> offsets_;  // hits of vertex v: [offsets_[v], offsets_[v + 1])
+  std::vector<Hit> hits_;
+  double blockedFraction_ = 0.0;
+};
+
+struct BounceResult {
+  std::vector<glm::vec3> irradiance;  // E_direct + E_ir of the last bounce
+  std::vector<glm::vec3> exitance;    // B = transport(irradiance)
+  int bounces = 0;                    // gathers done
+  double change = 0.0;                // relative RMS change of B at the last bounce
+  // What the bounces not done would still add, relative RMS against B: the last change times
+  // rho / (1 - rho), the series' ratio rho estimated by one more gather (no transport) as
+  // |gather(dB_k)| / |dE_k|, capped at 0.95.
+  double remaining = 0.0;
+};
+
+// Without bounces, how much the light the object sends itself would change B, estimated at the
+// traced vertices of a pilot gather (InterreflectionOptions::vertices) from one gather of the
+// bake's B. The first bounce adds dE_v = gather(B)_v; B answers E through the transport, whose
+// energy ratio over the object is k = sum B A / sum E A (per channel: what leaves per what
+// enters), so dB_v ~ k dE'_v, dE' the light as the transport spreads it: with a profile
+// (TransportSmoothing) dE averaged over the pilot's vertices with the weights of the diffusion
+// sum (Li & Guo Eq. 7), R_d(r_vu) a_u, a_u the vertex's area scaled so that the pilot's vertices
+// stand for the whole surface, and for the vertex itself the profile integrated over its a_v;
+// without one, dE itself (a local transport: an upper estimate where dE varies within a
+// diffusion length, most in a material whose diffusion length is a concavity's size, as skim
+// milk's in the concavity study's pit). Each later bounce sends back
+// about the same share again, q = sum k dE / sum B over the traced vertices, so the bounces add
+// dB / (1 - q) (q capped at 0.9). The rays' own noise is taken out of the RMS (a sun found by a
+// mirror direction by chance). Weighting q by where the light is added (the pit's own gain)
+// overestimated the studies' rows, with the spreading or without; the measured agreement is in
+// the README ("Interreflection").
+struct MissingInterreflection {
+  double relativeRms = 0.0;  // of the added B against B, over traced vertices and channels
+  double gain = 0.0;         // q: the first bounce's mean relative gain
+  double firstBounce = 0.0;  // the first bounce's alone (relativeRms = firstBounce / (1 - q))
+};
+struct TransportSmoothing {
+  std::span<const glm::vec3> positionsMm;  // every mesh vertex's
+  const DiffusionProfile* profile = nullptr;
+  int threads = 0;  // <= 0: all cores
+};
+MissingInterreflection estimateMissingInterreflection(const InterreflectionGather& gather,
+                                                      std::span<const uint32_t> vertices,
+                                                      std::span<const glm::vec3> exitance,
+                                                      std::span<const glm::vec3> irradiance,
+                                                      std::span<const float> areas,
+                                                      const TransportSmoothing& smoothing = {});
+
+// With bounces, the noise the gather's rays leave in B, as a relative RMS over vertices and
+// channels. The hits are traced once, so one draw of noise serves every bounce. Its variance per
+// vertex is measured, as the visibility pilot's is (visibility.h), from a replica: the same rays
+// with another seed at some vertices (`vertices`; the rays are stratified, so the variance of one
+// estimate from its rays' spread would be an upper bound, 1.4-3.5x too high on the studies'
+// scenes), Var = |E_ir - E_ir'|^2 / 2 at the converged B. Then through the transport: its energy
+// ratio k = sum B A / sum E A per channel, and its smoothing over effectiveVertices vertices (the
+// visibility noise model's N_eff, visibility_noise_model.h). Not amplified by the later bounces as
+// the light is: each vertex gathers over many hit points, which averages the noise out. Measured
+// against the spread over seeds in the README ("Interreflection").
+double predictGatherNoise(const InterreflectionGather& gather, const InterreflectionGather& replica,
+                          std::span<const uint32_t> vertices, std::span<const glm::vec3> exitance,
+                          std::span<const glm::vec3> irradiance, std::span<const float> areas,
+                          double effectiveVertices);
+
+// The transport's part that is linear in E (B = transport(E) less its constant terms, the traced
+// far field): what the bounces' light adds to B, from that light and a looseness >= 1, how many
+// times the transport's own relative error the sum may have (iterateInterreflection).
+using BounceTransport =
+    std::function<std::vector<glm::vec3>(std::span<const glm::vec3>, double looseness)>;
+
+// B_0 = `initial` (the transport of E_direct, which the bake has); then B_k = B_(k-1) + dB_k with
+// dE_1 = gather(B_0), dE_k = gather(dB_(k-1)) without the mirrored sky, dB_k = increment(dE_k):
+// the same B_k = transport(E_direct + gather(B_(k-1))) as iterating the whole transport, for
+// maxBounces bounces, or (maxBounces <= 0: auto) until the relative RMS change of B is below
+// tolerance (at most 64 bounces). Summing only what each bounce adds leaves out what does not
+// change: the direct light's sums, and the far field, which is traced from the environment. And
+// the increments, small against B, need less precision: bounce k (from 1) allows a looseness of
+// 2^-(k+1) / s_k, s_k the relative RMS of dE_k against E_direct (at least 1), so that their errors
+// add up to at most half of the transport's own, even all in one direction.
+BounceResult iterateInterreflection(const InterreflectionGather& gather,
+                                    std::span<const glm::vec3> direct,
+                                    std::vector<glm::vec3> initial,
+                                    const BounceTransport& increment, int maxBounces,
+                                    double tolerance);
+
+}  // namespace sss

@@ -1,0 +1,325 @@
+// Interreflection: the white furnace. A closed, non-absorbing object under uniform radiance 1
+// sends radiance 1 in every direction from every vertex, concavities included; without the light
+// it sends itself, a pit is dark.
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "envmap/cubemap.h"
+#include "lighting/visibility.h"
+#include "material/diffusion_profile.h"
+#include "material/material.h"
+#include "material/profile_factory.h"
+#include "mesh/primitives.h"
+#include "mesh/triangle_mesh.h"
+#include "optics/fresnel.h"
+#include "support/box_with_pit.h"
+#include "transport/interreflection.h"
+
+namespace sss {
+namespace {
+
+// |after - before| / |before| over vertices and channels: what the bounces changed in B.
+double relativeRmsChange(std::span<const glm::vec3> after, std::span<const glm::vec3> before) {
+  double num = 0.0, den = 0.0;
+  for (std::size_t v = 0; v < before.size(); ++v) {
+    const glm::dvec3 d = glm::dvec3(after[v]) - glm::dvec3(before[v]);
+    num += glm::dot(d, d);
+    den += glm::dot(glm::dvec3(before[v]), glm::dvec3(before[v]));
+  }
+  return std::sqrt(num / den);
+}
+
+TEST(Interreflection, WhiteFurnaceSendsRadianceOneFromEveryVertex) {
+  const TriangleMesh mesh = boxWithPit();
+  const Cubemap white(8, glm::vec3(1.0f));
+  const float eta = 1.3f;
+  const double full = M_PI * (1.0 - diffuseFresnelReflectance(eta));  // E under a full sky
+  VisibilityOptions vis;
+  vis.samples = 256;
+  const std::vector<glm::vec3> direct = transmittedIrradianceWithVisibility(
+      mesh.positions, mesh.normals, mesh.triangles, white, eta, vis);
+  InterreflectionOptions options;
+  options.rays = 256;
+  const InterreflectionGather gather(mesh.positions, mesh.normals, mesh.triangles, white, eta,
+                                     options);
+  EXPECT_GT(gather.blockedFraction(), 0.02);
+  // A non-absorbing object under uniform light returns all it receives where it receives it: the
+  // transport of any normalized model maps a uniform E to B = E.
+  const auto identity = [](std::span<const glm::vec3> e, double = 1.0) {
+    return std::vector<glm::vec3>(e.begin(), e.end());
+  };
+  const BounceResult r =
+      iterateInterreflection(gather, direct, identity(direct), identity, 0, 1e-5);
+  EXPECT_GT(r.bounces, 2);
+  EXPECT_LT(r.change, 1e-5);
+  // Radiance along the normal: the exit model of B plus the reflected sky, F_r(1) * 1.
+  const double exitScale = normalExitRadianceScale(eta);
+  const double reflected = fresnelDielectric(1.0f, eta);
+  double pitDirect = 0.0, pitAfter = 0.0;
+  int pit = 0;
+  for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+    const double l = r.exitance[v].g * exitScale + reflected;
+    ASSERT_NEAR(l, 1.0, 0.06) << "vertex " << v;
+    if (direct[v].g / full < 0.8) {  // sees less than ~80 % of the sky
+      ++pit;
+      pitDirect += direct[v].g / full;
+      pitAfter += r.exitance[v].g * exitScale + reflected;
+    }
+  }
+  ASSERT_GT(pit, 10);
+  EXPECT_LT(pitDirect / pit, 0.75);        // without interreflection: dark
+  EXPECT_NEAR(pitAfter / pit, 1.0, 0.01);  // with it: the furnace's radiance 1
+}
+
+// Without bounces, a pilot gather estimates the share of B the bounces would add. With a local
+// transport (B = albedo E: no smoothing, which the estimate leaves out), what it approximates is
+// the later bounces' geometric series: it must agree with the bounces themselves.
+TEST(Interreflection, PilotEstimateOfTheMissingLightMatchesTheBounces) {
+  const TriangleMesh mesh = boxWithPit();
+  const Cubemap white(8, glm::vec3(1.0f));
+  const float eta = 1.3f;
+  VisibilityOptions vis;
+  vis.samples = 64;
+  const std::vector<glm::vec3> direct = transmittedIrradianceWithVisibility(
+      mesh.positions, mesh.normals, mesh.triangles, white, eta, vis);
+  const glm::vec3 albedo(0.9f, 0.6f, 0.2f);
+  const auto local = [&](std::span<const glm::vec3> e, double = 1.0) {
+    std::vector<glm::vec3> b(e.begin(), e.end());
+    for (glm::vec3& x : b) x *= albedo;
+    return b;
+  };
+  InterreflectionOptions options;
+  options.rays = 64;
+  const InterreflectionGather all(mesh.positions, mesh.normals, mesh.triangles, white, eta,
+                                  options);
+  const BounceResult bounced = iterateInterreflection(all, direct, local(direct), local, 0, 1e-5);
+  const std::vector<glm::vec3> b0 = local(direct);
+  const double actual = relativeRmsChange(bounced.exitance, b0);
+  ASSERT_GT(actual, 0.02);  // the pit matters
+  // A pilot of every 4th vertex, as the bake's of ~1,000 on a larger mesh.
+  options.vertices.clear();
+  for (uint32_t v = 1; v < mesh.positions.size(); v += 4) options.vertices.push_back(v);
+  const InterreflectionGather pilot(mesh.positions, mesh.normals, mesh.triangles, white, eta,
+                                    options);
+  const MissingInterreflection estimate =
+      estimateMissingInterreflection(pilot, options.vertices, b0, direct, vertexAreas(mesh));
+  EXPECT_GT(estimate.gain, 0.0);
+  EXPECT_NEAR(estimate.relativeRms / actual, 1.0, 0.25) << estimate.relativeRms << " " << actual;
+  // Untraced vertices gather nothing.
+  const std::vector<glm::vec3> added = pilot.gather(b0);
+  EXPECT_EQ(added[0], glm::vec3(0.0f));
+}
+
+// With a diffusion transport, B_v = sum_u R_d(r_vu) E_u A_u (Li & Guo Eq. 7; the vertex's own
+// area integrates the profile), the first bounce's light, concentrated in the pit, is spread over
+// a diffusion length, which in skim milk is the pit's size: the estimate follows that spreading
+// with the profile over the pilot's vertices, where the light's own RMS overestimates.
+TEST(Interreflection, PilotEstimateFollowsTheTransportsSpreading) {
+  const TriangleMesh mesh = boxWithPit();
+  const Cubemap white(8, glm::vec3(1.0f));
+  const Material skim = findMaterialPreset("skimmilk");
+  const float eta = float(skim.eta);
+  const std::unique_ptr<DiffusionProfile> profile = makeProfile("dipole", skim);
+  VisibilityOptions vis;
+  vis.samples = 64;
+  const std::vector<glm::vec3> direct = transmittedIrradianceWithVisibility(
+      mesh.positions, mesh.normals, mesh.triangles, white, eta, vis);
+  const std::vector<float> areas = vertexAreas(mesh);
+  const std::size_t n = mesh.positions.size();
+  std::vector<std::vector<glm::dvec3>> weights(n, std::vector<glm::dvec3>(n));
+  for (std::size_t v = 0; v < n; ++v)
+    for (std::size_t u = 0; u < n; ++u)
+      weights[v][u] = u == v
+                          ? profile->integrateDisc(std::sqrt(areas[v] / M_PI))
+                          : profile->evaluate(glm::length(mesh.positions[u] - mesh.positions[v])) *
+                                double(areas[u]);
+  const auto diffusion = [&](std::span<const glm::vec3> e, double = 1.0) {
+    std::vector<glm::vec3> b(n);
+    for (std::size_t v = 0; v < n; ++v) {
+      glm::dvec3 sum(0.0);
+      for (std::size_t u = 0; u < n; ++u) sum += weights[v][u] * glm::dvec3(e[u]);
+      b[v] = glm::vec3(sum);
+    }
+    return b;
+  };
+  InterreflectionOptions options;
+  options.rays = 64;
+  const InterreflectionGather all(mesh.positions, mesh.normals, mesh.triangles, white, eta,
+                                  options);
+  const std::vector<glm::vec3> b0 = diffusion(direct);
+  // The first bounce alone: what the spreading changes (the later ones, a series of the mean
+  // gain, are the local transport's test's).
+  const BounceResult one = iterateInterreflection(all, direct, b0, diffusion, 1, 1e-5);
+  const double actual = relativeRmsChange(one.exitance, b0);
+  ASSERT_GT(actual, 0.02);
+  options.vertices.clear();
+  for (uint32_t v = 1; v < n; v += 4) options.vertices.push_back(v);
+  const InterreflectionGather pilot(mesh.positions, mesh.normals, mesh.triangles, white, eta,
+                                    options);
+  const double unspread =
+      estimateMissingInterreflection(pilot, options.vertices, b0, direct, areas).firstBounce;
+  const double spread = estimateMissingInterreflection(pilot, options.vertices, b0, direct, areas,
+                                                       {mesh.positions, profile.get(), 0})
+                            .firstBounce;
+  EXPECT_GT(unspread / actual, 1.2) << unspread << " " << actual;
+  EXPECT_NEAR(spread / actual, 1.0, 0.1) << spread << " " << actual;
+}
+
+TEST(Interreflection, ConvexObjectsSendThemselvesNothing) {
+  const TriangleMesh sphere = makeIcosphere(2, 10.0f);
+  const Cubemap white(8, glm::vec3(1.0f));
+  const InterreflectionGather gather(sphere.positions, sphere.normals, sphere.triangles, white,
+                                     1.3f, {});
+  EXPECT_EQ(gather.blockedFraction(), 0.0);
+  const std::vector<glm::vec3> b(sphere.positions.size(), glm::vec3(1.0f));
+  for (const glm::vec3& e : gather.gather(b)) EXPECT_EQ(e, glm::vec3(0.0f));
+  const std::vector<glm::vec3> e(sphere.positions.size(), glm::vec3(2.0f));
+  const std::vector<uint32_t> all = {0, 5, 9};
+  EXPECT_EQ(estimateMissingInterreflection(gather, all, b, e, vertexAreas(sphere)).relativeRms,
+            0.0);
+}
+
+// The pit box under a sky with a bright side (its +Y face) and its direct light: the scene of the
+// bounces' own tests (the mirrored sky counts, and the pit gets light from its walls).
+struct PitUnderSky {
+  TriangleMesh mesh = boxWithPit();
+  Cubemap sky{8, glm::vec3(0.3f, 0.4f, 0.5f)};
+  float eta = 1.4f;
+  std::vector<glm::vec3> direct;
+  PitUnderSky() {
+    for (int y = 0; y < 8; ++y)
+      for (int x = 0; x < 8; ++x) sky.at(int(CubeFace::PosY), x, y) = glm::vec3(4.0f, 3.0f, 2.0f);
+    VisibilityOptions vis;
+    vis.samples = 64;
+    direct = transmittedIrradianceWithVisibility(mesh.positions, mesh.normals, mesh.triangles, sky,
+                                                 eta, vis);
+  }
+};
+
+// The bounces sum only what each adds, through the transport's linear part; iterating the whole
+// transport, constant terms included (a traced far field), B_k = T(E_direct + gather(B_(k-1))),
+// must give the same B and E. A transport that smooths (each vertex mixes with the next) and has a
+// constant term, on the pit box under a sky with a bright direction (the mirrored sky counts).
+TEST(Interreflection, SummingTheIncrementsEqualsIteratingTheWholeTransport) {
+  const PitUnderSky scene;
+  const auto& [mesh, sky, eta, direct] = scene;
+  const std::size_t n = direct.size();
+  const glm::vec3 albedo(0.8f, 0.5f, 0.3f), far(0.01f, 0.02f, 0.03f);
+  const auto linear = [&](std::span<const glm::vec3> e, double = 1.0) {
+    std::vector<glm::vec3> b(n);
+    for (std::size_t v = 0; v < n; ++v) b[v] = albedo * (0.6f * e[v] + 0.4f * e[(v + 1) % n]);
+    return b;
+  };
+  const auto whole = [&](std::span<const glm::vec3> e) {
+    std::vector<glm::vec3> b = linear(e);
+    for (glm::vec3& x : b) x += far;
+    return b;
+  };
+  InterreflectionOptions options;
+  options.rays = 32;
+  const InterreflectionGather gather(mesh.positions, mesh.normals, mesh.triangles, sky, eta,
+                                     options);
+  const int bounces = 5;
+  const std::vector<glm::vec3> b0 = whole(direct);
+  const BounceResult r = iterateInterreflection(gather, direct, b0, linear, bounces, 0);
+  std::vector<glm::vec3> e(direct.begin(), direct.end()), b = b0;
+  for (int k = 0; k < bounces; ++k) {
+    const std::vector<glm::vec3> light = gather.gather(b);
+    for (std::size_t v = 0; v < n; ++v) e[v] = direct[v] + light[v];
+    b = whole(e);
+  }
+  EXPECT_EQ(r.bounces, bounces);
+  double moved = 0.0;
+  for (std::size_t v = 0; v < n; ++v)
+    for (int c = 0; c < 3; ++c) {
+      ASSERT_NEAR(r.exitance[v][c], b[v][c], 1e-5 * b[v][c]) << "vertex " << v;
+      ASSERT_NEAR(r.irradiance[v][c], e[v][c], 1e-5 * e[v][c]) << "vertex " << v;
+      moved = std::max(moved, double(b[v][c] / b0[v][c]));
+    }
+  EXPECT_GT(moved, 1.2);  // the bounces matter in the pit
+}
+
+// With bounces, the JSON's interreflection error is the gather's noise, measured from a replica of
+// its rays with another seed at some vertices: it must match the spread of B over seeds. A local
+// transport (no smoothing: one effective vertex), the pit box under a sky with a bright direction.
+TEST(Interreflection, PredictedGatherNoiseMatchesTheSpreadOverSeeds) {
+  const PitUnderSky scene;
+  const auto& [mesh, sky, eta, direct] = scene;
+  const std::size_t n = direct.size();
+  const glm::vec3 albedo(0.9f, 0.7f, 0.5f);
+  const auto local = [&](std::span<const glm::vec3> e, double = 1.0) {
+    std::vector<glm::vec3> b(e.begin(), e.end());
+    for (glm::vec3& x : b) x *= albedo;
+    return b;
+  };
+  const std::vector<float> areas = vertexAreas(mesh);
+  std::vector<uint32_t> half;
+  for (uint32_t v = 0; v < n; v += 2) half.push_back(v);
+  constexpr int kSeeds = 12;
+  std::vector<std::vector<glm::vec3>> baked;
+  double predicted = 0.0;
+  for (int seed = 1; seed <= kSeeds; ++seed) {
+    InterreflectionOptions options;
+    options.rays = 16;
+    options.seed = uint64_t(seed);
+    const InterreflectionGather gather(mesh.positions, mesh.normals, mesh.triangles, sky, eta,
+                                       options);
+    options.seed += 1000;
+    options.vertices = half;
+    const InterreflectionGather replica(mesh.positions, mesh.normals, mesh.triangles, sky, eta,
+                                        options);
+    const BounceResult r = iterateInterreflection(gather, direct, local(direct), local, 0, 1e-4);
+    predicted += predictGatherNoise(gather, replica, half, r.exitance, r.irradiance, areas, 1.0);
+    baked.push_back(r.exitance);
+  }
+  predicted /= kSeeds;
+  // The spread over seeds: sum over vertices of the sample variance, against sum |B|^2.
+  double variance = 0.0, squares = 0.0;
+  for (std::size_t v = 0; v < n; ++v) {
+    glm::dvec3 mean(0.0);
+    for (const auto& b : baked) mean += glm::dvec3(b[v]) / double(kSeeds);
+    for (const auto& b : baked) {
+      const glm::dvec3 d = glm::dvec3(b[v]) - mean;
+      variance += glm::dot(d, d) / (kSeeds - 1);
+    }
+    squares += glm::dot(mean, mean);
+  }
+  const double measured = std::sqrt(variance / squares);
+  ASSERT_GT(measured, 1e-3);  // the pit's rays do leave noise
+  EXPECT_NEAR(predicted / measured, 1.0, 0.25) << predicted << " " << measured;
+}
+
+// A bake with fewer bounces than convergence needs reports what the rest would add (one more
+// gather estimates the series' ratio): it must match the difference to the converged B.
+TEST(Interreflection, RemainingBouncesAreEstimatedFromOneMoreGather) {
+  const PitUnderSky scene;
+  const auto& [mesh, sky, eta, direct] = scene;
+  const auto smoothing = [&](std::span<const glm::vec3> e, double = 1.0) {
+    std::vector<glm::vec3> b(e.size());
+    for (std::size_t v = 0; v < e.size(); ++v)
+      b[v] = glm::vec3(0.95f, 0.9f, 0.8f) * (0.5f * e[v] + 0.5f * e[(v + 1) % e.size()]);
+    return b;
+  };
+  InterreflectionOptions options;
+  options.rays = 64;
+  const InterreflectionGather gather(mesh.positions, mesh.normals, mesh.triangles, sky, eta,
+                                     options);
+  const std::vector<glm::vec3> b0 = smoothing(direct);
+  const BounceResult converged = iterateInterreflection(gather, direct, b0, smoothing, 0, 1e-7);
+  EXPECT_LT(converged.remaining, 1e-6);
+  for (int bounces : {1, 2, 3}) {
+    const BounceResult r = iterateInterreflection(gather, direct, b0, smoothing, bounces, 0.0);
+    const double actual = relativeRmsChange(converged.exitance, r.exitance);
+    ASSERT_GT(actual, 1e-4) << bounces;
+    EXPECT_NEAR(r.remaining / actual, 1.0, 0.3) << bounces << ": " << r.remaining << " " << actual;
+  }
+}
+
+}  // namespace
+}  // namespace sss

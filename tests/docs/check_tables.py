@@ -24,7 +24,9 @@ Two checks over README.md and docs/**/*.md (python3, standard library only):
    A template is the cell's text with placeholders `{[alias:]field[@f=v,f=v][|mod|mod]}`:
    `field` a column of the CSV (alias `csv` when none is given), `@f=v,...` filters that replace
    or add to the row's own (`where` and the key columns' values), `mod` one of `pct` (x 100),
-   `*N` or `/N` (scale), `abs`. The lookup must find exactly one CSV row. A key column's cells
+   `*N` or `/N` (scale), `abs`, `min` or `max` (over all the rows that match: a range's ends).
+   A filter value with `*` is a wildcard (`scene=bunny-*`). Without `min`/`max` the lookup must
+   find exactly one CSV row. A key column's cells
    are matched against its template and the text each placeholder covers becomes a filter
    (field = that text) for the row. A filter on a field that a CSV does not have is ignored for
    that CSV.
@@ -46,6 +48,7 @@ runs the checks on small fixtures and exits non-zero unless they catch what they
 
 import argparse
 import csv
+import fnmatch
 import io
 import math
 import re
@@ -169,13 +172,17 @@ class Source:
         self.rows = [{k.strip(): (v or "").strip() for k, v in r.items() if k is not None}
                      for r in reader]
 
-    def lookup(self, filters, what):
+    def matching(self, filters):
         active = {k: v for k, v in filters.items() if k in self.fields}
         rows = [r for r in self.rows if all(same_value(r.get(k, ""), v) for k, v in active.items())]
-        if len(rows) != 1:
-            desc = ", ".join(f"{k}={v}" for k, v in active.items()) or "no filter"
-            raise DocError(f"{what}: {len(rows)} rows of {self.rel} match {desc} (need exactly 1)")
-        return rows[0]
+        return rows, ", ".join(f"{k}={v}" for k, v in active.items()) or "no filter"
+
+    def lookup(self, filters, what, many=False):
+        rows, desc = self.matching(filters)
+        if len(rows) != 1 and not (many and rows):
+            need = "at least 1" if many else "exactly 1"
+            raise DocError(f"{what}: {len(rows)} rows of {self.rel} match {desc} (need {need})")
+        return rows if many else rows[0]
 
 
 def parse_number(text):
@@ -194,6 +201,8 @@ def parse_number(text):
 def same_value(csv_value, wanted):
     if csv_value == wanted:
         return True
+    if "*" in wanted:
+        return fnmatch.fnmatchcase(csv_value, wanted)
     a, b = parse_number(csv_value), parse_number(wanted)
     return a is not None and b is not None and a == b
 
@@ -218,11 +227,14 @@ class Placeholder:
         self.alias, self.field = (head.split(":", 1) if ":" in head else ("csv", head))
         self.alias, self.field = self.alias.strip(), self.field.strip()
         for m in self.mods:
-            if m not in ("pct", "abs") and not re.fullmatch(r"[*/][0-9.eE+-]+", m):
+            if m not in ("pct", "abs", "min", "max") and not re.fullmatch(r"[*/][0-9.eE+-]+", m):
                 raise DocError(f"placeholder {{{spec}}}: unknown modifier '{m}'")
+        self.aggregate = next((m for m in self.mods if m in ("min", "max")), None)
 
     def transform(self, value):
         for m in self.mods:
+            if m in ("min", "max"):
+                continue
             if m == "pct":
                 value *= 100
             elif m == "abs":
@@ -325,9 +337,15 @@ def column_spec(text):
 # Checking one table
 
 
-def compare(placeholder, shown, row, source, where):
+def compare(placeholder, shown, row, source):
     """None when the shown text equals the CSV value of the placeholder, else the reason."""
-    value = row.get(placeholder.field)
+    if placeholder.aggregate:
+        values = [parse_number(r.get(placeholder.field, "")) for r in row]
+        if placeholder.field not in source.fields or any(v is None for v in values):
+            return f"{source.rel}: '{placeholder.field}' is not a number in every matching row"
+        value = str((min if placeholder.aggregate == "min" else max)(values))
+    else:
+        value = row.get(placeholder.field)
     if value is None:
         return f"{source.rel} has no column '{placeholder.field}'"
     number = parse_number(value)
@@ -423,11 +441,11 @@ def check_table(root, doc, lines, table, errors):
                     errors.append(f"{loc}, column '{header}': no csv with alias '{ph.alias}'")
                     continue
                 try:
-                    row = source.lookup({**filters, **ph.filters}, "")
+                    row = source.lookup({**filters, **ph.filters}, "", many=bool(ph.aggregate))
                 except DocError as e:
                     errors.append(f"{loc}, column '{header}', {{{ph.spec}}}{e}")
                     continue
-                problem = compare(ph, text.strip(), row, source, where)
+                problem = compare(ph, text.strip(), row, source)
                 if problem:
                     errors.append(f"{loc}, column '{header}': {problem}")
     if spec.complete:
@@ -554,6 +572,15 @@ row 2 MSAA FPS => -
 | dragon | 871306 | 115.73 (8.6) | 25 % | - | words |
 """
 
+RANGE_TABLE = """<!-- table
+csv: tests/bench/results/x/table.csv
+Range => {median_ms@model=*|min}-{median_ms@model=*|max} ms, bunny {share@model=bun*|max|pct} %
+-->
+| Range |
+| --- |
+| 0.817-115.73 ms, bunny 50 % |
+"""
+
 
 def self_test():
     cases = [
@@ -570,6 +597,8 @@ def self_test():
         ("a row left out of a complete table",
          GOOD_TABLE.replace("| dragon | 871306 | 115.73 (8.6) | 25 % | - | words |\n", ""),
          ["not shown"]),
+        ("a range from min and max", RANGE_TABLE, []),
+        ("a range's end off", RANGE_TABLE.replace("115.73", "115.8"), ["115.8"]),
         ("a key the CSV lacks", GOOD_TABLE.replace("| dragon |", "| teapot |"), ["0 rows"]),
         ("a broken link", "See [nothing](missing.md).\n", ["does not exist"]),
         ("a link to a missing heading", "See [x](docs/other.md#no-such-heading).\n",

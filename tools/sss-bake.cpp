@@ -137,7 +137,7 @@ void addBakeOptions(CLI::App& app, sss::BakeSettings& s) {
   cli::addParsedOption(app, "--samples", s.samples, parseSamples,
                        "Visibility rays per vertex (>= 2), or auto (from --tolerance and a pilot)")
       ->default_str("auto");
-  app.add_option("--seed", s.seed, "Random seed")->capture_default_str();
+  app.add_option("--seed", s.run.seed, "Random seed")->capture_default_str();
   cli::addEnumOption(
       app, "--method", s.method, sss::kBakeMethodNames,
       "Diffusion sum (auto: the cheapest that meets --tolerance), or the path tracer");
@@ -174,8 +174,8 @@ void addBakeOptions(CLI::App& app, sss::BakeSettings& s) {
       }))
       ->capture_default_str();
   cli::addOrientationOptions(app, s.orientation);
-  cli::addThreadsOption(app, s.threads);
-  cli::addQuietFlag(app, s.quiet);
+  cli::addThreadsOption(app, s.run.threads);
+  cli::addQuietFlag(app, s.run.quiet);
 }
 
 // Writes the baked mesh and, beside it, the report: the report's temporary file is created
@@ -232,9 +232,9 @@ int bakeBatch(const std::vector<std::string>& meshes, const std::string& outDir,
         sss::info("wrote " + item.outputs[0] + " (" +
                       std::to_string(result.baked.mesh.vertexCount()) + " vertices) in " +
                       std::to_string(clock.seconds()) + " s",
-                  s.quiet);
+                  s.run.quiet);
       },
-      s.quiet);
+      s.run.quiet);
 }
 
 }  // namespace
@@ -289,7 +289,7 @@ int main(int argc, char** argv) {
     writeOutputs(output, jsonPath, result, clock);
     sss::info("wrote " + output + " (" + std::to_string(result.baked.mesh.vertexCount()) +
                   " vertices) in " + std::to_string(clock.seconds()) + " s",
-              s.quiet);
+              s.run.quiet);
     return 0;
   });
 }

@@ -20,117 +20,129 @@ namespace sss {
 
 namespace {
 
-LightingInput lightingInput(const BakeSettings& s, const PreparedMesh& mesh,
-                            const Cubemap& radiance, const EnergyStage& energy,
-                            const ErrorBudget& budget, const DirectionalAlbedoWeight& weight) {
-  const bool escape = energy.report.escape();
-  LightingInput in{mesh.meshMm, mesh.areasMm2, radiance, *energy.profile};
-  in.eta = static_cast<float>(s.material.eta);
-  if (s.entry == EntryModel::Directional && s.method != BakeMethod::PathTrace) in.entry = &weight;
-  in.mode = s.visibility;
-  in.samples = s.samples;
-  in.visibilityBudget = budget.visibilityBudget(escape);
-  in.visibilityShare = budget.visibilityShare(escape);
-  in.tolerance = s.tolerance;
-  in.seed = s.seed;
-  in.threads = s.threads;
-  in.quiet = s.quiet;
-  return in;
+// What every stage reads and none changes: the settings, the mesh in mm, the environment, the
+// tolerance's split (error_budget.h) and the directional entry's weight.
+struct BakeScene {
+  const BakeSettings& settings;
+  const PreparedMesh& mesh;
+  const Cubemap& radiance;
+  const ErrorBudget budget;
+  const DirectionalAlbedoWeight entryWeight;
+  bool diffusion() const { return settings.method != BakeMethod::PathTrace; }
+};
+
+// Stage 2's input: the walks only for a diffusion sum; with a far field, they also measure the
+// near share within its window.
+EnergyStageInput energyInput(const BakeScene& scene) {
+  const BakeSettings& s = scene.settings;
+  const bool farField = scene.diffusion() && s.farField != FarFieldMode::Off;
+  return {.meshMm = scene.mesh.meshMm,
+          .areasMm2 = scene.mesh.areasMm2,
+          .material = s.material,
+          .energy = s.energy,
+          .profile = s.profile,
+          .walkBudget = scene.budget.walkBudget(),
+          .runWalks = scene.diffusion(),
+          .run = s.run,
+          .nearWindowMm = farField ? farFieldWindowMm(s.material) : glm::dvec3(0.0)};
 }
 
-// Stage 3b: the far field (far_field.h); with it, the walks' near share refined. The escape
-// model's Monte Carlo keeps its share of the budget: half its variance each.
-FarField farFieldStage(const BakeSettings& s, const PreparedMesh& mesh, const Cubemap& radiance,
-                       const EnergyStageInput& energyIn, EnergyStage& energy,
-                       const VertexLighting& lighting, const ErrorBudget& budget) {
-  FarFieldOptions options;
-  options.mode = s.farField;
-  options.noiseBudget = budget.walkBudget() / std::sqrt(2.0);
-  options.seed = s.seed;
-  options.threads = s.threads;
-  options.quiet = s.quiet;
-  FarField far = traceFarField({mesh.meshMm, mesh.areasMm2, radiance, s.material,
-                                energy.report.plan, lighting.transportIrradiance(), options});
-  info("far field: " + std::string(far.traced() ? "traced" : "not traced") + " (" +
-           far.report.reason + ")",
-       s.quiet);
-  if (far.traced()) useFarField(energy, energyIn, options.noiseBudget, far.report.relativeStdError);
+// Stage 3's input: E weighted by the directional entry only for a diffusion sum.
+LightingInput lightingInput(const BakeScene& scene, const EnergyStage& energy) {
+  const BakeSettings& s = scene.settings;
+  const bool escape = energy.report.escape();
+  const bool directional = s.entry == EntryModel::Directional && scene.diffusion();
+  return {.meshMm = scene.mesh.meshMm,
+          .areasMm2 = scene.mesh.areasMm2,
+          .radiance = scene.radiance,
+          .profile = *energy.profile,
+          .eta = static_cast<float>(s.material.eta),
+          .entry = directional ? &scene.entryWeight : nullptr,
+          .mode = s.visibility,
+          .samples = s.samples,
+          .visibilityBudget = scene.budget.visibilityBudget(escape),
+          .visibilityShare = scene.budget.visibilityShare(escape),
+          .tolerance = s.tolerance,
+          .run = s.run};
+}
+
+// The far field and the escape walks' refinement share the walks' budget: half its variance each.
+double farFieldBudget(const BakeScene& scene) {
+  return scene.budget.walkBudget() / std::sqrt(2.0);
+}
+
+// "<stage>: traced (why)" or "not traced (why)" on stderr, unless quiet.
+void sayWhetherTraced(const char* stage, const TracedStageReport& report, bool quiet) {
+  info(std::string(stage) + ": " + (report.traced ? "traced" : "not traced") + " (" +
+           report.reason + ")",
+       quiet);
+}
+
+// Stage 4: the far field (far_field.h), for a diffusion sum.
+FarField farFieldStage(const BakeScene& scene, const EnergyStage& energy,
+                       const VertexLighting& lighting) {
+  if (!scene.diffusion()) return {};
+  const BakeSettings& s = scene.settings;
+  FarField far = traceFarField(
+      {.meshMm = scene.mesh.meshMm,
+       .areasMm2 = scene.mesh.areasMm2,
+       .radiance = scene.radiance,
+       .material = s.material,
+       .energy = energy.report.plan,
+       .irradiance = lighting.transportIrradiance(),
+       .options = {.mode = s.farField, .noiseBudget = farFieldBudget(scene), .run = s.run}});
+  sayWhetherTraced("far field", far.report, s.run.quiet);
   return far;
+}
+
+// Stage 5: with a traced far field the profile spreads the walks' near share, refined to its
+// budget (plan_energy.h); otherwise the plan as it is.
+EnergyStageReport energyForTransport(const BakeScene& scene, const EnergyStageInput& energyIn,
+                                     const EnergyStage& energy, const FarField& far) {
+  if (!far.traced()) return energy.report;
+  return energyWithFarField(energyIn, energy.report, farFieldBudget(scene),
+                            far.report.relativeStdError);
 }
 
 // What the diffusion sum may spend: only auto samples budget the rays (forced rays and the
 // irradiance cubemap leave their error outside the split).
-double diffusionTolerance(const BakeSettings& s, const ErrorBudget& budget,
-                          const EnergyStageReport& energy, const LightingReport& lighting) {
+double diffusionTolerance(const BakeScene& scene, const EnergyStageReport& energy,
+                          const LightingReport& lighting) {
+  const BakeSettings& s = scene.settings;
   const bool budgetedRays = s.visibility == VisibilityMode::Rays && s.samples == 0;
-  return budget.diffusionTolerance(
+  return scene.budget.diffusionTolerance(
       energy.escape(), energy.walkError(),
       budgetedRays ? std::optional<double>(lighting.estimatedError) : std::nullopt);
 }
 
-// The path tracer's walks do not use E, so only their own error counts (and the unscattered
-// light's, which is added to both). The model's error adds to either.
-BakeErrorReport errorReport(const BakeReport& r, const ModelErrorReport& model, double tolerance) {
-  BakeErrorReport e;
-  e.exitance = r.transport.estimatedError;
-  e.tolerance = tolerance;
-  e.model = model;
-  const UnscatteredLightReport& u = r.unscattered;
-  e.unscattered = u.traced ? u.relativeStdError : u.share;
-  e.exitLobe = r.farField.traced ? r.farField.lobeNoise : 0.0;
-  if (r.transport.pathTrace) {
-    e.numerical = std::hypot(e.exitance, e.unscattered);
-  } else {
-    e.visibility = r.lighting.estimatedError;
-    e.energy = r.energy.walkError();
-    const InterreflectionReport& ir = r.interreflection;
-    e.interreflection = ir.enabled ? std::hypot(ir.gatherNoise, ir.remaining) : ir.estimatedMissing;
-    e.numerical = std::hypot(ErrorBudget::total(e.visibility, e.exitance, e.energy),
-                             std::hypot(e.interreflection, e.unscattered), e.exitLobe);
-  }
-  e.total = std::hypot(e.numerical, e.model.total);
-  return e;
-}
-
-// Stage 4d: the model's own error (model_error.h), from the output's radiance; said when it is
-// above the tolerance, which then bounds only the numerical part.
-// With a traced far field only vertexModel (B - B_far's radiance) is the vertex model's, whose
-// exit model and light across facets the model error counts (B_far's paths met the facets
-// themselves); without it (empty), all of the radiance.
-// interreflected: the radiance of what the bounces added to B (empty without bounces).
-ModelErrorReport modelErrorStage(const BakeSettings& s, const TriangleMesh& meshMm,
-                                 std::span<const glm::vec3> radianceNormal,
-                                 std::span<const glm::vec3> vertexModel,
-                                 std::span<const glm::vec3> interreflected, const Cubemap& radiance,
-                                 const FarField& far) {
-  const ModelErrorReport model = estimateModelError(
-      {meshMm, radianceNormal, radiance, float(s.material.eta), exitModelSpread(s.material),
-       far.traced() ? far.report.averagingBias : far.report.sensitivity, s.threads, vertexModel,
-       interreflected});
-  if (model.total > s.tolerance) {
-    char line[300];
-    std::snprintf(line, sizeof line,
-                  "model error: about %.1f%% of the radiance here (exit model %.1f%%, facets "
-                  "%.1f%%, light across facets %.1f%%, far field %.1f%%, interreflection "
-                  "%.1f%%), beyond what --tolerance %g bounds",
-                  100.0 * model.total, 100.0 * model.exitModel, 100.0 * model.facets,
-                  100.0 * model.facetLight, 100.0 * model.farField, 100.0 * model.interreflection,
-                  s.tolerance);
-    info(line, s.quiet);
-  }
-  return model;
+// Stage 6's input. weightSums: the energy model's sums with E = 1, kept for the bounces.
+TransportInput transportInput(const BakeScene& scene, const EnergyStage& energy,
+                              const EnergyStageReport& energyReport, const VertexLighting& lighting,
+                              const FarField& far, EnergyWeightSums& weightSums) {
+  const BakeSettings& s = scene.settings;
+  return {.meshMm = scene.mesh.meshMm,
+          .areasMm2 = scene.mesh.areasMm2,
+          .irradiance = lighting.transportIrradiance(),
+          .radiance = scene.radiance,
+          .material = s.material,
+          .profile = *energy.profile,
+          .energy = energyReport.plan,
+          .method = s.method,
+          .diffusionTolerance = diffusionTolerance(scene, energyReport, lighting.report),
+          .walks = s.walks,
+          .run = s.run,
+          .farField = &far,
+          .weightSums = &weightSums};
 }
 
 // The gather's options from the settings: the bounces and the pilot trace the same rays, weighted
 // by the directional entry when the transport's light is.
-InterreflectionOptions interreflectionOptions(const BakeSettings& s, const VertexLighting& lighting,
-                                              const DirectionalAlbedoWeight& weight) {
-  InterreflectionOptions options;
-  options.rays = s.interreflectionRays;
-  if (!lighting.entryWeighted.empty()) options.entry = &weight;
-  options.seed = s.seed;
-  options.threads = s.threads;
-  return options;
+InterreflectionOptions interreflectionOptions(const BakeScene& scene,
+                                              const VertexLighting& lighting) {
+  const BakeSettings& s = scene.settings;
+  return {.rays = s.interreflectionRays,
+          .entry = lighting.entryWeighted.empty() ? nullptr : &scene.entryWeight,
+          .run = s.run};
 }
 
 // The interreflection pilot's vertices (spread over the mesh): the estimate without bounces, and
@@ -142,35 +154,47 @@ constexpr uint64_t kReplicaSeedOffset = 0x9e3779b9;
 // tolerance the sums' error model was fitted at (tests/bench/diffusion_sweep.sh, 0.3-3 %).
 constexpr double kLoosestIncrementTolerance = 0.03;
 
-// Stage 4b: the light the object sends to itself (interreflection.h), iterated with the transport;
-// E and B become the converged ones. Returns what the bounces added to B (B - B_direct), whose
-// radiance the model error counts (model_error.h).
-std::vector<glm::vec3> addInterreflection(const BakeSettings& s, const PreparedMesh& mesh,
-                                          const Cubemap& radiance,
-                                          const TransportInput& transportIn,
-                                          const DirectionalAlbedoWeight& weight,
-                                          VertexLighting& lighting, VertexExitance& exitance,
-                                          InterreflectionReport& report) {
-  const Stopwatch clock;
-  const InterreflectionOptions options = interreflectionOptions(s, lighting, weight);
-  const TriangleMesh& m = mesh.meshMm;
-  const InterreflectionGather gather(m.positions, m.normals, m.triangles, radiance,
-                                     float(s.material.eta), options);
-  // What the bounces add goes through the transport's linear part: the method the first transport
-  // chose and its sums with E = 1 (transportIn.weightSums). The traced far field came from the
-  // environment and carries none of the light the object sends itself: with it, the first
-  // transport spread only P's near share, so the bounces go through the escape model's own
-  // kernel for all of P (with their own sums), as without a far field: the near share alone
-  // dropped the rest of their light (README, "Light the object sends itself").
+// What the light the object sends itself makes of the direct light (interreflection.h): E and B
+// with it, and what it added to B; the vectors are empty where no bounce was done.
+struct Interreflection {
+  std::vector<glm::vec3> irradiance;  // E with the bounces' light (unweighted), for the output
+  std::vector<glm::vec3> exitance;    // B with it
+  std::vector<glm::vec3> added;       // B - B_direct, whose radiance the model error counts
+  InterreflectionReport report;
+};
+
+// The transport the bounces' light goes through: the method the first transport chose, with its
+// sums with E = 1 (transportIn.weightSums). The traced far field came from the environment and
+// carries none of the light the object sends itself: with it, the first transport spread only
+// P's near share, so the bounces go through the escape model's own kernel for all of P, with
+// their own sums (docs/physics.md, "Light the object sends itself").
+TransportInput bounceTransportInput(const TransportInput& transportIn, const VertexExitance& direct,
+                                    EnergyWeightSums& wholeEscapeSums) {
   TransportInput in = transportIn;
-  in.method = bakeMethodOf(exitance.report.diffusion.method);
-  in.quiet = true;
-  EnergyWeightSums wholeEscapeSums;
-  if (!in.farExitance.empty()) {
-    in.farExitance = {};
+  in.method = bakeMethodOf(direct.report.diffusion.method);
+  in.run.quiet = true;
+  if (in.farField && in.farField->traced()) {
     in.farField = nullptr;
     if (in.weightSums) in.weightSums = &wholeEscapeSums;
   }
+  return in;
+}
+
+// Stage 7 with bounces: the gather iterated with the transport (iterateInterreflection) until
+// converged or the requested bounces are done, and the gather's noise from a replica of its rays
+// with another seed at the pilot's vertices (without the visibility pilot's noise model,
+// --visibility none, no smoothing is assumed: an upper estimate).
+Interreflection bounce(const BakeScene& scene, const TransportInput& transportIn,
+                       const VertexLighting& lighting, const VertexExitance& direct) {
+  const Stopwatch clock;
+  const BakeSettings& s = scene.settings;
+  const TriangleMesh& m = scene.mesh.meshMm;
+  const InterreflectionOptions options = interreflectionOptions(scene, lighting);
+  const float eta = float(s.material.eta);
+  const InterreflectionGather gather(m.positions, m.normals, m.triangles, scene.radiance, eta,
+                                     options);
+  EnergyWeightSums wholeEscapeSums;
+  TransportInput in = bounceTransportInput(transportIn, direct, wholeEscapeSums);
   const auto increment = [&](std::span<const glm::vec3> e, double looseness) {
     in.irradiance = e;
     in.diffusionTolerance =
@@ -178,29 +202,27 @@ std::vector<glm::vec3> addInterreflection(const BakeSettings& s, const PreparedM
     return transport(in).exitance;
   };
   // Auto: converged to a tenth of the tolerance, well inside the budget of B.
-  const std::vector<glm::vec3>& direct = lighting.transportIrradiance();
-  BounceResult r = iterateInterreflection(gather, direct, exitance.exitance, increment, s.bounces,
-                                          0.1 * s.tolerance);
-  // The gather's noise, from a replica of its rays with another seed at the pilot's vertices
-  // (without the visibility pilot's noise model, --visibility none, no smoothing is assumed: an
-  // upper estimate).
+  const std::vector<glm::vec3>& directLight = lighting.transportIrradiance();
+  BounceResult r = iterateInterreflection(gather, directLight, direct.exitance, increment,
+                                          s.bounces, 0.1 * s.tolerance);
   InterreflectionOptions replicaOptions = options;
-  replicaOptions.seed = options.seed + kReplicaSeedOffset;
+  replicaOptions.run.seed = options.run.seed + kReplicaSeedOffset;
   replicaOptions.vertices = pilotVertices(m.positions.size(), kPilotVertices);
-  const InterreflectionGather replica(m.positions, m.normals, m.triangles, radiance,
-                                      float(s.material.eta), replicaOptions);
-  report.gatherNoise =
-      predictGatherNoise(gather, replica, replicaOptions.vertices, r.exitance, r.irradiance,
-                         mesh.areasMm2, lighting.report.rays.noiseModel.meanEffectiveVertices);
+  const InterreflectionGather replica(m.positions, m.normals, m.triangles, scene.radiance, eta,
+                                      replicaOptions);
+  Interreflection out;
+  InterreflectionReport& report = out.report;
+  report.gatherNoise = predictGatherNoise(gather, replica, replicaOptions.vertices, r.exitance,
+                                          r.irradiance, scene.mesh.areasMm2,
+                                          lighting.report.rays.noiseModel.meanEffectiveVertices);
   // E in the output: the unweighted direct light plus what the object sent itself.
   if (!lighting.entryWeighted.empty())
     for (std::size_t i = 0; i < r.irradiance.size(); ++i)
-      r.irradiance[i] += lighting.irradiance[i] - direct[i];
-  lighting.irradiance = std::move(r.irradiance);
-  lighting.entryWeighted.clear();
-  std::vector<glm::vec3> added = r.exitance;
-  for (std::size_t i = 0; i < added.size(); ++i) added[i] -= exitance.exitance[i];
-  exitance.exitance = std::move(r.exitance);
+      r.irradiance[i] += lighting.irradiance[i] - directLight[i];
+  out.added = r.exitance;
+  for (std::size_t i = 0; i < out.added.size(); ++i) out.added[i] -= direct.exitance[i];
+  out.irradiance = std::move(r.irradiance);
+  out.exitance = std::move(r.exitance);
   report.enabled = true;
   report.automatic = s.bounces == kAutoBounces;
   report.bounces = r.bounces;
@@ -208,32 +230,34 @@ std::vector<glm::vec3> addInterreflection(const BakeSettings& s, const PreparedM
   report.remaining = r.remaining;
   report.blockedFraction = gather.blockedFraction();
   report.seconds = clock.seconds();
-  return added;
+  return out;
 }
 
-// Stage 4b without bounces (and before auto bounces): a pilot gather (about 1,000 spread
+// Stage 7 without bounces (and before auto bounces): a pilot gather (about 1,000 spread
 // vertices, the bounces' rays) estimates how much the light the object sends itself would add to
 // B, so that the reported error counts it and a concave object is not baked dark without a word.
-void estimateInterreflection(const BakeSettings& s, const PreparedMesh& mesh,
-                             const Cubemap& radiance, const DiffusionProfile& profile,
-                             const DirectionalAlbedoWeight& weight, const VertexLighting& lighting,
-                             const VertexExitance& exitance, bool warnAboveTolerance,
-                             InterreflectionReport& report) {
+InterreflectionReport estimateInterreflection(const BakeScene& scene,
+                                              const DiffusionProfile& profile,
+                                              const VertexLighting& lighting,
+                                              const VertexExitance& direct,
+                                              bool warnAboveTolerance) {
   const Stopwatch clock;
-  const TriangleMesh& m = mesh.meshMm;
-  InterreflectionOptions options = interreflectionOptions(s, lighting, weight);
+  const BakeSettings& s = scene.settings;
+  const TriangleMesh& m = scene.mesh.meshMm;
+  InterreflectionOptions options = interreflectionOptions(scene, lighting);
   options.vertices = pilotVertices(m.positions.size(), kPilotVertices);
-  const InterreflectionGather gather(m.positions, m.normals, m.triangles, radiance,
+  const InterreflectionGather gather(m.positions, m.normals, m.triangles, scene.radiance,
                                      float(s.material.eta), options);
   const MissingInterreflection missing = estimateMissingInterreflection(
-      gather, options.vertices, exitance.exitance, lighting.transportIrradiance(), mesh.areasMm2,
-      {m.positions, &profile, s.threads});
+      gather, options.vertices, direct.exitance, lighting.transportIrradiance(),
+      scene.mesh.areasMm2, {m.positions, &profile, s.run.threads});
+  InterreflectionReport report;
   report.estimated = true;
   report.estimatedMissing = missing.relativeRms;
   report.pilotVertices = int(options.vertices.size());
   report.blockedFraction = gather.blockedFraction();
   report.seconds = clock.seconds();
-  if (warnAboveTolerance && missing.relativeRms > s.tolerance && !s.quiet) {
+  if (warnAboveTolerance && missing.relativeRms > s.tolerance && !s.run.quiet) {
     char line[200];
     std::snprintf(line, sizeof line,
                   "interreflection: the light the object sends itself would change B by about "
@@ -242,6 +266,38 @@ void estimateInterreflection(const BakeSettings& s, const PreparedMesh& mesh,
                   100.0 * missing.relativeRms, 100.0 * gather.blockedFraction());
     warn(line);
   }
+  return report;
+}
+
+// Stage 7: bounces when asked; otherwise, and first with auto, the pilot's estimate. Auto bounces
+// only when it says they would change B by more than the bounces' own convergence target (a
+// tenth of the tolerance): a convex or nearly convex object costs the pilot alone. (Bouncing
+// builds its own gather over every vertex: the pilot's ray scene is not kept.)
+Interreflection interreflectionStage(const BakeScene& scene, const EnergyStage& energy,
+                                     const TransportInput& transportIn,
+                                     const VertexLighting& lighting, const VertexExitance& direct) {
+  const BakeSettings& s = scene.settings;
+  if (!scene.diffusion()) return {};
+  if (s.bounces > 0) return bounce(scene, transportIn, lighting, direct);
+  const bool automatic = s.bounces == kAutoBounces;
+  Interreflection estimate;
+  estimate.report = estimateInterreflection(scene, *energy.profile, lighting, direct, !automatic);
+  estimate.report.automatic = automatic;
+  if (automatic && estimate.report.estimatedMissing > 0.1 * s.tolerance)
+    return bounce(scene, transportIn, lighting, direct);
+  return estimate;
+}
+
+// Stage 7's named step: E and B as the output holds them, with the bounces' light where it was
+// added (their vectors are moved, not copied).
+struct BakedLight {
+  std::vector<glm::vec3> irradiance, exitance;
+};
+
+BakedLight combineInterreflection(VertexLighting& lighting, VertexExitance& direct,
+                                  Interreflection& bounced) {
+  if (bounced.exitance.empty()) return {std::move(lighting.irradiance), std::move(direct.exitance)};
+  return {std::move(bounced.irradiance), std::move(bounced.exitance)};
 }
 
 // The radiance along the normal of an exitance per vertex: through the exit model sss-render uses
@@ -276,33 +332,96 @@ RadianceAlongNormal radianceAlongNormal(std::span<const glm::vec3> exitance, con
   return r;
 }
 
-// Stage 4c: the light that crosses the object unscattered (unscattered_light.h), beside the
+// Stage 9: the light that crosses the object unscattered (unscattered_light.h), beside the
 // radiance along the normal that B gives.
-UnscatteredLight unscatteredStage(const BakeSettings& s, const PreparedMesh& mesh,
-                                  const Cubemap& radiance, std::span<const glm::vec3> scattered,
-                                  const ErrorBudget& budget) {
-  UnscatteredLightOptions options;
-  options.mode = s.unscattered;
-  options.noiseBudget = budget.unscatteredBudget();
-  options.seed = s.seed;
-  options.threads = s.threads;
-  options.quiet = s.quiet;
-  UnscatteredLight light =
-      traceUnscatteredLight({mesh.meshMm, mesh.areasMm2, radiance, s.material, scattered, options});
-  info("unscattered light: " + std::string(light.traced() ? "traced" : "not traced") + " (" +
-           light.report.reason + ")",
-       s.quiet);
+UnscatteredLight unscatteredStage(const BakeScene& scene, std::span<const glm::vec3> scattered) {
+  const BakeSettings& s = scene.settings;
+  UnscatteredLight light = traceUnscatteredLight(
+      {.meshMm = scene.mesh.meshMm,
+       .areasMm2 = scene.mesh.areasMm2,
+       .radiance = scene.radiance,
+       .material = s.material,
+       .scatteredRadiance = scattered,
+       .options = {
+           .mode = s.unscattered, .noiseBudget = scene.budget.unscatteredBudget(), .run = s.run}});
+  sayWhetherTraced("unscattered light", light.report, s.run.quiet);
   return light;
 }
 
-// Stage 5: the baked mesh in the file's units, with what made it in a comment.
-BakedMesh assembleBakedMesh(TriangleMesh mesh, VertexLighting& lighting, VertexExitance& exitance,
+// The radiance along the normal in the output: B's and the unscattered light's.
+std::vector<glm::vec3> withUnscattered(std::vector<glm::vec3> scattered,
+                                       const UnscatteredLight& unscattered) {
+  for (std::size_t i = 0; i < unscattered.radiance.size(); ++i)
+    scattered[i] += unscattered.radiance[i];
+  return scattered;
+}
+
+// Stage 10: the model's own error (model_error.h), from the output's radiance; said when it is
+// above the tolerance, which then bounds only the numerical part.
+// With a traced far field only vertexModel (B - B_far's radiance) is the vertex model's, whose
+// exit model and light across facets the model error counts (B_far's paths met the facets
+// themselves); without it (empty), all of the radiance.
+// interreflected: the radiance of what the bounces added to B (empty without bounces).
+ModelErrorReport modelErrorStage(const BakeScene& scene, std::span<const glm::vec3> radianceNormal,
+                                 std::span<const glm::vec3> vertexModel,
+                                 std::span<const glm::vec3> interreflected, const FarField& far) {
+  const BakeSettings& s = scene.settings;
+  const ModelErrorReport model = estimateModelError(
+      {.mesh = scene.mesh.meshMm,
+       .radianceAlongNormal = radianceNormal,
+       .radiance = scene.radiance,
+       .eta = float(s.material.eta),
+       .exitModelSpread = exitModelSpread(s.material),
+       .farFieldError = far.traced() ? far.report.averagingBias : far.report.sensitivity,
+       .threads = s.run.threads,
+       .vertexModelRadiance = vertexModel,
+       .interreflectedRadiance = interreflected});
+  if (model.total > s.tolerance) {
+    char line[300];
+    std::snprintf(line, sizeof line,
+                  "model error: about %.1f%% of the radiance here (exit model %.1f%%, facets "
+                  "%.1f%%, light across facets %.1f%%, far field %.1f%%, interreflection "
+                  "%.1f%%), beyond what --tolerance %g bounds",
+                  100.0 * model.total, 100.0 * model.exitModel, 100.0 * model.facets,
+                  100.0 * model.facetLight, 100.0 * model.farField, 100.0 * model.interreflection,
+                  s.tolerance);
+    info(line, s.run.quiet);
+  }
+  return model;
+}
+
+// Stage 11: the predicted errors. The path tracer's walks do not use E, so only their own error
+// counts (and the unscattered light's, which is added to both). The model's error adds to either.
+BakeErrorReport errorReport(const BakeReport& r, const ModelErrorReport& model, double tolerance) {
+  BakeErrorReport e;
+  e.exitance = r.transport.estimatedError;
+  e.tolerance = tolerance;
+  e.model = model;
+  const UnscatteredLightReport& u = r.unscattered;
+  e.unscattered = u.traced ? u.relativeStdError : u.share;
+  e.exitLobe = r.farField.traced ? r.farField.lobeNoise : 0.0;
+  if (r.transport.pathTrace) {
+    e.numerical = std::hypot(e.exitance, e.unscattered);
+  } else {
+    e.visibility = r.lighting.estimatedError;
+    e.energy = r.energy.walkError();
+    const InterreflectionReport& ir = r.interreflection;
+    e.interreflection = ir.enabled ? std::hypot(ir.gatherNoise, ir.remaining) : ir.estimatedMissing;
+    e.numerical = std::hypot(ErrorBudget::total(e.visibility, e.exitance, e.energy),
+                             std::hypot(e.interreflection, e.unscattered), e.exitLobe);
+  }
+  e.total = std::hypot(e.numerical, e.model.total);
+  return e;
+}
+
+// Stage 12: the baked mesh in the file's units, with what made it in a comment.
+BakedMesh assembleBakedMesh(TriangleMesh mesh, BakedLight light,
                             std::vector<glm::vec3> radianceNormal, FarField far,
                             const BakeSettings& s, const BakeReport& r) {
   BakedMesh baked;
   baked.mesh = std::move(mesh);
-  baked.irradiance = std::move(lighting.irradiance);
-  baked.exitance = std::move(exitance.exitance);
+  baked.irradiance = std::move(light.irradiance);
+  baked.exitance = std::move(light.exitance);
   baked.radianceNormal = std::move(radianceNormal);
   baked.farExitance = std::move(far.exitance);
   baked.farExitSlope = std::move(far.slope);
@@ -323,82 +442,55 @@ BakedMesh assembleBakedMesh(TriangleMesh mesh, VertexLighting& lighting, VertexE
                                    " entry=" + kEntryModelNames.name(r.lighting.entry)) +
       " unscattered=" + (r.unscattered.traced ? "traced" : "off") +
       " visibility=" + kVisibilityModeNames.name(s.visibility) + " samples=" +
-      std::to_string(rays ? r.lighting.rays.samples : 0) + " seed=" + std::to_string(s.seed));
+      std::to_string(rays ? r.lighting.rays.samples : 0) + " seed=" + std::to_string(s.run.seed));
   return baked;
 }
 
-// Stages 2-5 on a prepared mesh and a loaded environment.
+// Stage 1: the mesh, validated and cleaned, in mm.
+PreparedMesh prepareMeshStage(const BakeSettings& s) {
+  return prepareMesh(
+      {.path = s.meshPath, .mmPerUnit = s.mmPerUnit, .sizeMm = s.sizeMm, .quiet = s.run.quiet});
+}
+
+// Stages 2-12 (bake.h) on a prepared mesh and a loaded environment.
 BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvironment& env,
                         const Stopwatch& clock) {
-  const ErrorBudget budget(s.tolerance);
+  const BakeScene scene{s, mesh, env.radiance, ErrorBudget(s.tolerance),
+                        DirectionalAlbedoWeight(s.material)};
+  const EnergyStageInput energyIn = energyInput(scene);
+  const EnergyStage energy = planEnergy(energyIn);
+  VertexLighting lighting = lightVertices(lightingInput(scene, energy));
+  FarField far = farFieldStage(scene, energy, lighting);
+  EnergyStageReport energyReport = energyForTransport(scene, energyIn, energy, far);
+  EnergyWeightSums weightSums;
+  const TransportInput transportIn =
+      transportInput(scene, energy, energyReport, lighting, far, weightSums);
+  VertexExitance direct = transport(transportIn);
+  Interreflection bounced = interreflectionStage(scene, energy, transportIn, lighting, direct);
+  BakedLight light = combineInterreflection(lighting, direct, bounced);
+  const RadianceAlongNormal normal = radianceAlongNormal(light.exitance, far, s.material.eta);
+  const UnscatteredLight unscattered = unscatteredStage(scene, normal.all);
+  std::vector<glm::vec3> radianceNormal = withUnscattered(normal.all, unscattered);
+  const std::vector<glm::vec3> interreflected =
+      bounced.added.empty() ? std::vector<glm::vec3>{}
+                            : radianceOf(bounced.added, far, s.material.eta);
+  const ModelErrorReport model =
+      modelErrorStage(scene, radianceNormal, normal.vertexModel, interreflected, far);
+
   BakeOutput out;
   BakeReport& report = out.report;
   report.material = s.material;
-  report.threads = s.threads;
+  report.threads = s.run.threads;
   report.mesh = mesh.report;
   report.environment = env.report;
-  const Cubemap& radiance = env.radiance;
-  const bool diffusion = s.method != BakeMethod::PathTrace;
-  EnergyStageInput energyIn{mesh.meshMm,         mesh.areasMm2, s.material, s.energy,  s.profile,
-                            budget.walkBudget(), diffusion,     s.seed,     s.threads, s.quiet};
-  if (diffusion && s.farField != FarFieldMode::Off)
-    energyIn.nearWindowMm = farFieldWindowMm(s.material);
-  EnergyStage energy = planEnergy(energyIn);
-  const DirectionalAlbedoWeight weight(s.material);
-  VertexLighting lighting = lightVertices(lightingInput(s, mesh, radiance, energy, budget, weight));
-  FarField far;
-  if (diffusion) far = farFieldStage(s, mesh, radiance, energyIn, energy, lighting, budget);
-  report.farField = far.report;
-  TransportInput transportIn{mesh.meshMm,        mesh.areasMm2, lighting.transportIrradiance(),
-                             radiance,           s.material,    *energy.profile,
-                             energy.report.plan, s.method};
-  transportIn.farExitance = far.exitance;
-  transportIn.farField = &far;
-  transportIn.diffusionTolerance = diffusionTolerance(s, budget, energy.report, lighting.report);
-  transportIn.walks = s.walks;
-  transportIn.seed = s.seed;
-  transportIn.threads = s.threads;
-  transportIn.quiet = s.quiet;
-  EnergyWeightSums weightSums;  // kept for the bounces
-  transportIn.weightSums = &weightSums;
-  VertexExitance exitance = transport(transportIn);
-  std::vector<glm::vec3> bounced;  // what the bounces added to B; empty without them
-  if (diffusion && s.bounces > 0) {
-    bounced = addInterreflection(s, mesh, radiance, transportIn, weight, lighting, exitance,
-                                 report.interreflection);
-  } else if (diffusion) {
-    // Without bounces, and first with auto: the pilot's estimate. Auto bounces only when it says
-    // they would change B by more than the bounces' own convergence target (a tenth of the
-    // tolerance): a convex or nearly convex object costs the pilot alone.
-    const bool automatic = s.bounces == kAutoBounces;
-    estimateInterreflection(s, mesh, radiance, *energy.profile, weight, lighting, exitance,
-                            !automatic, report.interreflection);
-    report.interreflection.automatic = automatic;
-    // (Bouncing builds its own gather over every vertex: the pilot's ray scene is not kept.)
-    if (automatic && report.interreflection.estimatedMissing > 0.1 * s.tolerance) {
-      report.interreflection = {};
-      bounced = addInterreflection(s, mesh, radiance, transportIn, weight, lighting, exitance,
-                                   report.interreflection);
-    }
-  }
-
-  // The radiance along the normal: B's through the exit model, and the unscattered light's.
-  RadianceAlongNormal normal = radianceAlongNormal(exitance.exitance, far, s.material.eta);
-  std::vector<glm::vec3>& radianceNormal = normal.all;
-  const UnscatteredLight unscattered = unscatteredStage(s, mesh, radiance, radianceNormal, budget);
-  for (std::size_t i = 0; i < unscattered.radiance.size(); ++i)
-    radianceNormal[i] += unscattered.radiance[i];
-  report.unscattered = unscattered.report;
-
-  report.energy = std::move(energy.report);
+  report.energy = std::move(energyReport);
   report.lighting = std::move(lighting.report);
-  report.transport = std::move(exitance.report);
-  std::vector<glm::vec3> interreflected;
-  if (!bounced.empty()) interreflected = radianceOf(bounced, far, s.material.eta);
-  const ModelErrorReport model = modelErrorStage(s, mesh.meshMm, radianceNormal, normal.vertexModel,
-                                                 interreflected, radiance, far);
+  report.farField = far.report;
+  report.transport = std::move(direct.report);
+  report.interreflection = bounced.report;
+  report.unscattered = unscattered.report;
   report.errors = errorReport(report, model, s.tolerance);
-  out.baked = assembleBakedMesh(std::move(mesh.mesh), lighting, exitance, std::move(radianceNormal),
+  out.baked = assembleBakedMesh(std::move(mesh.mesh), std::move(light), std::move(radianceNormal),
                                 std::move(far), s, report);
   report.totalSeconds = clock.seconds();
   return out;
@@ -411,8 +503,8 @@ BakeEnvironment loadBakeEnvironment(const BakeSettings& s) {
   EnvironmentOptions options;
   options.faceSize = s.environmentFaceSize;
   options.orientation = s.orientation;
-  options.threads = s.threads;
-  options.read.quiet = s.quiet;
+  options.threads = s.run.threads;
+  options.read.quiet = s.run.quiet;
   BakeEnvironment env;
   env.radiance = loadEnvironment(s.environment, options);
   env.report.source = s.environment;
@@ -426,7 +518,7 @@ BakeEnvironment loadBakeEnvironment(const BakeSettings& s) {
 BakeOutput bake(const BakeSettings& s) {
   const Stopwatch clock;
   validateBakeSettings(s);
-  PreparedMesh mesh = prepareMesh({s.meshPath, s.mmPerUnit, s.sizeMm, s.quiet});
+  PreparedMesh mesh = prepareMeshStage(s);
   const BakeEnvironment env = loadBakeEnvironment(s);
   return bakePrepared(s, std::move(mesh), env, clock);
 }
@@ -434,7 +526,7 @@ BakeOutput bake(const BakeSettings& s) {
 BakeOutput bake(const BakeSettings& s, const BakeEnvironment& env) {
   const Stopwatch clock;
   validateBakeSettings(s);
-  PreparedMesh mesh = prepareMesh({s.meshPath, s.mmPerUnit, s.sizeMm, s.quiet});
+  PreparedMesh mesh = prepareMeshStage(s);
   return bakePrepared(s, std::move(mesh), env, clock);
 }
 

@@ -1,17 +1,26 @@
 // The sss-bake pipeline: mesh + environment + material -> per-vertex transmitted irradiance E
-// (Li & Guo Eq. 6, with or without the mesh's own shadows) and exitance B (Li & Guo Eq. 7 with a
-// diffusion method, or the Monte Carlo reference), ready for writeBakedPly.
-//
-// A sequence of stages, each with its input, its result and its report (bake_report.h):
-//   1. prepare_mesh.h     load, validate and clean the mesh; scale it to millimetres
-//   -. the environment    loadEnvironment (lib/envmap) into a radiance cubemap
-//   2. plan_energy.h      the energy model (escape walks, finite_object_energy.h) and the profile
-//   3. light_vertices.h   E per vertex: the irradiance cubemap, or visibility rays
-//   3b. far_field.h       the light leaving far from where it entered, traced (escape model only)
-//   4. transport.h        B per vertex: a diffusion sum, or the path tracer
-//   5. assemble           the baked mesh: positions in the file's units, E, B, the material
-// ErrorBudget (error_budget.h) splits the tolerance between the stages' estimates. Every setting
-// is validated (validateBakeSettings) before the first expensive stage.
+// (Li & Guo Eq. 6, with or without the mesh's own shadows), exitance B (Li & Guo Eq. 7 with a
+// diffusion method, or the Monte Carlo reference) and the radiance along the normal, ready for
+// writeBakedMesh. bake() runs these stages in this order; each takes a typed input and returns
+// its own result and report (bake_report.h), and none changes an earlier one's result:
+//   1. prepareMesh             load, validate and clean the mesh; scale it to mm (prepare_mesh.h)
+//      loadBakeEnvironment     the environment as a radiance cubemap (below; lib/envmap)
+//   2. planEnergy              the energy model (escape walks) and the profile (plan_energy.h)
+//   3. lightVertices           E per vertex: the irradiance cubemap or visibility rays
+//                              (light_vertices.h, lib/lighting)
+//   4. traceFarField           the light leaving far from where it entered (transport/far_field.h)
+//   5. energyWithFarField      with a traced far field, the walks' near share refined
+//   6. transport               B per vertex: a diffusion sum or the path tracer (transport.h)
+//   7. interreflection         the light the object sends itself, its own E, B and what it added
+//                              (transport/interreflection.h), or the pilot's estimate of it
+//   8. radianceAlongNormal     B's radiance along the normal through the exit model
+//   9. traceUnscatteredLight   the light crossing the object unscattered, added to that radiance
+//                              (transport/unscattered_light.h)
+//  10. estimateModelError      the model's own error (transport/model_error.h)
+//  11. errorReport             the predicted errors, split as ErrorBudget (error_budget.h) does
+//  12. assembleBakedMesh       the baked mesh in the file's units, E and B with the bounces' light
+// Every setting is validated (validateBakeSettings) before the first expensive stage; the run's
+// seed, threads and quietness (core/run_context.h) go to every stage whole.
 #pragma once
 
 #include "bake/bake_report.h"

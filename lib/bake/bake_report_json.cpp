@@ -142,18 +142,27 @@ Json toJson(const TransportReport& r) {
   return j;
 }
 
+// What every traced stage reports (transport/traced_stage.h); paths and noise only when traced.
+template <std::size_t N>
+Json tracedStageJson(const TracedStageReport& r, const EnumNames<TracedMode, N>& modeNames) {
+  return {{"requested", modeNames.name(r.requested)},
+          {"traced", r.traced},
+          {"reason", r.reason},
+          {"seconds", r.seconds}};
+}
+void addTracedPaths(Json& j, const TracedStageReport& r) {
+  j["paths"] = r.paths;
+  j["estimated_error"] = r.relativeStdError;
+}
+
 Json toJson(const FarFieldReport& r) {
-  Json j = {{"requested", kFarFieldModeNames.name(r.requested)},
-            {"traced", r.traced},
-            {"reason", r.reason},
-            {"seconds", r.seconds}};
+  Json j = tracedStageJson(r, kFarFieldModeNames);
   if (r.requested == FarFieldMode::Off || r.windowMm == glm::dvec3(0.0)) return j;
   j["sensitivity"] = r.sensitivity;
   j["near_window_mm"] = toJson(r.windowMm);
   if (!r.traced) return j;
   j["smoothing_sigma_mm"] = r.smoothingMm;
-  j["paths"] = r.paths;
-  j["estimated_error"] = r.relativeStdError;
+  addTracedPaths(j, r);
   j["averaging_bias"] = r.averagingBias;
   j["lobe_noise"] = r.lobeNoise;
   j["mean_exit_slope"] = toJson(r.meanExitSlope);
@@ -161,15 +170,10 @@ Json toJson(const FarFieldReport& r) {
 }
 
 Json toJson(const UnscatteredLightReport& r) {
-  Json j = {{"requested", kUnscatteredModeNames.name(r.requested)},
-            {"traced", r.traced},
-            {"reason", r.reason},
-            {"seconds", r.seconds}};
+  Json j = tracedStageJson(r, kUnscatteredModeNames);
   if (r.requested == UnscatteredMode::Off) return j;
   j["share"] = r.share;
-  if (!r.traced) return j;
-  j["paths"] = r.paths;
-  j["estimated_error"] = r.relativeStdError;
+  if (r.traced) addTracedPaths(j, r);
   return j;
 }
 

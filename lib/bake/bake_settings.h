@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/enum_names.h"
+#include "core/run_context.h"
 #include "envmap/orientation.h"
 #include "material/material.h"
 #include "transport/far_field.h"
@@ -63,8 +64,8 @@ struct BakeSettings {
   double mmPerUnit = 0.0;  // millimetres per mesh unit (> 0), unless sizeMm > 0
   double sizeMm = 0.0;     // > 0: scale so that the longest bounding-box side is this long
   VisibilityMode visibility = VisibilityMode::Rays;
-  int samples = 0;    // visibility rays per vertex (>= 2); 0: auto (chooseVisibilitySamples)
-  uint64_t seed = 1;  // visibility rays and Monte Carlo walks
+  int samples = 0;  // visibility rays per vertex (>= 2); 0: auto (chooseVisibilitySamples)
+  RunContext run{.seed = 1, .threads = 0, .quiet = false};  // --seed, --threads, --quiet
   BakeMethod method = BakeMethod::Auto;
   ProfileChoice profile = ProfileChoice::Auto;          // unused by PathTrace
   EnergyModel energy = EnergyModel::Auto;               // unused by PathTrace
@@ -79,8 +80,6 @@ struct BakeSettings {
   int bounces = 0;
   int interreflectionRays = 64;  // cosine rays per vertex for the gather (>= 1)
   int environmentFaceSize = 0;   // 0: from the source resolution
-  int threads = 0;               // <= 0: all cores
-  bool quiet = false;            // no progress bars or info lines
 };
 
 // Everything that needs no file, so that a typo costs nothing: the material, the units, the

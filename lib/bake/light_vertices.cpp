@@ -17,7 +17,7 @@ std::vector<glm::vec3> lightFromCubemap(const LightingInput& in, LightingReport&
   IrradianceOptions options;
   options.eta = in.eta;
   options.tolerance = in.tolerance;
-  options.threads = in.threads;
+  options.threads = in.run.threads;
   const IrradianceResult irradiance = computeIrradiance(in.radiance, options);
   const VertexFacets facets =
       lightFacets(in.meshMm.positions, in.meshMm.normals, in.meshMm.triangles);
@@ -56,9 +56,9 @@ std::vector<glm::vec3> lightWithRays(const LightingInput& in, LightingReport& re
   RayLightingReport& rays = report.rays;
   VisibilityOptions options;
   options.samples = in.samples;
-  options.seed = in.seed;
-  options.threads = in.threads;
-  options.quiet = in.quiet;
+  options.seed = in.run.seed;
+  options.threads = in.run.threads;
+  options.quiet = in.run.quiet;
   options.entry = in.entry;
   options.pilot = VisibilityPilotOptions{};
   options.chooseSamples = [&](const VisibilityPilot& pilot) {
@@ -74,7 +74,7 @@ std::vector<glm::vec3> lightWithRays(const LightingInput& in, LightingReport& re
       &rays.visibility);
   rays.samples = rays.visibility.samples;
   rays.samplesRequested = in.samples;
-  rays.seed = in.seed;
+  rays.seed = in.run.seed;
   report.estimatedError = rays.noiseModel.errorAt(rays.samples);
   rays.samplesReason = samplesReason(in, report.estimatedError, in.visibilityShare);
   rays.irradianceError = rays.noiseModel.irradianceErrorAt(rays.visibility.pilot, rays.samples);
@@ -96,7 +96,7 @@ VertexLighting lightVertices(const LightingInput& in) {
   out.report.seconds = clock.seconds();
   info("irradiance (" + std::string(kVisibilityModeNames.name(in.mode)) +
            "): " + format("%.3f s", out.report.seconds),
-       in.quiet);
+       in.run.quiet);
   return out;
 }
 

@@ -12,6 +12,7 @@
 #include <glm/vec3.hpp>
 
 #include "bake/bake_settings.h"
+#include "core/run_context.h"
 #include "irradiance/irradiance.h"
 #include "lighting/visibility.h"
 #include "lighting/visibility_noise_model.h"
@@ -36,9 +37,7 @@ struct LightingInput {
   double visibilityBudget = 0.0;  // auto samples: the noise in B the rays may leave
   double visibilityShare = 0.0;   // the same as a share of the tolerance (for the report)
   double tolerance = 0.01;        // the irradiance cubemap's (mode none)
-  uint64_t seed = 1;
-  int threads = 0;
-  bool quiet = false;
+  RunContext run;
 };
 
 // Mode none: how the irradiance cubemap was made.

@@ -13,9 +13,7 @@ EnergyOptions energyOptionsOf(const EnergyStageInput& in) {
   options.model = in.energy;
   options.noiseBudget = in.walkBudget;
   options.nearWindowMm = in.nearWindowMm;
-  options.seed = in.seed;
-  options.threads = in.threads;
-  options.quiet = in.quiet;
+  options.run = in.run;
   return options;
 }
 
@@ -32,7 +30,7 @@ EnergyStage planEnergy(const EnergyStageInput& in) {
     report.plan = planFiniteObjectEnergy(in.meshMm, in.areasMm2, in.material, energyOptionsOf(in));
     info("energy: " + std::string(kEnergyModelNames.name(report.plan.model)) + " (" +
              report.plan.reason + ")",
-         in.quiet);
+         in.run.quiet);
     if (report.escape() && report.plan.escape.relativeStdError > in.walkBudget)
       warn("energy: " + report.plan.reason);
   }
@@ -44,15 +42,16 @@ EnergyStage planEnergy(const EnergyStageInput& in) {
   return out;
 }
 
-void useFarField(EnergyStage& stage, const EnergyStageInput& in, double budget,
-                 double farFieldError) {
+EnergyStageReport energyWithFarField(const EnergyStageInput& in, EnergyStageReport energy,
+                                     double budget, double farFieldError) {
   const Stopwatch clock;
   EnergyOptions options = energyOptionsOf(in);
   options.noiseBudget = budget;
-  refineNearShare(stage.report.plan, in.meshMm, in.areasMm2, in.material, options);
-  stage.report.farField = true;
-  stage.report.farFieldError = farFieldError;
-  stage.report.seconds += clock.seconds();
+  refineNearShare(energy.plan, in.meshMm, in.areasMm2, in.material, options);
+  energy.farField = true;
+  energy.farFieldError = farFieldError;
+  energy.seconds += clock.seconds();
+  return energy;
 }
 
 }  // namespace sss

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "bake/bake_settings.h"
+#include "core/run_context.h"
 #include "material/diffusion_profile.h"
 #include "transport/finite_object_energy.h"
 
@@ -24,9 +25,7 @@ struct EnergyStageInput {
   ProfileChoice profile = ProfileChoice::Auto;
   double walkBudget = 0.0;  // ErrorBudget::walkBudget()
   bool runWalks = true;     // false for the path tracer, which needs no energy model
-  uint64_t seed = 1;
-  int threads = 0;
-  bool quiet = false;
+  RunContext run;
   // The far field's near window (far_field.h): the walks also measure P's near share; 0: not.
   glm::dvec3 nearWindowMm{0.0};
 };
@@ -59,9 +58,10 @@ struct EnergyStage {
 
 EnergyStage planEnergy(const EnergyStageInput& in);
 
-// With a traced far field: more walks until the near share's noise meets `budget`
-// (finite_object_energy.h, refineNearShare), and the far field's noise in the report.
-void useFarField(EnergyStage& stage, const EnergyStageInput& in, double budget,
-                 double farFieldError);
+// With a traced far field (far_field.h) the profile spreads P's near share: the plan of `energy`
+// with more walks until the near share's noise meets `budget` (finite_object_energy.h,
+// refineNearShare), and the far field's noise beside the walks'.
+EnergyStageReport energyWithFarField(const EnergyStageInput& in, EnergyStageReport energy,
+                                     double budget, double farFieldError);
 
 }  // namespace sss

@@ -32,9 +32,9 @@ double relativeRms(const std::vector<glm::vec3>& value, const std::vector<glm::v
 std::vector<glm::vec3> pathTrace(const TransportInput& in, TransportReport& report) {
   PathTraceOptions options;
   options.samples = in.walks;
-  options.seed = in.seed;
-  options.threads = in.threads;
-  options.quiet = in.quiet;
+  options.seed = in.run.seed;
+  options.threads = in.run.threads;
+  options.quiet = in.run.quiet;
   options.estimateRadiance = false;
   PathTraceResult result = pathTraceSubsurface(in.meshMm, in.radiance, in.material, options);
   PathTraceStageReport& r = report.pathTracer;
@@ -53,15 +53,18 @@ std::vector<glm::vec3> diffusionSum(const TransportInput& in, TransportReport& r
   DiffusionOptions options;
   options.method = diffusionMethodOf(in.method);
   options.tolerance = in.diffusionTolerance;
-  options.threads = in.threads;
-  options.quiet = in.quiet;
+  options.threads = in.run.threads;
+  options.quiet = in.run.quiet;
+  const bool traced = in.farField && in.farField->traced();
+  const std::span<const glm::vec3> farExitance =
+      traced ? std::span<const glm::vec3>(in.farField->exitance) : std::span<const glm::vec3>();
   DiffusionResult result = diffuseWithEnergy(input, in.profile, options, in.energy, in.material,
-                                             in.farExitance, in.weightSums);
-  if (in.farField && !in.farExitance.empty())
+                                             farExitance, in.weightSums);
+  if (traced)
     report.nearPartNoise = calibrateNearPart(
-        result.exitance, {in.meshMm, in.areasMm2, in.farExitance, in.farField->nearExitance,
-                          in.farField->nearVariance, in.farField->nearFarCovariance,
-                          in.farField->report.smoothingMm, in.threads});
+        result.exitance,
+        {in.meshMm, in.areasMm2, farExitance, in.farField->nearExitance, in.farField->nearVariance,
+         in.farField->nearFarCovariance, in.farField->report.smoothingMm, in.run.threads});
   report.diffusion = std::move(result.report);
   report.diffusionTolerance = in.diffusionTolerance;
   report.estimatedError = std::hypot(report.diffusion.estimatedError, report.nearPartNoise);
@@ -82,7 +85,7 @@ VertexExitance transport(const TransportInput& in) {
   out.report.pathTrace = in.method == BakeMethod::PathTrace;
   out.exitance = out.report.pathTrace ? pathTrace(in, out.report) : diffusionSum(in, out.report);
   out.report.seconds = clock.seconds();
-  info(out.report.methodName() + ": " + format("%.3f s", out.report.seconds), in.quiet);
+  info(out.report.methodName() + ": " + format("%.3f s", out.report.seconds), in.run.quiet);
   return out;
 }
 

@@ -11,6 +11,7 @@
 #include <glm/vec3.hpp>
 
 #include "bake/bake_settings.h"
+#include "core/run_context.h"
 #include "diffusion/diffusion.h"
 #include "transport/finite_object_energy.h"
 
@@ -33,12 +34,9 @@ struct TransportInput {
   BakeMethod method = BakeMethod::Auto;
   double diffusionTolerance = 0.01;  // ErrorBudget::diffusionTolerance
   int walks = 256;                   // path tracer: walks per vertex
-  uint64_t seed = 1;
-  int threads = 0;
-  bool quiet = false;
-  std::span<const glm::vec3> farExitance{};  // the traced far field (far_field.h), or empty
-  // With farExitance: the far field whose traced near exits calibrate B's near part
-  // (far_field.h, calibrateNearPart), or null.
+  RunContext run;
+  // The far field (far_field.h), or null: where traced, B_far is added to B and its traced near
+  // exits calibrate B's near part (calibrateNearPart).
   const FarField* farField = nullptr;
   // The energy model's sums with E = 1 (finite_object_energy.h), filled by a first transport and
   // reused by later ones on other light with the same method (the bounces); null: not kept.

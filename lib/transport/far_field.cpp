@@ -129,9 +129,9 @@ TracedRound traceRound(const FarFieldInput& in, const SurfaceAverage& average,
   LightTraceOptions o;
   o.paths = paths;
   o.firstPath = firstPath;
-  o.seed = in.options.seed;
-  o.threads = in.options.threads;
-  o.quiet = in.options.quiet;
+  o.seed = in.options.run.seed;
+  o.threads = in.options.run.threads;
+  o.quiet = in.options.run.quiet;
   o.nearWindowMm = farFieldWindowMm(in.material);
   o.stopAtFirstExit = true;
   // What crosses unscattered leaves collimated: light no exit model of B describes.
@@ -209,7 +209,7 @@ double farFieldSensitivity(const FarFieldInput& in, const SurfaceAverage& averag
   const double length = 1.0 / std::min({tr.x, tr.y, tr.z});
   const std::vector<glm::vec3> local = average(in.irradiance);
   DiffusionOptions o;
-  o.threads = in.options.threads;
+  o.threads = in.options.run.threads;
   o.quiet = true;
   o.tolerance = 0.01;  // a test against the noise budget, not a result
   const std::vector<glm::vec3> wide = gaussianAverageIrradiance(
@@ -337,7 +337,7 @@ FarField traceFarField(const FarFieldInput& in) {
                     " kernels: more than " + format("%.3g", kPathsPerKernel * kernels) +
                     " light paths, cap " + format("%.3g", pathCap) + ")",
                 clock);
-  const SurfaceAverage average(in.meshMm, in.areasMm2, r.smoothingMm, o.threads);
+  const SurfaceAverage average(in.meshMm, in.areasMm2, r.smoothingMm, o.run.threads);
   r.sensitivity = farFieldSensitivity(in, average);
   if (automatic && r.sensitivity <= o.noiseBudget)
     return skip(std::move(out),
@@ -345,7 +345,7 @@ FarField traceFarField(const FarFieldInput& in) {
                     format("%.2g%%", 100.0 * r.sensitivity) + " of B)",
                 clock);
   const SurfaceAverage lobeAverage(in.meshMm, in.areasMm2, kLobeSmoothing * r.smoothingMm,
-                                   o.threads);
+                                   o.run.threads);
   TracedRound round = traceRound(in, average, lobeAverage, 0, o.pilotPaths);
   double noise = relativeNoise(in, round);
   const double ratio = noise / o.noiseBudget;

@@ -61,6 +61,8 @@
 #include <glm/vec3.hpp>
 
 #include "core/enum_names.h"
+#include "core/run_context.h"
+#include "transport/traced_stage.h"
 
 namespace sss {
 
@@ -69,7 +71,7 @@ struct TriangleMesh;  // mesh/triangle_mesh.h
 struct Material;      // material/material.h
 struct EnergyPlan;    // bake/finite_object_energy.h
 
-enum class FarFieldMode { Auto, Off, On };
+using FarFieldMode = TracedMode;
 
 inline constexpr EnumNames<FarFieldMode, 3> kFarFieldModeNames{
     "far field",
@@ -83,9 +85,7 @@ struct FarFieldOptions {
   // Cap on the tracing's work, in scattering events plus a few rays per path (auto skips what
   // would exceed it; on traces up to it).
   double maxWork = 5e7;
-  uint64_t seed = 1;
-  int threads = 0;
-  bool quiet = true;
+  RunContext run;
   // The exit lobe from all exits (above); false: from the far exits alone (the study's comparison).
   bool lobeOfAllExits = true;
   // With lobeOfAllExits: the near part of B scaled to the traced near exits (calibrateNearPart,
@@ -93,15 +93,11 @@ struct FarFieldOptions {
   bool calibrateNearShare = true;
 };
 
-struct FarFieldReport {
-  FarFieldMode requested = FarFieldMode::Auto;
-  bool traced = false;
-  std::string reason;
+// relativeStdError: of B, from the far field's noise.
+struct FarFieldReport : TracedStageReport {
   double sensitivity = 0.0;  // the share of B the far field can move (auto's test)
   glm::dvec3 windowMm{0.0};
   double smoothingMm = 0.0;
-  uint64_t paths = 0;
-  double relativeStdError = 0.0;  // of B, from the far field's noise
   // The bias its surface averaging S leaves in B, estimated as S(B_far) - B_far (S applied once
   // more: to leading order what S did to the exits), relative RMS over vertices and channels like
   // relativeStdError (the model error's far-field term where it is traced, model_error.h).
@@ -113,7 +109,6 @@ struct FarFieldReport {
   // The exit lobe's slope averaged over the surface, weighted by B_far times the area: 0 for
   // light that left as diffusion does, below 0 for light that leaves towards grazing angles.
   glm::dvec3 meanExitSlope{0.0};
-  double seconds = 0.0;
 };
 
 struct FarField {

@@ -85,9 +85,9 @@ int walksFor(int walks, double ratio, int maxWalks) {
 EscapeOptions escapeOptionsOf(const EnergyOptions& options) {
   EscapeOptions escape;
   escape.maxProbes = options.maxProbes;
-  escape.seed = options.seed;
-  escape.threads = options.threads;
-  escape.quiet = options.quiet;
+  escape.seed = options.run.seed;
+  escape.threads = options.run.threads;
+  escape.quiet = options.run.quiet;
   escape.nearWindowMm = options.nearWindowMm;
   return escape;
 }

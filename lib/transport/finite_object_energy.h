@@ -37,6 +37,7 @@
 #include <glm/vec3.hpp>
 
 #include "core/enum_names.h"
+#include "core/run_context.h"
 #include "diffusion/diffusion.h"
 #include "pathtrace/escape_probability.h"
 
@@ -69,9 +70,7 @@ struct EnergyOptions {
   // The far field's near window (farFieldWindowMm): the walks also measure P's near
   // share with it (EscapeResult::nearProbability). 0: they do not.
   glm::dvec3 nearWindowMm{0.0};
-  uint64_t seed = 1;
-  int threads = 0;
-  bool quiet = true;  // no progress bar on stderr
+  RunContext run;
 };
 
 struct EnergyPlan {

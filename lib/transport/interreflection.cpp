@@ -72,7 +72,7 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
   if (normals.size() != n || triangles.empty()) fail("", "interreflection: empty mesh");
   if (options.rays < 1) fail("", "interreflection: at least one ray per vertex");
   const TriangleScene scene(positions, triangles,
-                            TriangleSceneOptions::surfaceRays(options.threads));
+                            TriangleSceneOptions::surfaceRays(options.run.threads));
   const float extent = boundsOf(positions).longestSide();
   const float exitScale = float(exitRadianceScale(eta));
   const Cubemap mirrorSky =
@@ -111,11 +111,11 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
   }
   for (const uint32_t v : traced)
     if (v >= n) fail("", "interreflection: a traced vertex is not in the mesh");
-  parallelFor(traced.size(), options.threads, 64, [&](std::size_t begin, std::size_t end) {
+  parallelFor(traced.size(), options.run.threads, 64, [&](std::size_t begin, std::size_t end) {
     uint64_t count = 0;
     for (std::size_t i = begin; i < end; ++i) {
       const uint32_t v = traced[i];
-      Pcg32 rng(options.seed, v);
+      Pcg32 rng(options.run.seed, v);
       const float r0 = rng.uniform(), r1 = rng.uniform();
       const glm::vec3 nv = normals[v], p = positions[v];
       const float offset = surfaceRayOffset(p, extent);

@@ -29,6 +29,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "core/run_context.h"
 #include "envmap/cubemap.h"
 #include "material/directional_albedo_weight.h"
 
@@ -41,11 +42,10 @@ struct InterreflectionOptions {
   // The directional entry (material/directional_albedo_weight.h): the light arriving at a vertex
   // is weighted as the transport's direct light is. Null: diffuse entry. Not kept.
   const DirectionalAlbedoWeight* entry = nullptr;
-  uint64_t seed = 1;
-  int threads = 0;  // <= 0: all cores
+  RunContext run;  // quiet: unused
   // Only these vertices trace rays (a pilot, estimateMissingInterreflection); the others gather
   // nothing. Empty: every vertex.
-  std::vector<uint32_t> vertices;
+  std::vector<uint32_t> vertices{};
 };
 
 class InterreflectionGather {

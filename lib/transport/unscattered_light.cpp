@@ -30,9 +30,9 @@ TracedRound traceRound(const UnscatteredLightInput& in, uint64_t firstPath, uint
   o.paths = paths;
   o.firstPath = firstPath;
   o.batches = kBatches;
-  o.seed = in.options.seed ^ kSeedSalt;
-  o.threads = in.options.threads;
-  o.quiet = in.options.quiet;
+  o.seed = in.options.run.seed ^ kSeedSalt;
+  o.threads = in.options.run.threads;
+  o.quiet = in.options.run.quiet;
   o.coneHalfAngleDeg = in.options.coneHalfAngleDeg;
   o.unscatteredOnly = true;
   const TriangleMesh& mesh = in.meshMm;

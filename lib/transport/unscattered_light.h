@@ -33,6 +33,8 @@
 #include <glm/vec3.hpp>
 
 #include "core/enum_names.h"
+#include "core/run_context.h"
+#include "transport/traced_stage.h"
 
 namespace sss {
 
@@ -40,7 +42,7 @@ class Cubemap;        // envmap/cubemap.h
 struct TriangleMesh;  // mesh/triangle_mesh.h
 struct Material;      // material/material.h
 
-enum class UnscatteredMode { Auto, Off, On };
+using UnscatteredMode = TracedMode;
 
 inline constexpr EnumNames<UnscatteredMode, 3> kUnscatteredModeNames{
     "unscattered light",
@@ -54,19 +56,12 @@ struct UnscatteredLightOptions {
   uint64_t pilotPaths = 1 << 15;
   uint64_t maxPaths = 1 << 23;
   double coneHalfAngleDeg = 15.0;
-  uint64_t seed = 1;
-  int threads = 0;
-  bool quiet = true;
+  RunContext run;
 };
 
-struct UnscatteredLightReport {
-  UnscatteredMode requested = UnscatteredMode::Auto;
-  bool traced = false;
-  std::string reason;
+// relativeStdError: of the radiance along the normal, from L_u's noise.
+struct UnscatteredLightReport : TracedStageReport {
   double share = 0.0;  // of the radiance along the normal (relative RMS), from all its paths
-  uint64_t paths = 0;
-  double relativeStdError = 0.0;  // of the radiance along the normal, from L_u's noise
-  double seconds = 0.0;
 };
 
 struct UnscatteredLight {

@@ -37,8 +37,8 @@ void BM_BakeDragon(benchmark::State& state, const char* mesh, const char* visibi
   settings.tolerance = 0.01;
   settings.energy = sss::kEnergyModelNames.parse(energy);
   settings.profile = sss::kProfileChoiceNames.parse(profile);
-  settings.threads = static_cast<int>(state.range(0));
-  settings.quiet = true;
+  settings.run.threads = static_cast<int>(state.range(0));
+  settings.run.quiet = true;
   sss::BakeReport report;
   for (auto _ : state) {
     sss::BakeOutput out = sss::bake(settings);

@@ -77,8 +77,8 @@ inline BakeOutput bakeAtDefaults(const TriangleMesh& mesh, const Material& mater
   settings.mmPerUnit = 1.0;
   settings.samples = samples;
   settings.bounces = bounces;
-  settings.seed = seed;
-  settings.quiet = true;
+  settings.run.seed = seed;
+  settings.run.quiet = true;
   BakeOutput out = bake(settings, env);
   std::filesystem::remove(path);
   return out;

@@ -69,14 +69,14 @@ Baked bakeWith(const TriangleMesh& mesh, const Cubemap& env, const Material& m, 
   energy.model = EnergyModel::Escape;
   energy.noiseBudget = 0.006;
   energy.nearWindowMm = farFieldWindowMm(m);
-  energy.threads = threads;
+  energy.run.threads = threads;
   EnergyPlan plan = planFiniteObjectEnergy(mesh, areas, m, energy);
   FarFieldOptions o;
   o.mode = mode;
   o.noiseBudget = 0.006 / std::sqrt(2.0);
-  o.threads = threads;
+  o.run.threads = threads;
   o.calibrateNearShare = calibrateNearShare;
-  o.seed = farSeed;
+  o.run.seed = farSeed;
   const FarField far = traceFarField({mesh, areas, env, m, plan, e, o});
   if (far.traced()) {
     energy.noiseBudget = o.noiseBudget;
@@ -281,7 +281,7 @@ TwoSeeds farFieldOverTwoSeeds(int subdivisions, float radiusMm, double budget) {
   o.mode = FarFieldMode::On;
   o.noiseBudget = budget;
   t.a = traceFarField({t.sphere, t.areas, env, skin, plan, e, o});
-  o.seed = 2;
+  o.run.seed = 2;
   t.b = traceFarField({t.sphere, t.areas, env, skin, plan, e, o});
   for (std::size_t v = 0; v < t.areas.size(); ++v)
     t.exitance.push_back(plan.escape.nearProbability[v] * e[v] + t.a.exitance[v]);
@@ -378,7 +378,7 @@ TEST(FarField, BouncesCarryAllTheLightTheObjectSendsItself) {
     settings.bounces = kAutoBounces;
     settings.tolerance = 0.03;  // a ninth of the default's paths: the effect is 15 %
     settings.farField = mode;
-    settings.quiet = true;
+    settings.run.quiet = true;
     BakeOutput out = bake(settings, BakeEnvironment{uniform, {}});
     std::filesystem::remove(path);
     return out;

@@ -267,10 +267,10 @@ TEST(Interreflection, PredictedGatherNoiseMatchesTheSpreadOverSeeds) {
   for (int seed = 1; seed <= kSeeds; ++seed) {
     InterreflectionOptions options;
     options.rays = 16;
-    options.seed = uint64_t(seed);
+    options.run.seed = uint64_t(seed);
     const InterreflectionGather gather(mesh.positions, mesh.normals, mesh.triangles, sky, eta,
                                        options);
-    options.seed += 1000;
+    options.run.seed += 1000;
     options.vertices = half;
     const InterreflectionGather replica(mesh.positions, mesh.normals, mesh.triangles, sky, eta,
                                         options);

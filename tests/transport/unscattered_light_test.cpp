@@ -129,7 +129,7 @@ TEST(UnscatteredLight, KetchupSphereUnderASunMatchesTheLightTracer) {
   settings.mmPerUnit = 1.0;
   settings.samples = 64;
   settings.tolerance = 0.03;
-  settings.quiet = true;
+  settings.run.quiet = true;
   const BakeOutput with = bake(settings, BakeEnvironment{env, {}});
   settings.unscattered = UnscatteredMode::Off;
   const BakeOutput without = bake(settings, BakeEnvironment{env, {}});
@@ -181,7 +181,7 @@ TEST(UnscatteredLight, ReportedNoiseMatchesTheSpreadOverSeeds) {
   std::vector<glm::dvec3> sum(n, glm::dvec3(0.0)), sum2(n, glm::dvec3(0.0));
   double reported = 0.0;
   for (int seed = 0; seed < kSeeds; ++seed) {
-    o.seed = 400 + seed;
+    o.run.seed = 400 + seed;
     const UnscatteredLight u = traceOn(slab, env, ketchup, o);
     ASSERT_TRUE(u.traced());
     for (std::size_t v = 0; v < n; ++v) {
@@ -208,9 +208,9 @@ TEST(UnscatteredLight, SameResultForAnyThreadCount) {
   UnscatteredLightOptions o;
   o.mode = UnscatteredMode::On;
   o.noiseBudget = 0.02;
-  o.threads = 1;
+  o.run.threads = 1;
   const UnscatteredLight one = traceOn(sphere, env, findMaterialPreset("ketchup"), o);
-  o.threads = 2;
+  o.run.threads = 2;
   const UnscatteredLight two = traceOn(sphere, env, findMaterialPreset("ketchup"), o);
   ASSERT_TRUE(one.traced());
   EXPECT_EQ(one.report.paths, two.report.paths);

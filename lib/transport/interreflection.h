@@ -1,7 +1,8 @@
-// Interreflection (issue 11, part 3): the light the object sends to itself.
+// Interreflection: the light the object sends to itself (`sss-bake --bounces`).
 //
 // The visibility stage (visibility.h) counts a direction the mesh blocks as dark, which leaves
-// concavities 13-29 % dark under uniform light. Here the directions each vertex's facets face are
+// concavities 13-29 % dark under uniform light (docs/physics.md, "Light the object sends
+// itself"). Here the directions each vertex's facets face are
 // sampled again (cosine-weighted about the facets' normals, stratified, Pcg32(seed, vertex): the
 // light the facets take in, as the visibility stage takes the environment's: facet_light.h), and
 // a ray that meets the object brings back
@@ -105,8 +106,8 @@ struct BounceResult {
 // about the same share again, q = sum k dE / sum B over the traced vertices, so the bounces add
 // dB / (1 - q) (q capped at 0.9). The rays' own noise is taken out of the RMS (a sun found by a
 // mirror direction by chance). Weighting q by where the light is added (the pit's own gain)
-// overestimated the studies' rows, with the spreading or without; the measured agreement is in
-// the README ("Interreflection").
+// overestimates the studies' rows, with the spreading or without; the measured agreement:
+// docs/accuracy.md, "Concavities: the box with a pit and the bunny".
 struct MissingInterreflection {
   double relativeRms = 0.0;  // of the added B against B, over traced vertices and channels
   double gain = 0.0;         // q: the first bounce's mean relative gain
@@ -133,7 +134,7 @@ MissingInterreflection estimateMissingInterreflection(const InterreflectionGathe
 // ratio k = sum B A / sum E A per channel, and its smoothing over effectiveVertices vertices (the
 // visibility noise model's N_eff, visibility_noise_model.h). Not amplified by the later bounces as
 // the light is: each vertex gathers over many hit points, which averages the noise out. Measured
-// against the spread over seeds in the README ("Interreflection").
+// against the spread over seeds: docs/tools/sss-bake.md, "Bounces and interreflection".
 double predictGatherNoise(const InterreflectionGather& gather, const InterreflectionGather& replica,
                           std::span<const uint32_t> vertices, std::span<const glm::vec3> exitance,
                           std::span<const glm::vec3> irradiance, std::span<const float> areas,

@@ -161,7 +161,7 @@ std::vector<glm::vec3> addInterreflection(const BakeSettings& s, const PreparedM
   // environment and carries none of the light the object sends itself: with it, the first
   // transport spread only P's near share, so the bounces go through the escape model's own
   // kernel for all of P (with their own sums), as without a far field: the near share alone
-  // dropped the rest of their light (README, "Light the object sends itself").
+  // dropped the rest of their light (docs/physics.md, "Light the object sends itself").
   TransportInput in = transportIn;
   in.method = bakeMethodOf(exitance.report.diffusion.method);
   in.quiet = true;

@@ -7,9 +7,8 @@
 // long paths deep in the medium). A finite object has no depth to lose it in: a small sphere
 // returns more (walks leave sooner, so absorb less; by the mean path length invariance, Blanco &
 // Fournier 2003, a body's mean path length is 4V/S, finite where the half-space's is not), a thin
-// slab returns light through both faces (docs/physics.md, "Finite objects are not half-spaces",
-// has the measured values). The profiles' shape still says where light leaves; this measures how
-// much.
+// slab returns light through both faces (measured: docs/physics.md, "Finite objects are not
+// half-spaces"). The profiles' shape still says where light leaves; this measures how much.
 //
 // Estimator: analog random walks per channel at probe vertices (all vertices, or an even stride
 // of them). Each walk enters at a uniform point of the vertex's triangles (area-weighted: the

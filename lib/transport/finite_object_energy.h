@@ -6,9 +6,8 @@
 // faces, a tip or a small object loses its tail), and a finite object absorbs less than a
 // half-space (walks leave sooner: a small marble sphere returns clearly more of the light than
 // the half-space albedo; docs/physics.md, "Finite objects are not half-spaces"). Measured against
-// the Monte Carlo reference
-// (tests/bench/accuracy_study.cpp) these energy errors are most of the classic dipole's error on
-// small translucent objects.
+// the Monte Carlo reference (tests/bench/accuracy_study.cpp) these energy errors are most of the
+// classic dipole's error on small translucent objects.
 //
 // Models:
 //   halfspace  B_i = sum_j R_d(r_ij) E_j A_j as Li & Guo have it.

@@ -3,9 +3,10 @@
 // a small object under uneven light, the light that leaves far from where it entered (through a
 // sphere to its unlit half, through a thin part) is neither: collimated light goes deeper, and the
 // object's shape decides where it comes out. Light paths from the environment carry both. The
-// model, the alternatives measured and the sun study: docs/physics.md, "The far field: light that
-// leaves far from where it entered" and "The far field's exit lobe"; docs/accuracy.md, "Under a
-// sun".
+// model: docs/physics.md, "The far field: light that leaves far from where it entered" and "The
+// far field's exit lobe"; the alternatives measured (geometry-blind kernels, a gather from the
+// escape walks): docs/physics.md, "Alternatives measured and not used"; the sun study:
+// docs/accuracy.md, "Under a sun".
 //
 // Model: B_i = P_near,i / rho_near,i sum_j R_d(r_ij) W(r_ij) E_j A_j + B_far,i, with
 //  - W(d) = exp(-d^2 / (2 w_c^2)), w_c = kFarFieldWindowLengths / sigma_tr,c in mm

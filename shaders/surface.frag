@@ -1,5 +1,5 @@
 // Per pixel: the reflection lookup, added with its Fresnel weight (see surface.vert), and with
-// UNSCATTERED the light that crosses the object without scattering (bake/unscattered_light.h):
+// UNSCATTERED the light that crosses the object without scattering (transport/unscattered_light.h):
 // from the environment behind, refracted in and out, attenuated over its path inside:
 //   L_u = F_t^2 e^(-tau) / (1 - F_r^2 e^(-2 tau)) L_env(-w_o),  tau = sigma_t l,
 // l the refracted ray's length inside, found by marching it through the back faces' depth (the

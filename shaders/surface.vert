@@ -10,8 +10,8 @@
 // Monte Carlo's shape across albedo, flux-preserving), all 1 for the other models. lobe(mu_o) is
 // the exit lobe of optics/exit_lobe.h over the normalized model: (1 + k mu_i) A_0 / (A_0 + k A_1),
 // mu_i the cosine inside, A_n the lobe's moments (with exitScale = 1 / (pi A_0) its flux is B),
-// k the vertex's slope as the bake's far field measured it (bake/far_field.h), 0 (lobe = 1) but
-// for the auto exit model on a bake with a traced far field.
+// k the vertex's slope as the bake's far field measured it (transport/far_field.h), 0 (lobe = 1)
+// but for the auto exit model on a bake with a traced far field.
 // UNSCATTERED (surface.frag) adds the light that crosses the object in a straight line.
 // REFLECT_MIX reproduces the paper's constant mix(base, cube, reflect_factor) instead.
 // MODE_IRRADIANCE shows the baked E as a white Lambertian surface (E / pi); MODE_NORMALS shows

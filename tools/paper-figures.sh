@@ -4,7 +4,8 @@
 # 1024x1024 for the dragon at four resolutions, the teapot and the bunny), from the sample data
 # of data/fetch.sh: sss-bake, then sss-render.
 #
-#   tools/paper-figures.sh [OUT_DIR]     (default out/paper; tests/bench/results/render holds the README's copy)
+#   tools/paper-figures.sh [OUT_DIR]     (default out/paper; tests/bench/results/render holds
+#                                         the copy docs/performance.md shows)
 #
 # Writes OUT_DIR/figure3_brdf.png, figure3_sss.png, figure4_teapot.png,
 # figure4_teapot_paper_mix.png, table1.csv and table1.md; the baked meshes go to

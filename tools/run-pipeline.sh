@@ -40,7 +40,7 @@ run sss-irrmap "$env" --radiance "$out/forest_radiance.exr" -o "$out/forest_irra
 run sss-irrmap --sky --radiance "$out/sky_radiance.exr" -o "$out/sky_irradiance.exr" \
   --json "$out/sky_irrmap.json"
 # --bounces auto: the bunny's ears, chin and haunch send each other light (without it the bake
-# warns that B would change by ~9 %; README, "Light the object sends itself").
+# warns that B would change by ~9 %; docs/physics.md, "Light the object sends itself").
 run sss-bake "$mesh" -e "$env" -m marble --mm-per-unit "$bunny_mm_per_unit" --bounces auto \
   -o "$out/bunny_marble.ply" --json "$out/bunny_marble_bake.json"
 run sss-render "$out/bunny_marble.ply" -e "$env" -o "$out/bunny_marble.png" --exposure -1

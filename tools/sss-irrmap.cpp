@@ -1,5 +1,6 @@
 // sss-irrmap: an HDR environment (or a procedural sky) -> radiance and diffuse irradiance
-// cubemaps, SH coefficients and a JSON report. See README (sss-irrmap) for the conventions.
+// cubemaps, SH coefficients and a JSON report. The conventions: docs/tools/sss-irrmap.md,
+// "Conventions", and docs/conventions.md.
 // Several inputs (or output folders DIR/) run as a batch in one process (core/batch.h).
 #include <filesystem>
 #include <optional>

@@ -17,7 +17,7 @@
 
 namespace sss {
 
-struct FarField;  // bake/far_field.h
+struct FarField;  // transport/far_field.h
 
 class Cubemap;           // envmap/cubemap.h
 class DiffusionProfile;  // material/diffusion_profile.h

@@ -1,7 +1,7 @@
 // An estimate shrunk towards 0 by its own noise, x x^2 / (x^2 + v) for an estimate x of noise
 // variance v: a Wiener-like weight, so that an estimate well above its noise stays and one within
 // it fades. Where a noisy correction would add more error than it removes (the far field's exit
-// lobe slope, optics/exit_lobe.h; its near part's scale, bake/far_field.h).
+// lobe slope, optics/exit_lobe.h; its near part's scale, transport/far_field.h).
 #pragma once
 
 namespace sss {

@@ -11,8 +11,9 @@ class Pcg32 {
   // stream selects an independent sequence: use the item index. The start state is a hash of
   // both: PCG's streams are one LCG under affine maps of its state, so with the seed merely added
   // (O'Neill's pcg32_srandom) the draws of consecutive streams are affine in the stream index, a
-  // lattice rather than independent sequences, and batches of consecutive paths looked less noisy
-  // than they were (README, "Determinism and random numbers"; tests/core/random_test.cpp).
+  // lattice rather than independent sequences, and batches of consecutive paths look less noisy
+  // than they are (docs/conventions.md, "Determinism and random numbers";
+  // tests/core/random_test.cpp).
   Pcg32(uint64_t seed, uint64_t stream) : inc_((stream << 1u) | 1u) {
     next();
     state_ += splitMix64(seed ^ splitMix64(stream));

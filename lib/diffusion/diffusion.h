@@ -15,7 +15,7 @@
 //                 (octree_gaussian_sum.h, diffusion_octree.h).
 //   incremental   Li & Guo Eq. 11: pass k convolves pass k-1 with G(v_k - v_(k-1)); exact on
 //                 a plane, approximate on a discrete curved surface (incremental_diffusion.h;
-//                 measured in the README).
+//                 measured in docs/physics.md, "Where we correct the paper").
 //   hierarchical  Jensen & Buhler 2002: octree clusters (area-weighted irradiance sums, centroid,
 //                 spread) replace far groups of points when the cluster is small against the
 //                 narrowest Gaussian that still reaches it; for wide (translucent) kernels.

@@ -56,7 +56,8 @@ struct DiffusionReport {
   std::vector<double> cutoffs;  // mm, one per Gaussian (gauss, incremental, hierarchical)
   double clusterTheta = 0;      // hierarchical: cluster radius / Gaussian sigma bound
   // Model of the method's relative RMS error of B (fit + truncation + clusters) against the
-  // converged sum on the same mesh; not the mesh's own discretization error (see README).
+  // converged sum on the same mesh; not the mesh's own discretization error (docs/accuracy.md,
+  // "Resolution").
   double estimatedError = 0;
   std::size_t interactions = 0;  // terms: (receiver, source) pairs x K Gaussians (exact: x 1)
   double fitSeconds = 0, indexSeconds = 0, sumSeconds = 0, totalSeconds = 0;

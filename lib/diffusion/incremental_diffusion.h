@@ -10,7 +10,8 @@
 // with the whole v_k instead. It costs less than gauss (one Gaussian per pass; with a geometric
 // variance ladder v_k - v_(k-1) is most of v_k, so the support per pass barely shrinks) and more
 // than hierarchical, and its error is not bounded by the tolerance: auto never picks it (the
-// errors measured on the dragon and spheres are in the README). Private to lib/diffusion.
+// errors measured on the dragon and spheres: docs/physics.md, "Where we correct the paper").
+// Private to lib/diffusion.
 #pragma once
 
 #include <vector>

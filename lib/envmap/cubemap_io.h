@@ -24,8 +24,8 @@ void writeCubemap(const std::string& path, const Cubemap& cubemap);
 // The preview beside a cubemap file: FILE.exr -> FILE.png.
 std::string cubemapPreviewPath(const std::string& cubemapPath);
 // An 8-bit sRGB image of the unfolded cross (cubemapToCross; faces of at least 128 pixels, small
-// cubemaps magnified an integer number of times, bilinearly within each face), exposed so that the log-average luminance maps to 0.18
-// (Reinhard et al. 2002's key value), clamped.
+// cubemaps magnified an integer number of times, bilinearly within each face), exposed so that
+// the log-average luminance maps to 0.18 (Reinhard et al. 2002's key value), clamped.
 void writeCubemapPreview(const std::string& path, const Cubemap& cubemap);
 
 }  // namespace sss

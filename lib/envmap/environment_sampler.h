@@ -5,8 +5,9 @@
 //
 // The CDF runs over the texels in Morton (Z-curve) order within each face, so that a stratum of
 // u1 is a compact 2D patch of a face, not a strip of rows: stratified sample sets keep more of
-// their stratification over the sphere (the noise it saves is in the README). Texels are drawn by
-// inverting the CDF through a guide table (Chen & Asau 1974: O(1) expected, stratification kept).
+// their stratification over the sphere (docs/tools/sss-bake.md, "Lighting and visibility").
+// Texels are drawn by inverting the CDF through a guide table (Chen & Asau 1974: O(1) expected,
+// stratification kept).
 #pragma once
 
 #include <cstddef>

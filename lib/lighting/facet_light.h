@@ -4,8 +4,8 @@
 // stands for the facets around the vertex (the reference's barycentric tally, and the surface the
 // light enters), not for a plane at the averaged normal: on a box's edge that normal points 45
 // degrees from both faces, and under a sun it can face away while one face is lit
-// (tests/bench/concavity_study.cpp: the box's terminator edges were 0.63x and 0.85x the
-// reference's radiance with the normal's light).
+// (tests/bench/concavity_study.cpp: with the normal's light the box's terminator edges read 0.63x
+// and 0.85x the reference's radiance; docs/physics.md, "Light on the facets around a vertex").
 //
 //   factor(w) = sum over facets f of share_f T(eta, w . n_f) (w . n_f)+     (Li & Guo Eq. 6)
 //
@@ -29,13 +29,14 @@
 namespace sss {
 
 // Vertices whose facets all lie within 30 degrees of the normal take the light at the normal (one
-// facet, at the old cost). Creases of more (a box's edges and corners: 45 and 55 degrees; a
-// slab's rim) take their facets', those within 15 degrees of each other grouped (a box's edge has
+// facet, at a single facet's cost). Creases of more (a box's edges and corners: 45 and 55 degrees;
+// a slab's rim) take their facets', those within 15 degrees of each other grouped (a box's edge has
 // two groups, a scan's noisy crease a few). The facets' light differs from the normal's by about
 // E tilt^2 / 2 where the light is smooth (a few percent at 15 degrees), by up to the tilt's share
-// of E at a sun's terminator. With every facet of every vertex beyond 8 degrees (45 % of the
-// scanned dragon's 100K vertices) its default bake took 1.25-1.5x as long; as here, 9 % of them
-// take their facets' (tests/bench/results/bake/facets_cost.csv).
+// of E at a sun's terminator. At 30 degrees 9 % of the scanned dragon's 100K vertices take their
+// facets' light; at 8 degrees 45 % would, for 1.25-1.5x its default bake and nothing measurable
+// (docs/physics.md, "Light on the facets around a vertex"; docs/performance.md, "What each part
+// costs").
 inline constexpr double kSmoothFacetCosine = 0.8660254;  // cos(30 degrees)
 inline constexpr double kFacetGroupCosine = 0.9659258;   // cos(15 degrees)
 

@@ -49,10 +49,10 @@ struct SourceTexel {
 };
 
 // The radiance's kSharpTexels texels of most flux stay at their own resolution, the rest is
-// box-filtered to `size` a face: a sun keeps its place to a texel of the source (which takes the
-// lookup's error against the exact sum under a small sun from 0.085 % to 0.052 % RMS;
-// tests/lighting/visibility_test.cpp), and a smooth sky, which filtering moves only in second
-// order, costs 6 size^2 terms.
+// box-filtered to `size` a face: a sun keeps its place to a texel of the source (the lookup is
+// within 0.052 % RMS of the exact sum under a small sun and a sky;
+// tests/lighting/visibility_test.cpp, docs/tools/sss-bake.md, "Lighting and visibility"), and a
+// smooth sky, which filtering moves only in second order, costs 6 size^2 terms.
 constexpr std::size_t kSharpTexels = 512;
 
 std::vector<SourceTexel> sourceTexels(const Cubemap& radiance, int size) {

@@ -26,8 +26,9 @@
 // there visibility changes nothing; see tests/lighting/visibility_test.cpp.
 //
 // Rays: Embree (medium-quality BVH), each vertex's rays as one incoherent stream
-// (rtcOccluded1M); on the dragons this beat single rays and packets of 8 or 16, and the
-// high-quality build cost more than it saved (tests/bench/results/bake).
+// (rtcOccluded1M): on the dragons this beats single rays and packets of 8 or 16, and the
+// high-quality build costs more than it saves (docs/tools/sss-bake.md, "Lighting and
+// visibility"; tests/bench/results/bake).
 //
 // Units: E has the units of the cubemap's radiance times steradians; positions in any unit.
 #pragma once

@@ -10,7 +10,7 @@
 // light that is blocked, so a vertex with nothing in the way is exact at any ray count (Y = X),
 // one in a deep concavity as sure of its little light as the plain sum (Y and X share their
 // noise), and in between the noise is that of the blocked fraction (Cochran, "Sampling
-// Techniques", 1977, ch. 6; the control variate a bake's visibility needs, issue 11). Its bias is
+// Techniques", 1977, ch. 6). Its bias is
 // O(1/n) of X's relative variance, which the environment's importance sampling keeps small
 // (tests/lighting/visibility_test.cpp measures it in a concavity at 16 rays).
 #pragma once

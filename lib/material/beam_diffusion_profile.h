@@ -16,7 +16,8 @@
 // lights with diffuse irradiance anyway. So each channel is scaled to
 // halfSpaceDiffuseAlbedo(alpha', eta) (halfspace_albedo.h): the Monte Carlo half-space albedo
 // under diffuse light with the Fresnel boundary. totalReflectance() is that value. How far the
-// classic dipole's totals are from it: tests/bench/results/material/totals.csv and the README.
+// classic dipole's totals are from it: tests/bench/results/material/totals.csv and
+// docs/physics.md, "Where we correct the paper".
 // Tabulated per channel on 160 log-spaced radii from 1e-4 mean free paths to
 // max(min(64 / sigma_tr, 1e4 / sigma_t'), 40 / sigma_t'), 256 depth samples each, interpolated
 // log-log; the tail beyond the table is dropped. integrateDisc integrates the log-log

@@ -9,9 +9,9 @@
 // eta 1.3: w(0) / w(1) = 1.09 / 1.16 / 1.18 in R / G / B; marble 1.02-1.03). The diffusion profiles
 // (Jensen et al. 2001; Christensen & Burley 2015) take every entering photon as diffuse, which
 // holds under an even sky but not under a sun: the lit pole comes out too bright and the band
-// near the terminator too dark (README, "Under a sun"). The directional dipole (Frisvad et al.
-// 2014) models this inside the profile; here it is a weight, so every profile and diffusion
-// method keeps working:
+// near the terminator too dark (docs/physics.md, "Directional entry"). The directional dipole
+// (Frisvad et al. 2014) models this inside the profile; here it is a weight, so every profile and
+// diffusion method keeps working:
 //   w_c(mu) = rho_c(mu) / R_c,   R_c = int_0^1 F_t(mu) rho_c(mu) mu dmu / int_0^1 F_t(mu) mu dmu.
 // Entry: the irradiance the transport sums is E_w = int L F_t(mu) w(mu) mu dw; under uniform light
 // E_w = E exactly (w averages to 1 over F_t mu), so every result under an even sky stands.

@@ -21,7 +21,8 @@
 // [1e-3 r_999, r_999], r_999 the radius holding 99.9% of the channel's energy (quadrature of
 // the integrals in dr):
 //   e_c = sqrt( int (r (S(r) - R(r)))^2 dr / int (r R(r))^2 dr ),  error = max_c e_c.
-// The K each profile needs and the fit times: README and tests/bench/results/material/fits.csv.
+// The K each profile needs and the fit times: docs/performance.md, "Material fits"
+// (tests/bench/results/material/fits.csv).
 #pragma once
 
 #include <string>

@@ -66,8 +66,7 @@ Material findMaterialPreset(const std::string& name);
 
 // Jensen & Buhler 2002 inversion (see header comment). albedo: total diffuse reflectance per
 // channel (the half-space albedo) in (0, halfSpaceDiffuseAlbedo(1, eta)); mfp: diffuse mean free
-// path
-// l_d = 1 / sigma_tr in mm (> 0). Throws sss::Error on values out of range.
+// path l_d = 1 / sigma_tr in mm (> 0). Throws sss::Error on values out of range.
 Material materialFromAlbedoMfp(const glm::dvec3& albedo, const glm::dvec3& mfpMm, double eta,
                                const std::string& name = "custom");
 

@@ -15,7 +15,7 @@
 //   comment sss checked=1                        (the mesh passed sss-bake's cleanup: readers
 //                                                 do not repeat its warnings)
 //   comment sss unscattered=1                    (the bake traced light that crosses the object
-//                                                 unscattered, bake/unscattered_light.h: in
+//                                                 unscattered, transport/unscattered_light.h: in
 //                                                 radiance_normal; sss-render draws it)
 //   comment <each extraComments line>
 //   (numbers: the shortest decimal that reads back to the same double; the material lines only
@@ -30,11 +30,10 @@
 //                  model of the bake, so that a bake compares with a reference in radiance)
 //   property float far_exitance_r, far_exitance_g, far_exitance_b
 //   property float far_exit_slope_r, far_exit_slope_g, far_exit_slope_b
-//                  (both or neither, when the bake traced its far field, bake/far_field.h: the
-//                  part of B that light paths carried from afar, and the slope k of the exit
-//                  lobe that the paths' exits measured, optics/exit_lobe.h, which all of B
-//                  leaves with: sss-render draws B through it; in files from before 2026-12
-//                  the slope was B_far's alone, drawn for B_far only)
+//                  (both or neither, when the bake traced its far field,
+//                  transport/far_field.h: the part of B that light paths carried from afar,
+//                  and the slope k of the exit lobe that the paths' exits measured,
+//                  optics/exit_lobe.h, which all of B leaves with: sss-render draws B through it)
 //   element face M
 //   property list uchar int vertex_indices
 //   end_header

@@ -47,7 +47,7 @@ TriangleMesh loadMesh(const std::string& path, MeshReport* report = nullptr);
 //  - kMaxReachInEdges: the reach is at most 2^16 median edge lengths. Float then resolves an edge
 //    in 128 steps or more (spacing <= reach 2^-23) and the ray offset stays under about a quarter
 //    of an edge; beyond, rays step over whole triangles and random walks stall where one step
-//    does not move a point (a 42-vertex sphere with one vertex 1.7e15 away ran for more than
+//    does not move a point (a 42-vertex sphere with one vertex 1.7e15 away runs for more than
 //    120 s). Scale-free: a whole mesh far from its origin, or one stray vertex, fails alike. The
 //    sample meshes reach 22 (teapot) to 643 (871K-triangle dragon) median edges; a regular
 //    tessellation reaches 2^16 with some 10^10 triangles.

@@ -256,7 +256,7 @@ void checkOffFaceSizes(const std::string& path, const std::string& data, const O
   if (counts.binary) {
     // Per vertex OpenMesh reads 3 floats, 3 more with N, 3 int32 colour components with C and 2
     // texture floats with ST (we ask for no colours: no alpha, no float colours), and no face
-    // colours (a binary COFF's face counts were left unchecked: found by tests/fuzz).
+    // colours (a binary COFF's face counts need this check too: found by tests/fuzz).
     const bool texcoords = prefix.find("ST") != std::string::npos;
     at += 12 + counts.vertices * (12 + (normals ? 12 : 0) + (colours ? 12 : 0) + (texcoords ? 8 : 0));
     for (std::uint64_t f = 0; f < counts.faces; ++f) {

@@ -47,7 +47,7 @@ std::vector<glm::vec3> hatFunctionAverage(const TriangleMesh& mesh,
 // (summing to 1; facets of one plane merged), vertex v's at [begin[v], begin[v + 1]). What the
 // surface around a vertex faces where its one normal is an average: on a box's edge the vertex
 // normal points 45 degrees from both faces, and light on the faces is not light on that normal
-// (bake/facet_light.h). A facet normal is turned to its vertex normal's side (a face of
+// (lighting/facet_light.h). A facet normal is turned to its vertex normal's side (a face of
 // inconsistent winding, or normals that disagree with the winding). A vertex whose facets all lie
 // within acos(smoothCosine) of its normal gets its normal as its one facet (a smooth part, where
 // the two differ in second order); elsewhere a facet within acos(mergeCosine) of a group's first

@@ -6,8 +6,9 @@
 // k = 0. Light that has crossed a thin part after a few scatterings is not: an optically thin
 // layer is brighter towards grazing directions inside (longer paths through it collect more
 // scattering), k < 0, and an exit model with k = 0 puts 1.2x the true radiance along the normal on
-// the unlit face of a 2 mm ketchup slab (README, "Under a sun"). The far field's light paths
-// (bake/far_field.h) measure k per vertex from the mean internal cosine of their exits.
+// the unlit face of a 2 mm ketchup slab (docs/physics.md, "The far field's exit lobe"). The far
+// field's light paths (transport/far_field.h) measure k per vertex from the mean internal cosine of
+// their exits.
 //
 // With the exitance B (the flux that leaves per area) fixed, the radiance towards an outside
 // direction of cosine mu_o is

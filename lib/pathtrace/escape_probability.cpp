@@ -28,9 +28,10 @@ namespace {
 // A walk whose absorption weight exp(-sigma_a l) falls below e^-30 scores 0 (bias < 1e-13).
 constexpr double kNegligibleOpticalDepth = 30.0;
 constexpr int kMaxEvents = 1 << 20;  // safety cap: such walks count as lost
-// P's near share is smoothed over this many near windows (smoothing below): on the 50 mm bunny in
-// skim milk (tests/bench/concavity_study.cpp) the share's width fell from 37 mm to the probe
-// spacing's floor and the per-vertex error under forest.exr from 5.0 to 4.4 %.
+// P's near share is smoothed over this many near windows (smoothing below), not over P's own
+// width: it varies on the window's scale. On the 50 mm bunny in skim milk
+// (tests/bench/concavity_study.cpp), where P's width is 37 mm, the per-vertex error under
+// forest.exr is 4.4 % this way against 5.0 % with P's width.
 constexpr double kNearSmoothingWindows = 2.0;
 
 struct WalkOutcome {
@@ -321,10 +322,10 @@ ProbeEstimates EscapeWalks::State::probeEstimates(const ProbeSums& sums) const {
 }
 
 // Widths per channel: a channel's P varies with the object's shape on the scale its own diffusion
-// length sees (skim milk's blue light travels 3.5 mm, its red 18 mm: one width for both blurred
+// length sees (skim milk's blue light travels 3.5 mm, its red 18 mm: one width for both blurs
 // a thin ear's blue P into the body's), and P's near share on the scale of the near window (it
 // is the part of P that leaves within the window: on a thin part, through the other face).
-// Never below two probe spacings (README, "Escape probability per channel").
+// Never below two probe spacings (docs/physics.md, "Finite objects are not half-spaces").
 Smoothing EscapeWalks::State::smoothing(double totalArea) const {
   const double spacing = std::sqrt(totalArea / double(probes));
   std::array<glm::dvec3, 2> widths{};

@@ -1,14 +1,14 @@
 // Escape probability of the light that enters a finite object: of the light the surface lets in
 // diffusely at a point, the fraction that leaves the medium again through the surface after at
 // least one scattering, instead of being absorbed. Energy for the diffusion profiles on real
-// meshes (lib/bake/bake.h, energy "escape").
+// meshes (lib/transport/finite_object_energy.h, energy "escape").
 //
 // Why: a half-space profile returns R_total of the light that enters (the rest is absorbed on
 // long paths deep in the medium). A finite object has no depth to lose it in: a small sphere
 // returns more (walks leave sooner, so absorb less; by the mean path length invariance, Blanco &
 // Fournier 2003, a body's mean path length is 4V/S, finite where the half-space's is not), a thin
-// slab returns light through both faces (README, "Finite objects are not half-spaces", has the
-// measured values). The profiles' shape still says where light leaves; this measures how much.
+// slab returns light through both faces (measured: docs/physics.md, "Finite objects are not
+// half-spaces"). The profiles' shape still says where light leaves; this measures how much.
 //
 // Estimator: analog random walks per channel at probe vertices (all vertices, or an even stride
 // of them). Each walk enters at a uniform point of the vertex's triangles (area-weighted: the
@@ -75,7 +75,7 @@ struct EscapeResult {
   std::vector<glm::vec3> nearProbability;
   double nearRelativeStdError = 0.0;
   // |P_near| / |P| (area-weighted RMS over vertices and channels): what the near share's noise
-  // weighs in B, the rest being the far field's (bake/far_field.h); 0 without a window.
+  // weighs in B, the rest being the far field's (transport/far_field.h); 0 without a window.
   double nearShare = 0.0;
   // The near share's noise relative to B: its own relative noise times its weight in B.
   double nearErrorInB() const { return nearRelativeStdError * nearShare; }

@@ -1,5 +1,5 @@
 // Forward light tracing: the volumetric reference that resolves directional light (a sun) and
-// light the object sends to itself (issue 11, part 1).
+// light the object sends to itself (docs/accuracy.md, "Forward light tracer").
 //
 // Why: the backward tracer (subsurface_path_tracer.h) starts at a vertex and finds a small sun
 // only when a walk happens to leave towards it (27 % noise per vertex under a 3-degree sun), and,
@@ -31,7 +31,7 @@
 //    A_f / 3 (n_f . n_k)): the cosine-weighted mean radiance over the cone of the faceted surface
 //    as a viewer down the normal sees it. For a cone about n_k, the integral over it of
 //    (n_f . w) dw is (n_f . n_k) Omega_p, so facets of uniform radiance L give L exactly however
-//    they tilt; dividing by A_k instead gave L times the facets' mean cosine (0.79 on an
+//    they tilt; dividing by A_k instead would give L times the facets' mean cosine (0.79 on an
 //    icosahedron, 0.90 at the bunny's 25-degree ridges). Its bias is the curvature of the exit
 //    radiance's angular distribution over the cone, (1 - cos(cone)) / 2 of its slope in mu (about
 //    0.5 % for an isotropic interior at the default 15 degrees, the cone refracted to ~11 degrees

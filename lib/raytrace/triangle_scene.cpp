@@ -134,7 +134,7 @@ bool TriangleScene::occluded(const glm::vec3& o, const glm::vec3& d, float tNear
 }
 
 // One rtcOccluded1M stream per batch: faster than single rays and than packets of 8 or 16 on the
-// dragons (README, visibility).
+// dragons (docs/tools/sss-bake.md, "Lighting and visibility").
 void TriangleScene::occluded(std::span<const OcclusionRay> rays, std::vector<char>& blocked) const {
   thread_local std::vector<RTCRay> stream;  // reused across calls: no allocation per batch
   stream.resize(rays.size());

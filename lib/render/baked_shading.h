@@ -23,7 +23,8 @@ namespace sss {
 // (material/directional_albedo_weight.h: the half-space Monte Carlo's angular shape across
 // albedo, flux-preserving), exact for a half-space under even light where normalized is 5-12 %
 // high along the normal at alpha' <= 0.75, but further from the reference on the study's finite
-// objects (README, "Under a sun"); jensen, L = B F_t / pi (Jensen et al. 2001).
+// objects (docs/physics.md, "Where we correct the paper"; docs/accuracy.md, "Under a sun");
+// jensen, L = B F_t / pi (Jensen et al. 2001).
 enum class ExitModel { Auto, Normalized, Calibrated, Jensen };
 inline constexpr EnumNames<ExitModel, 4> kExitModelNames{"exit model",
                                                          {{{ExitModel::Auto, "auto"},
@@ -41,8 +42,8 @@ inline constexpr EnumNames<CullMode, 3> kCullModeNames{
 // unscatteredSigmaT), in the sss mode on a closed mesh (culled back faces) whose file records its
 // material and units (sigma_t = sigma_a + sigma_s' per mesh unit: g = 0, as the bake's light
 // tracers have it). Auto: where the bake traced it (BakedMesh::unscatteredTraced; the back faces'
-// pass and the per-pixel march cost 2.5x per frame on llvmpipe, README, "sss-render"); on: wherever
-// it can.
+// pass and the per-pixel march cost 2.5x per frame on llvmpipe: docs/tools/sss-render.md,
+// "Unscattered light"); on: wherever it can.
 enum class UnscatteredDrawing { Auto, On, Off };
 inline constexpr EnumNames<UnscatteredDrawing, 3> kUnscatteredDrawingNames{
     "unscattered light",

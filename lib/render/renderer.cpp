@@ -78,7 +78,7 @@ GLuint uploadCubemap(const Cubemap& cubemap) {
   GLuint tex = 0;
   glCreateTextures(GL_TEXTURE_CUBE_MAP, 1, &tex);
   // 32-bit floats: a sun exceeds half floats' 65504 (the procedural sky's reaches 1.4e5), which
-  // turned its reflection into Inf and, through the tonemap, NaN.
+  // would turn its reflection into Inf and, through the tonemap, NaN.
   glTextureStorage2D(tex, levels, GL_RGBA32F, n, n);
   for (int face = 0; face < 6; ++face) {
     // Faces are stored in GL orientation, row 0 = t = 0: uploaded as they are.

@@ -84,9 +84,9 @@ struct ShadingOptions {
   // Cull back faces (closed, consistently CCW meshes); off shows both sides.
   bool cullBackFaces = true;
   // sss with culled back faces: the extinction sigma_t = sigma_a + sigma_s per mesh unit of the
-  // light that crosses the object unscattered (shaders/surface.frag; bake/unscattered_light.h),
-  // drawn where > 0 in some channel. A pass over the back faces' depth shows where each refracted
-  // view ray leaves (shaders/surface.frag marches it).
+  // light that crosses the object unscattered (shaders/surface.frag;
+  // transport/unscattered_light.h), drawn where > 0 in some channel. A pass over the back faces'
+  // depth shows where each refracted view ray leaves (shaders/surface.frag marches it).
   glm::vec3 unscatteredSigmaT = glm::vec3(0.0f);
   bool drawsUnscattered() const;
 };

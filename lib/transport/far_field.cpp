@@ -26,31 +26,32 @@ namespace sss {
 namespace {
 
 // The smoothing is never narrower than a mean edge: a vertex needs its neighbours' exits (wider
-// spreads the lit side into the unlit one near the terminator: README, "Under a sun").
+// spreads the lit side into the unlit one near the terminator: docs/accuracy.md, "Under a sun").
 constexpr double kSmoothingMinEdges = 1.0;
 // The exit lobe's moments are averaged over this many times the far field's smoothing: the slope
 // amplifies the mean cosine's noise (the mean spans only 0.78-0.85 at eta 1.3, and 0.01 more of
 // it is 16 % more radiance along the normal at slope 0), while the lobe's shape changes over the
 // surface (a small ketchup sphere's lit side from its unlit one) and a wider kernel blurs a thin
-// part's faces into each other (README, "The far field's exit lobe", has the widths measured).
+// part's faces into each other (docs/physics.md, "The far field's exit lobe").
 constexpr double kLobeSmoothing = 3.0;
 // Paths the far field needs per smoothing kernel at a 0.42 % budget, at the least (the study's
-// cheapest object needs this many; README, "Under a sun"): auto skips objects that would exceed
-// the cap before tracing a pilot.
+// cheapest object needs this many; docs/accuracy.md, "Under a sun"): auto skips objects that would
+// exceed the cap before tracing a pilot.
 constexpr double kPathsPerKernel = 2000.0;
 constexpr double kRaysPerPath = 4.0;  // a path's work beside its scattering events
 // The error the far field removes from B per unit of its sensitivity, where it is left out: 0.11
 // on the back-lit ketchup slab (7.3 % per vertex against 3.6 % traced, at a sensitivity of 0.59;
-// README, "Under a sun"), 0.5 on the skim-milk box with a pit under uniform light (3.1 % against
-// 1.7 % at 0.05: there the near part's calibration removes more than the kernel's error); about
-// their geometric mean. A fixed measurement, not model_error.h's fitted weight: auto's choices
-// would otherwise move the rows that weight is fitted on.
+// docs/accuracy.md, "Under a sun"), 0.5 on the skim-milk box with a pit under uniform light (3.1 %
+// against 1.7 % at 0.05: there the near part's calibration removes more than the kernel's error);
+// about their geometric mean. A fixed measurement, not model_error.h's fitted weight: auto's
+// choices would otherwise move the rows that weight is fitted on.
 constexpr double kKernelErrorPerSensitivity = 0.25;
 // The near part's calibration compares the model's point values, hat-averaged, with the tracer's
 // barycentric tally where a vertex's facets lie within 30 degrees of its corners' normals (a
 // 42-vertex sphere's do), and the point values themselves at folds (a 2 mm slab's rim of one
-// strip, 45 degrees), where the hat average made the calibrated rim 19 % off its reference against
-// 12 % (README, Physics, "Far field", has both).
+// strip, 45 degrees), where the hat average puts the calibrated rim 19 % off its reference and
+// the point values 12 % (docs/physics.md, "The far field: light that leaves far from where it
+// entered").
 constexpr double kSmoothOneRingCosine = 0.866;
 // Auto leaves out meshes over this many vertices: the tracer keeps 16 batches of tallies per
 // vertex (B, the exit cosine and its exitance: ~1.7 KB a vertex with their float copies), which
@@ -164,7 +165,7 @@ TracedRound traceRound(const FarFieldInput& in, const SurfaceAverage& average,
 
 // B ~ P_near E + B_far at vertex i, channel c (the model's two parts, far_field.h): what the far
 // field's noise, its averaging's bias and its lobe's noise are relative to. Not P E + B_far, which
-// counts the far light twice (P is all that escapes): on a 10 mm skin1 sphere under a sun it made
+// counts the far light twice (P is all that escapes): on a 10 mm skin1 sphere under a sun it makes
 // the far field's noise read half the spread of B_far over seeds.
 double roughExitance(const FarFieldInput& in, const TracedRound& round, std::size_t i, int c) {
   return double(in.energy.escape.nearProbability[i][c]) * in.irradiance[i][c] + round.mean[i][c];
@@ -353,7 +354,7 @@ FarField traceFarField(const FarFieldInput& in) {
   // Past the cap auto still traces what it affords when the noise left there is below the model
   // error the far field removes (the kernel's, kKernelErrorPerSensitivity times the sensitivity),
   // so that the bake's error falls though its noise stays above the budget: a thin ketchup slab
-  // lit from behind, whose cheap paths need more than the cap (README, "Under a sun").
+  // lit from behind, whose cheap paths need more than the cap (docs/accuracy.md, "Under a sun").
   const double noiseAtCap = noise * std::sqrt(double(o.pilotPaths) / pathCap);
   const bool overBudget = needed > pathCap;
   if (automatic && overBudget && noiseAtCap >= kKernelErrorPerSensitivity * r.sensitivity)

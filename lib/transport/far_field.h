@@ -1,56 +1,40 @@
 // Bake stage 3b: the far field of the escape energy model, traced from the environment
-// (`sss-bake --far-field`; issue 11, part 2).
-//
-// Why: the profiles are half-space models of light that enters diffusely. On a small object under
-// a sun the light that leaves far from where it entered (through a sphere to its unlit half,
-// through a thin part to the side away from the light) is neither: collimated light penetrates
-// deeper than diffuse light, and the object's shape, not a half-space, decides where it comes
-// out. No geometry-blind kernel gets it right on every material, and a gather from the escape
-// walks (their exits weighted by E there, by reciprocity), which enter diffusely, misses the depth
-// on skin and ketchup (README, "Under a sun", has both measured). Light paths from the environment
-// carry both.
+// (`sss-bake --far-field`). The profiles are half-space models of light that enters diffusely. On
+// a small object under uneven light, the light that leaves far from where it entered (through a
+// sphere to its unlit half, through a thin part) is neither: collimated light goes deeper, and the
+// object's shape decides where it comes out. Light paths from the environment carry both. The
+// model: docs/physics.md, "The far field: light that leaves far from where it entered" and "The
+// far field's exit lobe"; the alternatives measured (geometry-blind kernels, a gather from the
+// escape walks): docs/physics.md, "Alternatives measured and not used"; the sun study:
+// docs/accuracy.md, "Under a sun".
 //
 // Model: B_i = P_near,i / rho_near,i sum_j R_d(r_ij) W(r_ij) E_j A_j + B_far,i, with
-//  - W(d) = exp(-d^2 / (2 w_c^2)) a window of w_c = kFarFieldWindowLengths / sigma_tr,c
+//  - W(d) = exp(-d^2 / (2 w_c^2)), w_c = kFarFieldWindowLengths / sigma_tr,c in mm
 //    (material/windowed_profile.h): the profile keeps the light that leaves near where it
 //    entered, where it is accurate and noise-free;
-//  - P_near,i the escape walks' weights times W of their exit distance (escape_probability.h):
-//    what of P leaves near, so that under uniform light B = E P as before;
-//  - B_far the light tracer's exits weighted by 1 - W(d) (pathtrace/light_tracer.h: paths from
-//    the environment's importance distribution, refracted in, random walks, stopped at their first
-//    exit, light scattered at least once), averaged over the surface by a Gaussian of sigma = the
-//    longest channel's window (at least one mean edge) among vertices that face the same way
-//    (surface_average.h):
-//    what leaves far. Light that crosses unscattered leaves collimated, which no exit model of B
-//    describes; it stays out (issue 11, part 5).
-// Near part: the same paths' exits within the window calibrate the first term per vertex
-// (calibrateNearPart, below): the escape walks' P_near is a diffuse entry's, and under a sun the
-// near share follows the incidence.
-// Exit lobe: where the far field is traced, all of B leaves through the exit lobe of
-// optics/exit_lobe.h, whose slope k per vertex and channel comes from the flux-weighted mean
-// internal cosine of all the traced exits, near and far (averaged like B_far but over
-// kLobeSmoothing times the width, since the slope amplifies that mean's noise), shrunk towards 0
-// by its noise from the batches' spread (ExitLobe::shrunkSlopeFor). Not B_far alone through a lobe
-// of the far exits and B - B_far through the normalized model: the window splits the exits by
-// angle too. Light that leaves within a fraction of a mean free path of where it entered went
-// nearly straight back, so at low albedo under a high sun the near exits crowd the normal and the
-// far ones avoid it (a half-space at a' = 0.68 under normal incidence: along the normal 1.7-2.0x
-// the normalized model's radiance per unit B near, 0.70x far, 0.95x for all exits), which neither
-// the normalized model nor a linear lobe of the far exits follows; all exits together are smooth in
-// angle (README, "Under a sun", has the study).
-// Cost and noise: a pilot round of paths estimates the smoothed far field's relative noise
-// (propagated from the tracer's batch standard errors through the smoothing weights); the paths
-// then grow as noise^-2 to the budget, capped by a path count and by work (scattering events, as
-// the escape walks counted them: a high-albedo material affords fewer paths).
-//
-// Auto: traced when the energy model is escape (a half-space does not need it) and the irradiance
-// varies on the diffusion length's scale: the share of B the far field can move,
-// s = |(P - P_near) (E - Ebar)| / |P E| over vertices and channels (Ebar: E averaged by a
-// Gaussian of the longest diffusion length), exceeds the noise budget; and the paths it needs
-// stay under the caps (a large object needs many: its far field stays the escape model's kernel,
-// finite_object_energy.h; a first check from the surface's count of smoothing kernels skips it
-// before any tracing), or, past them, the noise left at the caps is below the kernel's model
-// error it removes (a measured share of s), and it traces to the cap. Under uniform light s = 0.
+//  - P_near,i the escape walks' weights times W of their exit distance (escape_probability.h),
+//    so that under uniform light B = E P;
+//  - B_far the light tracer's first exits of light scattered at least once, weighted by 1 - W(d)
+//    (pathtrace/light_tracer.h), averaged over the surface among vertices that face the same way
+//    by a Gaussian of the longest channel's window, at least one mean edge (surface_average.h).
+//    Unscattered light leaves collimated, which no exit model of B describes: unscattered_light.h.
+// Notes:
+//  - The same paths' exits within the window calibrate the near part per vertex
+//    (calibrateNearPart): the walks' P_near is a diffuse entry's, and under a sun the near share
+//    follows the incidence.
+//  - All of B leaves through one exit lobe (optics/exit_lobe.h) per vertex and channel, from the
+//    flux-weighted mean internal cosine of all the traced exits, averaged over kLobeSmoothing
+//    times B_far's width and shrunk towards 0 by its noise (ExitLobe::shrunkSlopeFor). One lobe for
+//    all exits: the window splits the exits by angle too, and only all of them are smooth in angle.
+//  - Cost: a pilot round estimates the smoothed far field's relative noise from the tracer's
+//    batches; the paths grow as noise^-2 to the budget, capped by a path count and by work
+//    (scattering events: a high-albedo material affords fewer paths).
+//  - Auto: traced with the escape energy model when s = |(P - P_near) (E - Ebar)| / |P E| (Ebar: E
+//    averaged over the longest diffusion length), the share of B it can move, exceeds the noise
+//    budget and the paths fit the caps; past the caps, traced to the cap when the noise left there
+//    is below the model error it removes (a measured share of s). A first check from the surface's
+//    count of smoothing kernels skips large objects before any tracing: they keep the escape
+//    model's kernel (finite_object_energy.h). Under uniform light s = 0.
 #pragma once
 
 #include <cstdint>
@@ -69,7 +53,7 @@ namespace sss {
 class Cubemap;        // envmap/cubemap.h
 struct TriangleMesh;  // mesh/triangle_mesh.h
 struct Material;      // material/material.h
-struct EnergyPlan;    // bake/finite_object_energy.h
+struct EnergyPlan;    // transport/finite_object_energy.h
 
 using FarFieldMode = TracedMode;
 
@@ -143,10 +127,9 @@ FarField traceFarField(const FarFieldInput& in);
 // (mesh/triangle_mesh.h: what the tracer's barycentric tally makes of the point values, which
 // matters on a coarse mesh; not at folds), shrunk towards 1 by the ratio's noise as the exit
 // lobe's slope is (1 + d d^2 / (d^2 + var), d the ratio less 1). Why: the escape walks enter
-// diffusely, and the share of light that leaves within the window follows the incidence under a
-// sun (at low albedo light that enters straight down comes straight back, at grazing incidence it
-// drifts sideways: a half-space at a' = 0.68 keeps 1.13x the diffuse near share at normal
-// incidence, 0.81x grazing). Nothing when traced is empty.
+// diffusely, and under a sun the share of light that leaves within the window follows the
+// incidence (docs/physics.md, "The far field: light that leaves far from where it entered").
+// Nothing when traced is empty.
 // Returns the noise the scale adds to B_far's in B (the traced near exits' batch variance through
 // the shrinkage, and their covariance with B_far: the same paths), relative RMS over vertices and
 // channels, area-weighted; 0 when nothing is done.

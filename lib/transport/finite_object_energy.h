@@ -5,9 +5,9 @@
 // rho_i = sum_j R_d(|x_i - x_j|) A_j are not R_total (a thin part sees the profile through both
 // faces, a tip or a small object loses its tail), and a finite object absorbs less than a
 // half-space (walks leave sooner: a small marble sphere returns clearly more of the light than
-// the half-space albedo; README). Measured against the Monte Carlo reference
-// (tests/bench/accuracy_study.cpp) these energy errors are most of the classic dipole's error on
-// small translucent objects.
+// the half-space albedo; docs/physics.md, "Finite objects are not half-spaces"). Measured against
+// the Monte Carlo reference (tests/bench/accuracy_study.cpp) these energy errors are most of the
+// classic dipole's error on small translucent objects.
 //
 // Models:
 //   halfspace  B_i = sum_j R_d(r_ij) E_j A_j as Li & Guo have it.
@@ -20,7 +20,8 @@
 //              a half-space would return, normalized to the mesh; the excess P - R is light that a
 //              half-space would absorb on long paths, and long paths leave far from where they
 //              entered, hence the wide kernel (closer to the Monte Carlo reference than spreading
-//              it with R_d, and insensitive to the width within a few diffusion lengths; README).
+//              it with R_d, and insensitive to the width within a few diffusion lengths;
+//              docs/physics.md, "Finite objects are not half-spaces").
 //              Under uniform light B_i = E P_i exactly.
 //   auto       halfspace when a first, cheap round of walks (2 per probe) puts the escape
 //              probability within the noise budget of the half-space albedo
@@ -56,7 +57,7 @@ inline constexpr EnumNames<EnergyModel, 3> kEnergyModelNames{
 
 // The near window w_c = kFarFieldWindowLengths / sigma_tr,c in mm of the far field (far_field.h):
 // the light that leaves beyond it is traced, and the escape walks measure the near share within
-// it).
+// it.
 inline constexpr double kFarFieldWindowLengths = 0.125;
 glm::dvec3 farFieldWindowMm(const Material& material);
 

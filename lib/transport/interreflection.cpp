@@ -24,8 +24,8 @@ namespace {
 // The sky the gather's hits mirror is looked up at this face size (texels of ~11 degrees, the
 // flux of each kept: Cubemap::resized). A mirror direction finds a small sun only by chance, and
 // brings far more than the sky when it does, so at full resolution the bounces spread a few
-// vertices' fireflies (the pit box under a sun: README, "Interreflection", where the face sizes
-// tried are measured). The bias is a reflected sun's patch blurred by the texels' width.
+// vertices' fireflies (the pit box under a sun; docs/tools/sss-bake.md, "Bounces and
+// interreflection"). The bias is a reflected sun's patch blurred by the texels' width.
 constexpr int kMirrorSkyFaceSize = 8;
 
 // Where a ray meets the mesh, as the gather needs it: the hit triangle's vertices and barycentric

@@ -1,25 +1,25 @@
-// Interreflection (issue 11, part 3): the light the object sends to itself.
+// Interreflection: the light the object sends to itself (`sss-bake --bounces`). The visibility
+// stage (visibility.h) counts a direction the mesh blocks as dark, as Li & Guo's Eq. 6 does (the
+// paper names the limitation: "it cannot express inter-object reflection"), which leaves
+// concavities 13-29 % dark under uniform light. The model and its measurements: docs/physics.md,
+// "Light the object sends itself"; docs/tools/sss-bake.md, "Bounces and interreflection".
 //
-// The visibility stage (visibility.h) counts a direction the mesh blocks as dark, which leaves
-// concavities 13-29 % dark under uniform light. Here the directions each vertex's facets face are
-// sampled again (cosine-weighted about the facets' normals, stratified, Pcg32(seed, vertex): the
-// light the facets take in, as the visibility stage takes the environment's: facet_light.h), and
-// a ray that meets the object brings back
-// the radiance leaving the hit point towards the vertex: the exit model's radiance of the exitance
-// interpolated over the hit triangle's vertices, L = B F_t(mu_h, eta) / (pi (1 - 2 C_1(eta)))
-// (optics/fresnel.h), plus the Fresnel-reflected environment F_r(mu_h) L_env(r), r the mirror
-// direction at the hit, L_env looked up in the environment box-filtered to texels of ~11 degrees
-// (a sun the mirror direction would find by chance, spread over a wider cone: interreflection.cpp).
-// mu_h is the cosine at the hit between the way back to the vertex and the hit's interpolated
-// normal. The vertex's transmitted irradiance gains
-//   E_ir = integral over blocked w of factor(w) L_hit(w) dw  ~  1 / N sum_k factor / pdf L_hit,k
-// (N rays from the facets' cosine lobes, factor = sum_f share_f F_t(mu_f) mu_f; unblocked ones
-// add nothing: the visibility stage has them). The hits
-// are traced once; each bounce is a gather over them, so B -> E_ir is linear and cheap, and the
-// bake iterates E = E_direct + E_ir(B), B = transport(E) until B stops changing.
-//
-// Closed, non-absorbing objects under uniform radiance 1 (the white furnace) then send radiance 1
-// everywhere, concavities included (tests/transport/interreflection_test.cpp).
+// Each vertex's facets sample their directions again (cosine-weighted about the facets' normals,
+// stratified, Pcg32(seed, vertex): the light the facets take in, facet_light.h). A ray that meets
+// the object brings back the radiance leaving the hit point towards the vertex,
+//   L_hit = B F_t(mu_h, eta) / (pi (1 - 2 C_1(eta))) + F_r(mu_h) L_env(r),
+// B interpolated over the hit triangle's vertices through the normalized exit model
+// (optics/fresnel.h), mu_h the cosine between the way back and the hit's interpolated normal, r
+// the mirror direction at the hit, L_env the environment box-filtered to texels of ~11 degrees (a
+// sun the mirror direction finds by chance is spread over a wider cone: interreflection.cpp). The
+// vertex's transmitted irradiance gains
+//   E_ir = integral over blocked w of factor(w) L_hit(w) dw  ~  1 / N sum_k factor / pdf L_hit,k,
+// factor = sum_f share_f F_t(mu_f) mu_f, N rays from the facets' cosine lobes (unblocked ones add
+// nothing: the visibility stage has them). The hits are traced once; each bounce is a gather over
+// them, so B -> E_ir is linear and cheap, and the bake iterates E = E_direct + E_ir(B),
+// B = transport(E) until B stops changing. Closed, non-absorbing objects under uniform radiance 1
+// (the white furnace) then send radiance 1 everywhere, concavities included
+// (tests/transport/interreflection_test.cpp).
 #pragma once
 
 #include <cstdint>
@@ -105,8 +105,8 @@ struct BounceResult {
 // about the same share again, q = sum k dE / sum B over the traced vertices, so the bounces add
 // dB / (1 - q) (q capped at 0.9). The rays' own noise is taken out of the RMS (a sun found by a
 // mirror direction by chance). Weighting q by where the light is added (the pit's own gain)
-// overestimated the studies' rows, with the spreading or without; the measured agreement is in
-// the README ("Interreflection").
+// overestimates the studies' rows, with the spreading or without; the measured agreement:
+// docs/accuracy.md, "Concavities: the box with a pit and the bunny".
 struct MissingInterreflection {
   double relativeRms = 0.0;  // of the added B against B, over traced vertices and channels
   double gain = 0.0;         // q: the first bounce's mean relative gain
@@ -133,7 +133,7 @@ MissingInterreflection estimateMissingInterreflection(const InterreflectionGathe
 // ratio k = sum B A / sum E A per channel, and its smoothing over effectiveVertices vertices (the
 // visibility noise model's N_eff, visibility_noise_model.h). Not amplified by the later bounces as
 // the light is: each vertex gathers over many hit points, which averages the noise out. Measured
-// against the spread over seeds in the README ("Interreflection").
+// against the spread over seeds: docs/tools/sss-bake.md, "Bounces and interreflection".
 double predictGatherNoise(const InterreflectionGather& gather, const InterreflectionGather& replica,
                           std::span<const uint32_t> vertices, std::span<const glm::vec3> exitance,
                           std::span<const glm::vec3> irradiance, std::span<const float> areas,

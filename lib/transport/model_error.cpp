@@ -18,7 +18,7 @@ namespace {
 // The irradiance sizes an error term, so a few percent will do: it is summed from the radiance at
 // 32 texels per face (box-filtered, so a sun keeps its power, spread over a 2.8-degree texel that
 // a cosine lobe hardly tells from a point) into 16 texels per face, at a 3 % tolerance (what that
-// saves against the full-resolution radiance: README, "The bake's predicted error").
+// costs: docs/performance.md, "The bake").
 constexpr int kRadianceFaceSize = 32;
 constexpr int kIrradianceFaceSize = 16;
 constexpr double kIrradianceTolerance = 0.03;

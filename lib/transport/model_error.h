@@ -1,6 +1,6 @@
 // The model's own error, beside the numerical error the tolerance controls (error_budget.h): what
 // no number of rays or walks removes, estimated from five approximations of the per-vertex model
-// and sized on the accuracy studies (README, "The bake's predicted error"):
+// and sized on the accuracy studies (docs/accuracy.md, "The bake's predicted error"):
 //  - exitModel: the exit model's spread. The radiance along the normal per unit B is the
 //    normalized model's (isotropic interior radiance at the boundary, optics/fresnel.h) or the
 //    calibrated one's (the half-space Monte Carlo's, material/directional_albedo_weight.h); the
@@ -24,10 +24,10 @@
 //    spreads it (a traced far field holds only the environment's light). Its error scales with
 //    the share of the radiance those bounces carry (L of B - B_direct against L).
 //  - farField: where the far field (far_field.h) was not traced, the escape model's excess is
-//    spread by a geometry-blind kernel (README, "No geometry-blind kernel"); its error scales
-//    with the share of B the far field would move (its sensitivity, auto's test). Where it was
-//    traced, the bias of its surface averaging (FarFieldReport::averagingBias), largest where B
-//    changes fastest over the averaging's width (a sphere's terminator).
+//    spread by a geometry-blind kernel (docs/physics.md, "Alternatives measured and not used");
+//    its error scales with the share of B the far field would move (its sensitivity, auto's test).
+//    Where it was traced, the bias of its surface averaging (FarFieldReport::averagingBias),
+//    largest where B changes fastest over the averaging's width (a sphere's terminator).
 // All but the far field are per vertex and channel, weighted by L^2 (the studies' metric:
 // relative RMS of the radiance along the normal over vertices and channels); the five add in
 // quadrature with the weights below.

@@ -6,13 +6,14 @@
 // G a Gaussian of sigma cut at 3 sigma; the normals keep the two faces of a thin part apart.
 //
 // Cost: summed vertex by vertex, each vertex visits every vertex within 3 sigma, which is
-// quadratic once sigma spans many edges (a small skim-milk object of many vertices: README, "Far
-// field" under sss-bake). Where a kernel would hold more than kMaxDirectNeighbours
-// vertices, the sources are gathered into clusters first: the cells of a grid of side sigma / 3,
-// split by the dominant axis of the normal (6 bins), each with its area, area-weighted centroid,
-// N_c = sum A_j n_j and sum A_j v_j; a cluster then weighs G(|x_i - centroid|) max(0, n_i . N_c),
-// with its values at their area-weighted mean. Its error against the direct sum is second order in
-// the cells' side over sigma (tests/transport/surface_average_test.cpp bounds it).
+// quadratic once sigma spans many edges (a small skim-milk object of many vertices:
+// docs/performance.md, "What each part costs"). Where a kernel would hold more than
+// kMaxDirectNeighbours vertices, the sources are gathered into clusters first: the cells of a grid
+// of side sigma / 3, split by the dominant axis of the normal (6 bins), each with its area,
+// area-weighted centroid, N_c = sum A_j n_j and sum A_j v_j; a cluster then weighs G(|x_i -
+// centroid|) max(0, n_i . N_c), with its values at their area-weighted mean. Its error against the
+// direct sum is second order in the cells' side over sigma
+// (tests/transport/surface_average_test.cpp bounds it).
 #pragma once
 
 #include <cstdint>

@@ -1,11 +1,10 @@
-// Bake stage 4c: the light that crosses the object without scattering (`sss-bake --unscattered`;
-// issue 11, part 5).
+// Bake stage 4c: the light that crosses the object without scattering (`sss-bake --unscattered`).
 //
 // Why: a thin or small part of a low-density material (ketchup's red, sigma_t 0.24 /mm; skim milk)
 // lets part of the light through in straight lines: refracted in, attenuated by e^(-sigma_t d),
 // refracted out. No diffusion profile or exit model of B produces it, and it leaves collimated, so
 // it is not a diffuse exitance. On small ketchup spheres under a sun it is a large share of the
-// unlit half's light (README, "Under a sun", has it measured).
+// unlit half's light (docs/physics.md, "Light that crosses without scattering").
 //
 // Model: geometric optics, traced from the environment (pathtrace/light_tracer.h with
 // unscatteredOnly: directions from the environment's importance distribution, so a sun is found

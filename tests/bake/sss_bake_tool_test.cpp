@@ -1,5 +1,5 @@
-// sss-bake through its binary: a good bake, determinism across threads, and every bad input of
-// issue 3 (stderr text, exit code, no output file and no temporary left behind).
+// sss-bake through its binary: a good bake, determinism across threads, and every bad input
+// (stderr text, exit code, no output file and no temporary left behind).
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -35,7 +35,7 @@ namespace {
 const std::string kTool = SSS_BINARY_DIR "/tools/sss-bake";
 // For the tests about files and determinism, not light: the half-space energy model (no escape
 // walks, so no far field either) keeps each bake to milliseconds of light (under ASan the walks
-// took seconds per bake).
+// take seconds per bake).
 const std::string kHalfSpaceEnergy = " --energy halfspace";
 
 struct RunResult {
@@ -121,7 +121,7 @@ class BakeTool : public ::testing::Test {
     expectError(r, text, 2);
   }
 
-  // The mesh's warnings are printed without --quiet and only then (issue 12: warnings obey -q).
+  // The mesh's warnings are printed without --quiet and only then (warnings obey -q).
   RunResult runExpectingWarning(const std::string& arguments, const std::string& warning) const {
     const RunResult quiet = run(arguments);
     EXPECT_EQ(quiet.exitCode, 0) << quiet.output;
@@ -193,7 +193,7 @@ TEST_F(BakeTool, BakesASphereUnderUniformLight) {
 
 // --albedo A --mfp D means the albedo the bake returns: a lit plane (an open sheet: the bake's
 // auto keeps the half-space energy) gives B / E = A on the default bake (the inversion of the
-// dipole's total returned 0.525 for 0.5).
+// dipole's total instead would return 0.525 for 0.5).
 TEST_F(BakeTool, AlbedoComesBackFromALitPlane) {
   writeAsciiPly(dir_ / "plane.ply", makeGridPlane(16, 200.0f), true);
   const glm::dvec3 asked(0.5, 0.8, 0.3);
@@ -217,8 +217,7 @@ TEST_F(BakeTool, AlbedoComesBackFromALitPlane) {
 // --bounces auto: a pit in a box gets the light its walls send it, and the JSON says how many
 // bounces it took. Without bounces the bake warns, and its reported error holds the change the
 // bounces make. (The half-space energy: the escape walks would triple the test's time and are not
-// what it checks; with the half-space the estimate is 0.81x the change, 0.90x before it followed
-// the transport's spreading of the light, interreflection.h.)
+// what it checks; with the half-space the estimate is 0.81x the change, interreflection.h.)
 TEST_F(BakeTool, InterreflectionBrightensAPit) {
   const TriangleMesh box = boxWithPit();
   writeAsciiPly(dir_ / "pit.ply", box, true);
@@ -345,7 +344,7 @@ TEST_F(BakeTool, PathTraceReferenceWritesTheSameFormat) {
 }
 
 TEST_F(BakeTool, ArtistMaterialUnderTheProceduralSky) {
-  // (--far-field off: tracing it under the sun was most of the test's time, and it is not what the
+  // (--far-field off: tracing it under the sun is most of the test's time, and it is not what the
   // test checks.)
   const RunResult r = run(path("sphere.ply") + " --sky=elevation=40 --albedo 0.8,0.6,0.4 --mfp 2 " +
                           "--size-mm 30 --samples 16 --far-field off -q -o " + path("out.ply") +
@@ -372,7 +371,7 @@ TEST_F(BakeTool, ArtistMaterialUnderTheProceduralSky) {
 // JSON's share is the relative RMS it adds there.
 TEST_F(BakeTool, UnscatteredLightIsInTheRadianceAlongTheNormalOnly) {
   // The far field off: it does not touch the unscattered light, and traced to its cap on this
-  // small ketchup sphere it took most of the test's time.
+  // small ketchup sphere it takes most of the test's time.
   auto bake = [&](const std::string& name, const std::string& extra) {
     const RunResult r = run(path("sphere.ply") +
                             " --sky=elevation=40 -m ketchup --size-mm 10 --far-field off -q -o " +
@@ -761,7 +760,7 @@ TEST_F(BakeTool, BadEnvironmentIsAnError) {
               "env.exr");
 }
 
-// Issue 13: hostile inputs. Each bad input is refused with one line naming the file and the
+// Hostile inputs. Each bad input is refused with one line naming the file and the
 // problem, the inputs keep their bytes and nothing else is left in the directory.
 class BakeToolHostileInput : public BakeTool {
  protected:
@@ -795,7 +794,7 @@ class BakeToolHostileInput : public BakeTool {
 };
 
 TEST_F(BakeToolHostileInput, CoordinateBeyondFloatRangeIsAnError) {
-  // Before: Embree's ray.valid() assertion aborted the bake (SIGABRT).
+  // Unchecked, Embree's ray.valid() assertion aborts the bake (SIGABRT).
   TriangleMesh mesh = sphere_;
   mesh.positions[7].x = 1e38f;
   writeAsciiPly(dir_ / "huge.ply", mesh, false);
@@ -804,8 +803,8 @@ TEST_F(BakeToolHostileInput, CoordinateBeyondFloatRangeIsAnError) {
 }
 
 TEST_F(BakeToolHostileInput, StrayVertexFailsAtOnce) {
-  // Before: 42 vertices, one 1.7e15 mm away, ran for more than 120 s (escape walks that could
-  // not move a point), with a warning about the mesh's length.
+  // Unchecked, 42 vertices, one 1.7e15 mm away, run for more than 120 s (escape walks that cannot
+  // move a point).
   TriangleMesh mesh = makeIcosphere(1, 10.0f);
   ASSERT_EQ(mesh.positions.size(), 42u);
   mesh.positions[7].x = 1.7e15f;
@@ -825,7 +824,7 @@ TEST_F(BakeToolHostileInput, MeshBeyondTheMillimetreLimitAfterScalingIsAnError) 
 }
 
 TEST_F(BakeToolHostileInput, DirectoryAsMeshIsAnError) {
-  // Before: "error: std::bad_alloc" (a directory opens as a stream of unbounded size).
+  // Unchecked: "error: std::bad_alloc" (a directory opens as a stream of unbounded size).
   fs::create_directory(dir_ / "folder.ply");
   fs::create_directory(dir_ / "folder.off");
   for (const char* name : {"folder.ply", "folder.off"}) {
@@ -845,7 +844,7 @@ TEST_F(BakeToolHostileInput, LyingHeadersAreErrors) {
 }
 
 TEST_F(BakeToolHostileInput, OutputNamingAnInputIsAUsageError) {
-  // Before: -o naming the mesh overwrote it and exited 0.
+  // Unchecked, -o naming the mesh would overwrite it and exit 0.
   fs::create_symlink(dir_ / "sphere.ply", dir_ / "link.ply");
   fs::create_hard_link(dir_ / "sphere.ply", dir_ / "hard.ply");
   const std::string tail = " -e " + path("white.exr") + " -m marble --unit mm -q";

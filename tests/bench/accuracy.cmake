@@ -1,9 +1,9 @@
-# The accuracy study of issue 5 (tests/bench/accuracy_study.sh runs it and draws the charts).
+# The accuracy study (tests/bench/accuracy_study.sh runs it and draws the charts).
 sss_add_benchmark(accuracy_study SOURCES ${CMAKE_CURRENT_LIST_DIR}/accuracy_study.cpp
                   LIBS sss_pathtrace sss_bench_guard sss_bake sss_mesh sss_material sss_envmap)
-# Issue 11's sun rows against the forward light tracer (sun-lit spheres, a back-lit slab).
+# The sun study against the forward light tracer (sun-lit spheres, a back-lit slab).
 sss_add_benchmark(sun_study SOURCES ${CMAKE_CURRENT_LIST_DIR}/sun_study.cpp
                   LIBS sss_pathtrace sss_bake sss_mesh sss_material sss_envmap)
-# Issue 11's concavity rows: interreflection against the forward light tracer (a box with a pit).
+# The concavity study: interreflection against the forward light tracer (a box with a pit).
 sss_add_benchmark(concavity_study SOURCES ${CMAKE_CURRENT_LIST_DIR}/concavity_study.cpp
                   LIBS sss_pathtrace sss_bake sss_mesh sss_material sss_envmap)

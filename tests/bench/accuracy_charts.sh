@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Draws the accuracy charts from tests/bench/results/accuracy/{scenes,halfspace}.csv (accuracy_study output).
+# Draws the accuracy charts from tests/bench/results/accuracy/{scenes,halfspace}.csv
+# (accuracy_study output).
 #   tests/bench/accuracy_charts.sh [DIR]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)

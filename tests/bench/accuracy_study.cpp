@@ -1,14 +1,16 @@
-// The accuracy study of issue 5: every profile x diffusion method x tolerance against the Monte
-// Carlo reference (lib/pathtrace), on small scenes where the reference is affordable, plus the
-// half-space totals of every preset, the guard's cost and effect, the escape energy model
-// (lib/transport/finite_object_energy.h) and the bake's automatic choice.
+// The accuracy study (docs/accuracy.md, "Under even light: the accuracy study"): every profile x
+// diffusion method x tolerance against the Monte Carlo reference (lib/pathtrace), on small scenes
+// where the reference is affordable, plus the half-space totals of every preset, the guard's cost
+// and effect, the escape energy model (lib/transport/finite_object_energy.h) and the bake's
+// automatic choice.
 //
 //   accuracy_study OUT_DIR [--quick] [--only NAME] [--walks N] [--entry onering|vertex]
 //
 // The reference is evaluated at each vertex, entering through its smooth normal (what the bake's
 // per-vertex E and B assume); `--entry onering` averages over the vertex's facets instead (entry
 // through the face normals: the faceted surface). On the coarse dragon the diffusion models are
-// further from the latter (README, "The reference's meaning on coarse meshes").
+// further from the latter (docs/accuracy.md, "Under even light: the accuracy study", "The
+// reference's meaning on coarse meshes").
 // Writes OUT_DIR/halfspace.csv, OUT_DIR/scenes.csv (see tests/bench/accuracy_study.sh, which
 // draws the charts) and OUT_DIR/scenes_predicted.csv (sss-bake's predicted error against the
 // measured one per scene). Data: SSS_SOURCE_DIR/data/cache (run data/fetch.sh).
@@ -288,7 +290,7 @@ void sceneStudy(const Scene& scene, int walks, int visibilitySamples, WalkEntry 
   predictedAgainstMeasured(scene, ref, visibilitySamples, outDir, predictedCsv);
 
   // Transmitted irradiance with the mesh's shadows (the bake's default stage).
-  // The same samples also give E_w, the irradiance weighted by the directional entry (today's
+  // The same samples also give E_w, the irradiance weighted by the directional entry (sss-bake's
   // default; material/directional_albedo_weight.h), for the "bake-defaults" rows.
   const DirectionalAlbedoWeight weight(scene.material);
   VisibilityOptions vis;
@@ -406,9 +408,9 @@ void sceneStudy(const Scene& scene, int walks, int visibilitySamples, WalkEntry 
            kEnergyModelNames.name(plan.model));
   }
 
-  // sss-bake's defaults since issue 11's part 2: the same choices on E_w (directional entry),
-  // radiance through the normalized exit model ("bake-defaults") and through the calibrated one
-  // ("bake-calibrated", part 4). err_vs_exact against the exact sum of the model chosen on E_w.
+  // sss-bake's defaults: the same choices on E_w (directional entry), radiance through the
+  // normalized exit model ("bake-defaults") and through the calibrated one ("bake-calibrated").
+  // err_vs_exact against the exact sum of the model chosen on E_w.
   // "bake-defaults-far": with the far field (far_field.h) as sss-bake's auto decides it.
   for (const FarFieldMode farMode : {FarFieldMode::Off, FarFieldMode::Auto}) {
     const double tol = 0.01;

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Runs the accuracy study (issue 5) and draws its charts into tests/bench/results/accuracy/.
+# Runs the accuracy study and draws its charts into tests/bench/results/accuracy/.
 #   tests/bench/accuracy_study.sh [BUILD_DIR] [extra accuracy_study arguments, e.g. --quick]
 # Needs the sample data (data/fetch.sh) and gnuplot. Takes ~10 minutes on 2 cores.
 set -euo pipefail

@@ -1,4 +1,4 @@
-// The speed target: the dragon with ~100K vertices (dragon_res2, scaled to 150 mm),
+// The bake's speed target: the dragon with ~100K vertices (dragon_res2, scaled to 150 mm),
 // marble, forest environment, 64 visibility rays per vertex (res2_rays, half-space energy as
 // the paper; res2_rays_escape adds the escape energy model's walks; res2_auto is sss-bake's
 // default: the 1% tolerance chooses rays, energy model, profile and method), 1% tolerance: the

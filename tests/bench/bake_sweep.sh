@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# The whole-bake benchmark and sweep (issue 3): the 100K-vertex dragon against the 5 s / 1 GB
+# The whole-bake benchmark and sweep: the 100K-vertex dragon against the 5 s / 1 GB
 # target (bake_bench, median of 5; peak memory of the sss-bake process by /usr/bin/time), then
 # methods x tolerances on the four dragon resolutions (bake_sweep) and the charts.
 # Usage: tests/bench/bake_sweep.sh [BUILD_DIR] [--charts-only]
 #   BUILD_DIR: default build (Release, benchmarks on); --charts-only redraws from the CSV files.
-# Output: tests/bench/results/bake/: bake_bench.csv, bake_memory.txt, bake_sweep.csv, bake_visibility.csv,
-#   error_vs_time.png, time_vs_n.png, visibility_noise.png
+# Output: tests/bench/results/bake/: bake_bench.csv, bake_memory.txt, bake_sweep.csv,
+#   bake_visibility.csv, error_vs_time.png, time_vs_n.png, visibility_noise.png
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 build=$(cd "${1:-$root/build}" && pwd)

@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
-# Batch in one process against one process per file (issue 12): N bakes of the sample bunny
+# Batch in one process against one process per file: N bakes of the sample bunny
 # (copies named bunny_01.ply ...), as `sss-bake ALL -o DIR/` (the environment loaded and the
 # ~0.2 s start-up paid once) and as N `sss-bake ONE -o FILE` processes, run after run
 # alternately, median of RUNS. Wall clock and the processes' CPU time (bash's `times`).
 # Usage: tests/bench/batch_bench.sh [BUILD_DIR] [N=20] [RUNS=3] [-- BAKE OPTIONS...]
 #   Default bake options: the bunny as run-pipeline.sh bakes it but without shadow rays or bounces
-#   and with the half-space energy (--visibility none --energy halfspace), where start-up matters most;
-#   pass others after "--" (e.g. the defaults: "--").
+#   and with the half-space energy (--visibility none --energy halfspace), where start-up matters
+#   most; pass others after "--" (e.g. the defaults: "--").
 # Output: tests/bench/results/bake/batch.csv (mode,run,bakes,wall_s,cpu_s) and batch.txt
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)

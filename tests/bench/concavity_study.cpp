@@ -1,6 +1,7 @@
-// Issue 11's concavity rows: the light an object sends to itself (sss-bake --bounces,
-// lib/transport/interreflection.h) against the forward light tracer (lib/pathtrace/light_tracer.h),
-// which follows light that leaves the object and meets it again.
+// The concavity study (docs/accuracy.md, "Concavities: the box with a pit and the bunny"): the
+// light an object sends to itself (sss-bake --bounces, lib/transport/interreflection.h) against
+// the forward light tracer (lib/pathtrace/light_tracer.h), which follows light that leaves the
+// object and meets it again.
 //
 //   concavity_study OUT_DIR [--paths N] [--only NAME] [--cache DIR]
 //
@@ -204,7 +205,8 @@ void study(const Scene& s, const Shape& shape, uint64_t paths, const std::string
 }
 
 int run(int argc, char** argv) {
-  // 32M paths per reference: what the committed rows use (README, "The bake's predicted error").
+  // 32M paths per reference: what the committed rows use (docs/accuracy.md, "The bake's predicted
+  // error").
   const StudyArguments args = parseStudyArguments(argc, argv, 32000000);
   if (args.outDir.empty()) {
     std::fprintf(stderr,

@@ -1,7 +1,7 @@
 #!/bin/sh
 # Diffusion sums on the dragons (methods x tolerances, median of 3 runs) and the resolution study
-# on spheres -> tests/bench/results/diffusion/{benchmark.csv,sweep.csv,resolution.csv,error_vs_time.png,
-# time_vs_n.png,resolution.png}. Usage: tests/bench/diffusion_sweep.sh BUILD_DIR
+# on spheres -> tests/bench/results/diffusion/{benchmark.csv,sweep.csv,resolution.csv,
+# error_vs_time.png,time_vs_n.png,resolution.png}. Usage: tests/bench/diffusion_sweep.sh BUILD_DIR
 # (a Release build with benchmarks; run data/fetch.sh first). Takes several minutes on 2 cores.
 # SKIP_RUN=1 redraws the charts from the existing benchmark.csv and resolution.csv.
 # Charts show process CPU time (both threads): on a shared machine wall time measures the load;

@@ -1,4 +1,4 @@
-// Speed targets of issue 2 on a 1024x512 sample map (release build, 2 cores):
+// Speed targets on a 1024x512 sample map (release build, 2 cores):
 //   SH order 2 of the map in <= 20 ms (BM_ShOrder2FromEquirect: projection straight from the
 //   equirect texels, convolution, and a 32x32-face irradiance cubemap);
 //   brute-force 32x32-face irradiance cubemap in <= 0.5 s (BM_Brute32: the cut, its error check

@@ -1,4 +1,4 @@
-// Helper of irrmap_vs_cmft.sh (sss-irrmap against cmft, issue 14). Subcommands:
+// Helper of irrmap_vs_cmft.sh (sss-irrmap against cmft). Subcommands:
 //   dds ENV.exr OUT.dds
 //       the equirect map as an uncompressed RGBA32F DDS (legacy header, D3DFMT_A32B32G32R32F):
 //       what cmft reads fastest, losslessly.
@@ -22,7 +22,7 @@
 //       cmft's radiance faces (--filter none) against our cubemapFromImage of the same map:
 //       relative RMS per face, to check that the conventions agree.
 //   batch OUT_DIR ENV.exr...
-//       the 8 maps in one process (what issue 12's multi-input will do): per map read, irradiance
+//       the 8 maps in one process (as an sss-irrmap batch runs them): per map read, irradiance
 //       at 1% tolerance on 32-texel faces, cubemap and preview written; CSV per map.
 #include <algorithm>
 #include <cmath>

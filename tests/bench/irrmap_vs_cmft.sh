@@ -1,5 +1,5 @@
 #!/bin/sh
-# sss-irrmap against cmft (github.com/dariomanesku/cmft, issue 14) on the eight sample maps,
+# sss-irrmap against cmft (github.com/dariomanesku/cmft) on the eight sample maps,
 # 1024x512 -> 32x32 irradiance faces, in one run:
 #   tests/bench/irrmap_vs_cmft.sh BUILD_DIR [CMFT_BINARY] [RUNS] [TOLERANCE]
 # BUILD_DIR: a Release build with benchmarks (irrmap_compare); CMFT_BINARY: cmft's cmft_cli
@@ -11,8 +11,8 @@
 # from the tool's JSON report, also on the same pixels as an uncompressed EXR ("raw", the
 # equivalent of cmft's uncompressed DDS), the whole process for both, the OIIO start-up floor =
 # a whole `sss-irrmap --help`, the in-process time of sss-irrmap on a 64x32 map (OIIO's first
-# read and write: its format catalogue), and the error of both against the exact sum over every texel) and
-# batch.csv (the eight maps in one process, irrmap_compare batch).
+# read and write: its format catalogue), and the error of both against the exact sum over every
+# texel) and batch.csv (the eight maps in one process, irrmap_compare batch).
 set -eu
 root=$(cd "$(dirname "$0")/../.." && pwd)
 build=${1:?usage: irrmap_vs_cmft.sh BUILD_DIR [CMFT_BINARY] [RUNS] [TOLERANCE]}

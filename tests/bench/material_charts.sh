@@ -1,7 +1,7 @@
 #!/bin/sh
-# Regenerates tests/bench/results/material: fits.csv (every preset x profile x tolerance: totals, K, error, fit
-# time), profile_<material>.csv (2 pi r^2 R_d(r) of each profile and its 1% Gaussian fit) and
-# profiles.png. Usage: tests/bench/material_charts.sh BUILD_DIR
+# Regenerates tests/bench/results/material: fits.csv (every preset x profile x tolerance: totals, K,
+# error, fit time), profile_<material>.csv (2 pi r^2 R_d(r) of each profile and its 1% Gaussian fit)
+# and profiles.png. Usage: tests/bench/material_charts.sh BUILD_DIR
 set -eu
 build=${1:?usage: material_charts.sh BUILD_DIR}
 root=$(cd "$(dirname "$0")/../.." && pwd)

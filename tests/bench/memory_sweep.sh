@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Peak memory of sss-bake against triangles (issue 13): the four sample dragons (11K to 871K
+# Peak memory of sss-bake against triangles: the four sample dragons (11K to 871K
 # triangles) and two subdivided ones made by subdivide_mesh in a temporary folder (dragon x 2^2 =
 # 3.5M, dragon_res2 x 7^2 = 9.9M triangles; never committed), each baked with
 #   cheap:   --visibility none --energy halfspace  (the cubemap's E, no random walks)

@@ -128,9 +128,8 @@ inline double seedSpread(const std::vector<glm::vec3>& a, const std::vector<glm:
 
 // The references' seed, apart from the bake's (1): the bake's traced stages (far field, unscattered
 // light) trace the same light with the same medium walks, so a reference with their seed repeats
-// their paths and shares their noise. (The sun study's rows before this seed: 0.0072 band RMS on
-// the 10 mm marble sphere against a 500K-path reference whose first 340K paths were the far
-// field's; 0.0127 against an independent 8M one.)
+// their paths and shares their noise, and the measured error reads too low (docs/conventions.md,
+// "Determinism and random numbers").
 inline constexpr uint64_t kReferenceSeed = 0x7265666572656e63ULL;
 
 // The reference's per-vertex arrays, kept in `cache` (if not empty) as raw floats.

@@ -1,16 +1,15 @@
-// Issue 11's study rows under a sun, against the forward light tracer (lib/pathtrace/
-// light_tracer.h), environments unblurred: a sphere of radius 10 mm (accuracy_study's `sphere`)
-// and of radius 5 mm per material under a sun of 1 degree angular radius, and a 40 x 40 x 2 mm
-// slab lit from behind at 30 degrees. Measures the bake stage by stage as
-// tests/bench/accuracy_study.cpp does (visibility rays, the energy plan, the auto profile and
+// The sun study (docs/accuracy.md, "Under a sun: the sun study"), against the forward light
+// tracer (lib/pathtrace/light_tracer.h), environments unblurred: a sphere of radius 10 mm
+// (accuracy_study's `sphere`) and of radius 5 mm per material under a sun of 1 degree angular
+// radius, and a 40 x 40 x 2 mm slab lit from behind at 30 degrees. Measures the bake stage by stage
+// as tests/bench/accuracy_study.cpp does (visibility rays, the energy plan, the auto profile and
 // diffusion method at 1 %) in several configurations (the `energy` column: energy/entry/exit):
-// today's defaults (the escape energy model that `auto` picks, the directional entry, the
+// sss-bake's defaults (the escape energy model that `auto` picks, the directional entry, the
 // far field and the unscattered light, both auto, the normalized exit model for B less the far
 // field and the far field's own exit lobe for B_far: "lobe", optics/exit_lobe.h), the normalized
-// exit for all of B (the defaults before the lobe), the calibrated exit model (sss-render
-// --exit-model calibrated; material/directional_albedo_weight.h), the hybrid (calibrated for B
-// less the far field), the defaults before issue 11's part 2 (diffuse entry), and the half-space
-// energy with the diffuse entry.
+// exit for all of B (no lobe), the calibrated exit model (sss-render --exit-model calibrated;
+// material/directional_albedo_weight.h), the hybrid (calibrated for B less the far field), the
+// diffuse entry, and the half-space energy with the diffuse entry.
 //
 //   sun_study OUT_DIR [--paths N] [--only NAME] [--cache DIR]
 //
@@ -36,9 +35,9 @@
 // where the band metrics above average the bake's noise away), and seed_noise, the bake's own
 // noise measured as the spread between its bakes with seeds 1 and 2 (what `numerical` predicts).
 // The per-vertex error is measured less the reference's own noise, which is fragile where the
-// error is below that noise: the committed rows use 32M paths (--paths 32000000; 2-6 % of noise
-// per vertex at 8M moved the measured errors of the 10 mm spheres by up to 4x: README, "The
-// bake's predicted error"). At the default 500K the noise is ~14 % per vertex.
+// error is below that noise: the committed rows use 32M paths (--paths 32000000; at 8M, 2-6 % of
+// noise per vertex, the measured errors of the 10 mm spheres move by up to 4x: docs/accuracy.md,
+// "The bake's predicted error"). At the default 500K the noise is ~14 % per vertex.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -271,8 +270,8 @@ void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstre
     return lightTraceSubsurface(s.mesh.positions, s.mesh.normals, s.mesh.triangles,
                                 DistantLight::environment(env), medium, lo);
   });
-  // The reference without the light that crossed unscattered (what no diffusion model produces,
-  // issue 11 part 5): its share of the unlit part's B, and the errors against it.
+  // The reference without the light that crossed unscattered (what no diffusion model produces):
+  // its share of the unlit part's B, and the errors against it.
   const Selection sel = selectVertices(s, areas);
   lo.minScatteringOrder = 1;
   const LightTraceResult scattered = cachedReference(cache, key + "-scattered", [&] {
@@ -293,20 +292,19 @@ void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstre
               (unsigned long long)ref.reentries);
   std::fflush(stdout);
   predictedAgainstMeasured(s, env, ref, outDir, predictedCsv);
-  // Radiance along the normal per unit B: the normalized exit model (today's default), the
-  // calibrated one, or "hybrid": calibrated for the profile's part of B, normalized for the escape
-  // model's excess or, with the far field, for B_far (light that diffused deep; a candidate, not in
-  // the tools).
+  // Radiance along the normal per unit B: the normalized exit model (the default where no far
+  // field is traced), the calibrated one, or "hybrid": calibrated for the profile's part of B,
+  // normalized for the escape model's excess or, with the far field, for B_far (light that
+  // diffused deep; a candidate, not in the tools).
   const float eta = float(s.material.eta);
   const glm::vec3 calibrated =
       calibratedExitRadiance(DirectionalAlbedoWeight(s.material), 1.0f, eta);
   const glm::vec3 normalized(float(normalExitRadianceScale(eta)));
-  // Today's defaults (where the far field is traced, all of B through the exit lobe of all its
+  // sss-bake's defaults (where the far field is traced, all of B through the exit lobe of all its
   // exits); the same without the unscattered light; B_far alone through the lobe of the far exits
-  // and B - B_far through the normalized model (the defaults before the lobe of all exits); the
-  // normalized exit for all of B (the defaults before the lobe), and without the far field; the
-  // calibrated exit and the hybrid instead; the defaults before issue 11's part 2 (diffuse
-  // entry); the half-space energy with those.
+  // and B - B_far through the normalized model; the normalized exit for all of B, and without the
+  // far field; the calibrated exit and the hybrid instead; the diffuse entry; the half-space
+  // energy with those.
   enum class Exit { Normalized, Calibrated, Hybrid, Lobe, FarLobe };
   const ExitLobe lobe(eta);
   struct Config {
@@ -353,7 +351,7 @@ void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstre
                                                               : normalized;
       l[v] = (b[v] - excess) * nearScale + excess * farScale;
     }
-    // Today's defaults also add the unscattered light (auto, as bake.cpp's unscatteredStage).
+    // sss-bake's defaults also add the unscattered light (auto, as bake.cpp's unscatteredStage).
     if (config.far == kAuto && config.unscattered)
       addUnscatteredLight(s, env, areas, l, chosen, seconds);
     const Metrics mL = compare(l, ref.radiance, ref.radianceStdErr, areas, sel);

@@ -87,7 +87,7 @@ TEST(AtomicOutput, StaleTemporariesOfTheSamePidAreNeitherReadNorTouched) {
   const ScratchDir dir;
   const std::string target = dir.path("out.ply");
   const std::string pid = std::to_string(::getpid());
-  const std::vector<std::string> stale{".out." + pid + ".tmp.ply",  // the former naming
+  const std::vector<std::string> stale{".out." + pid + ".tmp.ply",  // without the random part
                                        ".out." + pid + ".00000000.tmp.ply"};
   for (const std::string& name : stale) writeFile(dir.path(name), "partial " + name);
   writeFileAtomically(target, "whole");

@@ -137,8 +137,8 @@ TEST_F(ImageIo, MissingUnreadableAndEmptyFiles) {
   EXPECT_NE(readError(path("short.pfm")), "");
 }
 
-// Issue 13: a header's declared size is checked against kMaxImagePixels and the file's size
-// before any pixel is allocated (before: "std::bad_alloc" with no file name).
+// A header's declared size is checked against kMaxImagePixels and the file's size before any
+// pixel is allocated (unchecked: "std::bad_alloc" with no file name).
 TEST_F(ImageIo, LyingHeadersAreRefusedBeforeAllocating) {
   const std::string rgbe = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n";
   std::ofstream(path("tall.hdr"), std::ios::binary) << rgbe << "-Y 99999999999 +X 64\n";

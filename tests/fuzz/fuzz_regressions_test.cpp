@@ -58,39 +58,38 @@ TEST_P(FuzzInputs, EverySeedReads) {
   }
 }
 
-// Each input the fuzzer found, "<target>/<file>", and what its reader must now say ("": read
+// Each input the fuzzer found, "<target>/<file>", and what its reader must say ("": read
 // fine). A new file in regressions/ needs its line here.
 const std::map<std::string, std::string> kFound = {
-    // OpenMesh's OBJ reader aborted on an assertion (a first corner "/1/1").
+    // OpenMesh's OBJ reader aborts on an assertion (a first corner "/1/1").
     {"obj/face_corner_without_vertex_index", "OBJ line 17: face corner '/1/1' has no vertex index"},
-    // OpenMesh's OFF reader read the face count "-1..." as 4294967295 corners: 1 GB allocated.
+    // OpenMesh's OFF reader reads the face count "-1..." as 4294967295 corners: 1 GB allocated.
     {"off/face_count_with_garbage_suffix", "OFF face 1 corner count: bad number '-1p"},
-    // A binary COFF's faces went unchecked: OpenMesh read a face of 892477488 corners (1 GB of
-    // handles).
+    // A binary COFF's faces: OpenMesh reads a face of 892477488 corners (1 GB of handles).
     {"off/binary_coff_face_count", "OFF face 0 declares 892477488 corners"},
-    // OpenMesh reads the OFF counts after the keyword's line ("OFF4OFF 6" has none for it): the
-    // check read others, and OpenMesh went on to a face of 4294967295 corners.
+    // OpenMesh reads the OFF counts after the keyword's line ("OFF4OFF 6" has none for it): a
+    // check that reads others lets OpenMesh go on to a face of 4294967295 corners.
     {"off/counts_on_the_keyword_line", "OFF header declares 0 vertices and 420 faces"},
-    // A file of the keyword alone: the first check of the BINARY tag read past the end.
+    // A file of the keyword alone: the check of the BINARY tag must not read past the end.
     {"off/keyword_alone", "OFF header lacks the vertex and face counts"},
-    // A '#' comment before the counts: OpenMesh's reads failed and left its face count unset
-    // (the check skipped the comment and read others); 1 GB of empty faces.
+    // A '#' comment before the counts: OpenMesh's reads fail and leave its face count unset (a
+    // check that skips the comment reads others); 1 GB of empty faces.
     {"off/comment_before_the_counts", "bad OFF count '#'"},
-    // "COFFNOFF" is COFF to OpenMesh (the check took it for NOFF): records of the wrong size,
-    // then a face of 4294967295 corners.
+    // "COFFNOFF" is COFF to OpenMesh, not NOFF: records of the wrong size, then a face of
+    // 4294967295 corners.
     {"off/keyword_followed_by_letters", "OFF face 0 declares -1 corners"},
-    // OpenEXR allocated the 1.7 GB an unknown attribute declared in a 553-byte file.
+    // OpenEXR allocates the 1.7 GB an unknown attribute declares in a 553-byte file.
     {"environment/exr_attribute_larger_than_file",
      "EXR header attribute 'capDate' declares 1768712291 bytes, but the file has 494 left"},
-    // A channel list longer than its size field: a walk that trusted the size field lost step
-    // with OpenEXR, which then allocated 1.7 GB for the next attribute.
+    // A channel list longer than its size field: a walk that trusts the size field loses step
+    // with OpenEXR, which then allocates 1.7 GB for the next attribute.
     {"environment/exr_channel_list_longer_than_its_size",
      "declares 1767325440 bytes, but the file has 477 left"},
-    // A 1903-byte PIZ EXR declaring 393459 x 8 pixels: OpenImageIO allocated 1.2 GB to decode
+    // A 1903-byte PIZ EXR declaring 393459 x 8 pixels: OpenImageIO allocates 1.2 GB to decode
     // 256 of its scanlines at once.
     {"environment/exr_data_window_393459_wide",
      "EXR header declares chunks of 100725504 pixels of 12 bytes (393459x8 data window)"},
-    // Messages quoted the file's bytes raw, newlines and terminal escapes included.
+    // Messages must not quote the file's bytes raw, newlines and terminal escapes included.
     {"ply/control_character_in_message", "PLY header line 6: unknown format 'as\\x1f\\x1f"},
     {"obj/control_character_in_message", "\\x04' has no vertex index"},
     {"off/control_character_in_message", "bad OFF count '2\\x18j0'"},

@@ -2,8 +2,9 @@
 # Fuzzes every reader: builds the libFuzzer targets of tests/fuzz in the checked build of
 # tests/sanitizers/build.sh (clang, ASan + UBSan, coverage; the sanitizer suite shares it) in
 # BUILD_DIR (default build-checked/) and runs each target for SECONDS_EACH seconds (default 60), as
-# many at once as there are cores, starting from its committed seed corpus (tests/fuzz/corpus/<target>/) and what earlier runs in BUILD_DIR
-# found (BUILD_DIR/fuzz/corpus/<target>/). Fails when any target crashes, leaks, exceeds the
+# many at once as there are cores, starting from its committed seed corpus
+# (tests/fuzz/corpus/<target>/) and what earlier runs in BUILD_DIR found
+# (BUILD_DIR/fuzz/corpus/<target>/). Fails when any target crashes, leaks, exceeds the
 # memory limits (a reader must refuse a huge declared size before allocating it) or spends more
 # than the timeout on one input; the reproducer is saved under BUILD_DIR/fuzz/artifacts/<target>/
 # (commit it to tests/fuzz/regressions/<target>/, fix the reader, and fuzz_regressions_test replays

@@ -178,7 +178,7 @@ TEST(Irradiance, FaceSizeFollowsTheTolerance) {
   o.method = IrradianceMethod::Brute;
   o.tolerance = 0.05;
   const IrradianceResult loose = computeIrradiance(env, o);
-  // At 2e-4 the 16-texel faces' bilinear lookups (~3e-4 here) no longer do: a larger face.
+  // At 2e-4 the 16-texel faces' bilinear lookups (~3e-4 here) miss it: a larger face.
   o.tolerance = 2e-4;
   const IrradianceResult tight = computeIrradiance(env, o);
   EXPECT_LT(loose.irradiance.size(), tight.irradiance.size());

@@ -157,7 +157,7 @@ TEST_F(SssIrrmap, NonFiniteTexelsFailUnlessSanitized) {
   EXPECT_EQ(r.exitCode, 0) << r.output;
   EXPECT_NE(r.output.find("sss-irrmap: warning: "), std::string::npos);
   EXPECT_TRUE(fs::exists(path("e.exr")));
-  // --quiet silences the warning too (issue 12).
+  // --quiet silences the warning too.
   const ToolRun quiet = run(path("nan.exr") + " --sanitize -q --no-preview -o " + path("e.exr"));
   EXPECT_EQ(quiet.exitCode, 0) << quiet.output;
   EXPECT_EQ(quiet.output, "");
@@ -169,7 +169,7 @@ TEST_F(SssIrrmap, NegativeTexelsAreClampedWithAWarning) {
   writeImage(path("neg.exr"), image);
   const ToolRun quiet = run(path("neg.exr") + " -q --no-preview --radiance " + path("r.exr"));
   EXPECT_EQ(quiet.exitCode, 0) << quiet.output;
-  EXPECT_EQ(quiet.output, "");  // --quiet silences environment warnings (issue 12)
+  EXPECT_EQ(quiet.output, "");  // --quiet silences environment warnings
   const ToolRun r = run(path("neg.exr") + " --no-preview --radiance " + path("r.exr"));
   EXPECT_EQ(r.exitCode, 0) << r.output;
   EXPECT_NE(r.output.find("sss-irrmap: warning: " + path("neg.exr") +
@@ -199,7 +199,7 @@ TEST_F(SssIrrmap, BadOptions) {
   expectUsageError("--sky --size abc -o " + path("e.exr"), "Could not convert: --size = abc");
   expectUsageError("--sky --size -1 -o " + path("e.exr"),
                    "--size: a cubemap face size must be 1 to 8192 texels, got -1");
-  // The material's range, as sss-bake and sss-render check it (issue 13).
+  // The material's range, as sss-bake and sss-render check it.
   expectUsageError("--sky --eta 0 -o " + path("e.exr"), "--eta: eta 0 is outside [1, 3]");
   expectUsageError("--sky --frobnicate -o " + path("e.exr"),
                    "The following argument was not expected: --frobnicate");
@@ -210,7 +210,7 @@ TEST_F(SssIrrmap, BadOptions) {
 }
 
 TEST_F(SssIrrmap, LyingHeaderAndDirectoryAreNamedErrors) {
-  // Before: "sss-irrmap: error: std::bad_alloc" for both.
+  // Unchecked: "sss-irrmap: error: std::bad_alloc" for both.
   std::ofstream(path("tall.hdr"), std::ios::binary)
       << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 99999999999 +X 64\n\x01\x02\x03\x04";
   std::ofstream(path("short.hdr"), std::ios::binary)
@@ -228,7 +228,7 @@ TEST_F(SssIrrmap, LyingHeaderAndDirectoryAreNamedErrors) {
 }
 
 TEST_F(SssIrrmap, OutputNamingTheInputIsAUsageError) {
-  // Before: -o naming the environment overwrote it and exited 0.
+  // Unchecked, -o naming the environment would overwrite it and exit 0.
   writeImage(path("env.exr"), constantImage(32, 16, glm::vec3(1.0f)));
   writeImage(path("env.png"), constantImage(32, 16, glm::vec3(0.5f)));
   const std::string dotted = (fs::path(path("")) / "." / "env.exr").string();
@@ -258,7 +258,7 @@ TEST_F(SssIrrmap, OutputNamingTheInputIsAUsageError) {
 }
 
 TEST_F(SssIrrmap, FaceSizesAndEtaAreCheckedAsInTheOtherTools) {
-  // Before: --size 0 and --eta 0.5 exited 0 (sss-bake refused eta outside [1, 3]).
+  // --size 0 and --eta 0.5 are refused, as sss-bake refuses eta outside [1, 3].
   for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
            {"--size 0", "--size: a cubemap face size must be 1 to 8192 texels, got 0"},
            {"--radiance-size 0",

@@ -218,7 +218,7 @@ SeedStatistics overSeeds(const TriangleMesh& mesh, const Cubemap& env, bool rati
 // O(1/n) bias must stay below what the tolerance allows: a floor beside a wall whose shadow of a
 // sun crosses it, under a sky. At sss-bake's fewest rays (32) over 64 seeds against the same
 // estimator at 2048 rays, which against the plain sum shows the control's own error. (At 16 rays
-// the vertices in the wall's shadow came out 0.41 +- 0.10 % high; at 32, 0.02 +- 0.06 %.)
+// the vertices in the wall's shadow come out 0.41 +- 0.10 % high; at 32, 0.02 +- 0.06 %.)
 TEST(Visibility, TheRatioEstimatorIsUnbiasedAndQuieterBesideAWall) {
   const Cubemap env = sunAndSky(glm::normalize(glm::vec3(-0.5f, 0.3f, 0.8f)));
   const TriangleMesh mesh = floorAndWall(10);

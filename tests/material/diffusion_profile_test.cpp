@@ -35,7 +35,7 @@ TEST(DiffusionProfile, FactoryListsAndRejects) {
   for (const std::string& kind : listProfiles()) EXPECT_THROW(makeProfile(kind, bad), Error);
 }
 
-// The brief's acceptance test: integral of 2 pi r R_d(r) dr equals the stated total within 0.5%
+// Every profile's energy: integral of 2 pi r R_d(r) dr equals the stated total within 0.5%
 // for every preset and profile (log-spaced Gauss-Legendre from 1e-9 mm to far in the tail).
 TEST(DiffusionProfile, NumericalIntegralMatchesTotalForEveryPreset) {
   for (const Material& m : materialPresets()) {
@@ -67,7 +67,6 @@ TEST(DiffusionProfile, DiscIntegralsMatchQuadrature) {
   }
 }
 
-// Jensen 2001: total R_d = alpha'/2 (1 + e^{-4/3 A sqrt(3(1-alpha'))}) e^{-sqrt(3(1-alpha'))}.
 // The far field's near profile: R_d W pointwise, its disc integrals and total against quadrature,
 // a wide window gives the base back, and the windowed total is what the base holds inside it.
 TEST(WindowedProfile, MatchesQuadratureAndItsLimits) {
@@ -98,6 +97,7 @@ TEST(WindowedProfile, MatchesQuadratureAndItsLimits) {
   EXPECT_THROW(WindowedProfile(*dipole, glm::dvec3(1.0, NAN, 1.0)), Error);
 }
 
+// Jensen 2001: total R_d = alpha'/2 (1 + e^{-4/3 A sqrt(3(1-alpha'))}) e^{-sqrt(3(1-alpha'))}.
 TEST(DipoleProfile, TotalIsJensenClosedForm) {
   for (const Material& m : materialPresets()) {
     const DipoleProfile dipole(m);

@@ -81,9 +81,9 @@ TEST(GaussianSumFit, RecoversAnExactSum) {
           << r;
 }
 
-// The brief's acceptance test: the fit meets its tolerance for every preset, from very
-// translucent (skimmilk) to dense (ketchup), for every profile; the energy is preserved exactly
-// and the reported error is the metric recomputed independently.
+// The fit meets its tolerance for every preset, from very translucent (skimmilk) to dense
+// (ketchup), for every profile; the energy is preserved exactly and the reported error is the
+// metric recomputed independently.
 TEST(GaussianSumFit, MeetsToleranceForEveryPresetAndProfile) {
   for (const Material& m : materialPresets()) {
     for (const std::string& kind : listProfiles()) {

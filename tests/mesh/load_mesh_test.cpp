@@ -267,7 +267,7 @@ TEST(MeshPlyReader, ZeroFacesNanAndBadIndexInFiles) {
   expectLoadRefused(dir, "negative.ply", asciiPlyWith("3 0 2 3", "3 0 2 -1"), "out of range");
 }
 
-// Issue 13: geometry float ray tracing cannot carry (kMaxCoordinate, kMaxReachInEdges).
+// Geometry float ray tracing cannot carry (kMaxCoordinate, kMaxReachInEdges).
 TEST(MeshGeometryLimits, CoordinateBeyondTheLimitIsAnError) {
   TriangleMesh sphere = makeIcosphere(1, 1.0f);
   sphere.positions[7] = glm::vec3(1e38f, 0.5f, 0.25f);
@@ -286,7 +286,7 @@ TEST(MeshGeometryLimits, CoordinateBeyondTheLimitIsAnError) {
 }
 
 TEST(MeshGeometryLimits, StrayVertexOrFarMeshIsAnErrorAtOnce) {
-  // Before: accepted with a warning about its length, then more than 120 s in the bake.
+  // Unchecked: more than 120 s in the bake.
   TriangleMesh sphere = makeIcosphere(1, 10.0f);
   ASSERT_EQ(sphere.vertexCount(), 42u);
   sphere.positions[7].x = 1.7e15f;
@@ -316,7 +316,7 @@ TEST(MeshGeometryLimits, UnreferencedFarVertexIsDroppedNotAnError) {
 }
 
 TEST(MeshPlyReader, DirectoryIsNamedNotAllocated) {
-  // Before: "std::bad_alloc" (a directory opens as a stream of unbounded size).
+  // Unchecked: "std::bad_alloc" (a directory opens as a stream of unbounded size).
   ScratchDir dir;
   for (const char* name : {"d.ply", "d.off", "d.obj", "d.stl", "d.om"}) {
     const std::string folder = dir.path(name);

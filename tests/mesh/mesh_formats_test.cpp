@@ -122,7 +122,7 @@ TEST(MeshFormatErrors, TruncatedOffAndStlAndGarbage) {
   expectLoadRefused(dir, "empty.obj", "", "empty file");
 }
 
-// Issue 13: counts that OpenMesh's readers would loop and allocate over are checked first.
+// Counts that OpenMesh's readers would loop and allocate over are checked first.
 TEST(MeshFormatErrors, LyingCountsAreRefusedBeforeOpenMeshReads) {
   ScratchDir dir;
   const std::string vertices = "0 0 0\n1 0 0\n0 1 0\n";
@@ -157,7 +157,7 @@ TEST(MeshFormatErrors, LyingCountsAreRefusedBeforeOpenMeshReads) {
 }
 
 TEST(MeshFormatErrors, HugeCoordinateInEveryFormatIsAnError) {
-  // Before: Embree's ray.valid() assertion aborted the bake.
+  // Unchecked, Embree's ray.valid() assertion aborts the bake.
   ScratchDir dir;
   TriangleMesh box = makeBox(glm::vec3(1.0f), 1);
   box.positions[3].y = 1e38f;

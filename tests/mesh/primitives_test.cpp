@@ -168,7 +168,7 @@ TEST(MeshBox, ClosedWeldedExactAreaAndVolume) {
   }
 }
 
-// The facets around a vertex (bake/facet_light.h takes their light): one inside a face, the two
+// The facets around a vertex (lighting/facet_light.h takes their light): one inside a face, the two
 // faces on an edge, three at a corner, with their shares of the vertex's area; a triangle wound
 // the other way still faces out.
 TEST(MeshVertexFacets, BoxFacesEdgesAndCornersWithTheirAreaShares) {

@@ -205,8 +205,8 @@ TEST(ExitLobe, PredictsTheRadianceOnTheUnlitHalfOfASphere) {
 }
 
 // A 10 mm thick skin1 slab under a sun along its normal, the middle of its lit face (a half-space
-// to the light): the far field's window (bake/far_field.h) splits the exits by angle as well as
-// by distance. Light that leaves within a fraction of a mean free path of where it entered went
+// to the light): the far field's window (transport/far_field.h) splits the exits by angle as well
+// as by distance. Light that leaves within a fraction of a mean free path of where it entered went
 // nearly straight back, so the near exits crowd the normal and the far ones avoid it. The lobe of
 // all exits puts 0.97-1.02x the traced radiance along the normal (seeds 1-4, all channels); B_far
 // through the lobe of the far exits and B - B_far through the normalized model 0.96-0.98x,

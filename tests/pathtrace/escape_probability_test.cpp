@@ -399,8 +399,8 @@ TEST(EscapeProbability, NearShareLimits) {
 // Two objects 30 mm apart in one mesh, a 2 mm slab and a 20 mm cube of skim milk, whose blue light
 // travels 3.5 mm (1 / sigma_tr) and red 18 mm. Each channel's P is smoothed over its own
 // diffusion length and the near share over its window: the slab's blue P and red near share are
-// the slab's alone, as the cube's are the cube's. Smoothed over red's 37 mm as P once was, the
-// slab's blue P took in the cube's lower one.
+// the slab's alone, as the cube's are the cube's. Smoothed over red's 37 mm, the slab's blue P
+// would take in the cube's lower one.
 TEST(EscapeProbability, EachChannelIsSmoothedOverItsOwnLength) {
   const Material milk = findMaterialPreset("skimmilk");
   const TriangleMesh slab = makeSlab(20.0f, 2.0f, 8);

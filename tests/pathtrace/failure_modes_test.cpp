@@ -1,7 +1,7 @@
-// Where diffusion methods fail, pinned against the Monte Carlo reference (issue 5). Each test
-// states the measured behaviour; if a change to a profile, the diffusion sums or the path tracer
-// moves it, the test says so. Numbers: tests/bench/results/accuracy
-// (tests/bench/accuracy_study.sh).
+// Where diffusion methods fail, pinned against the Monte Carlo reference (docs/accuracy.md,
+// "Where methods still fail"). Each test states the measured behaviour; if a change to a profile,
+// the diffusion sums or the path tracer moves it, the test says so. Numbers:
+// tests/bench/results/accuracy (tests/bench/accuracy_study.sh).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -150,10 +150,10 @@ TEST(FailureModes, ExitModelHoldsAtHighAlbedoOnly) {
   EXPECT_LT(std::max(ratio.y, ratio.z), 0.975);
 }
 
-// The calibrated exit model (issue 11 part 4; material/directional_albedo_weight.h) on the same
-// half-space, for all the scattered light the bake's B holds: L = B F_t(1) w(1) / (pi (1 - 2 C_1))
-// with w from the half-space Monte Carlo table holds across albedo, where the normalized model
-// (w = 1) is 5-12 % high at alpha' 0.5 and 0.05.
+// The calibrated exit model (material/directional_albedo_weight.h) on the same half-space, for all
+// the scattered light the bake's B holds: L = B F_t(1) w(1) / (pi (1 - 2 C_1)) with w from the
+// half-space Monte Carlo table holds across albedo, where the normalized model (w = 1) is 5-12 %
+// high at alpha' 0.5 and 0.05.
 TEST(FailureModes, CalibratedExitModelHoldsAcrossAlbedo) {
   const PathTraceResult pt = halfSpaceExit(1);
   const glm::vec3 calibrated =
@@ -221,9 +221,9 @@ TEST(FailureModes, SmallObjectsAreUnderestimatedCoarseMeshesAddLittle) {
 // around it, half on the top face (the whole sky) and half on the side (half of it), so there the
 // reference is the forward light tracer's barycentric tally of B over the edge's inner vertices
 // (0.97; the backward tracer's point value at the edge, along its 45-degree normal, is another
-// quantity: the bake's B over it read 1.04 when E was taken at that normal, and 0.94 with the
-// facets' light, bake/facet_light.h). Under the accuracy study's blurred forest, which lights the
-// cube from every side, its error is in tests/bench/results/accuracy.
+// quantity: the bake's B over it reads 1.04 with E taken at that normal, and 0.94 with the
+// facets' light, lighting/facet_light.h). Under the accuracy study's blurred forest, which lights
+// the cube from every side, its error is in tests/bench/results/accuracy.
 TEST(FailureModes, SharpEdgesHoldUnderLightFromAbove) {
   const Material marble = findMaterialPreset("marble");
   const TriangleMesh cube = makeBox(glm::vec3(20.0f), 8);

@@ -254,7 +254,7 @@ TEST(LightTracer, ConservesEnergyWithoutAbsorption) {
 // every direction at cosine mu to the facet's normal (the refracted part; the tracer does not
 // tally the specular reflection), so the tally over the cone about n_k is
 //   L = int_cone (n_f . w) (1 - F_r(n_f . w)) dw / int_cone (n_f . w) dw,
-// about 0.98, where an estimator per vertex area instead of projected area gave 0.79 of it.
+// about 0.98, where an estimator per vertex area instead of projected area would give 0.79 of it.
 TEST(LightTracer, RadianceOfAFacetedSurfaceIsPerProjectedArea) {
   const TriangleMesh icosahedron = makeIcosphere(0, 3.0f);
   const HomogeneousMedium medium = makeMedium({1.0, 1.0, 1.0}, {0.0, 0.0, 0.0}, 1.3);

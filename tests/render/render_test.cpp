@@ -297,8 +297,8 @@ TEST_F(RenderTest, UnscatteredLightThroughASphereFollowsTheRefractedChord) {
 }
 
 // A sun's radiance exceeds half floats (65504: the procedural sky's reaches 1.4e5): the cubemap is
-// kept in 32-bit floats, so a mirror shows it as it is (in RGBA16F it became Inf, and the tonemap's
-// Inf / Inf a NaN: coloured specks where a sun's reflection fell).
+// kept in 32-bit floats, so a mirror shows it as it is (in RGBA16F it would become Inf, and the
+// tonemap's Inf / Inf a NaN: coloured specks where a sun's reflection falls).
 TEST_F(RenderTest, RadianceAboveHalfFloatRangeStaysFinite) {
   ShadingOptions shading = linearShading();
   shading.reflectFactor = 1.0f;

@@ -382,7 +382,7 @@ TEST_F(SssRenderTool, BadOptionsAreRejectedBeforeAnyOutput) {
 TEST_F(SssRenderTool, HostileInputsAreRefusedAndLeaveTheFilesAsTheyWere) {
   writeBakedPly(path("sphere.ply"), bakedSphere());
   BakedMesh far = bakedSphere();
-  far.mesh.positions[7].x = 1e38f;  // before: an empty picture, exit 0
+  far.mesh.positions[7].x = 1e38f;  // unchecked: an empty picture, exit 0
   writeBakedPly(path("huge.ply"), far);
   writeUniformEnvironment("env.exr", glm::vec3(0.5f));
   // A far field with one slope outside the exit lobe's range (its bytes patched after writing,
@@ -408,7 +408,7 @@ TEST_F(SssRenderTool, HostileInputsAreRefusedAndLeaveTheFilesAsTheyWere) {
     bytes.replace(at, 15, "_FAR_EXIT_SLOPX");  // same length: the chunks stay well formed
     std::ofstream(path("half.glb"), std::ios::binary) << bytes;
   }
-  fs::create_directory(path("folder.ply"));  // before: "error: std::bad_alloc"
+  fs::create_directory(path("folder.ply"));  // unchecked: "error: std::bad_alloc"
   std::ofstream(path("tall.hdr"), std::ios::binary)
       << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 99999999999 +X 64\n";
   const std::string env = " -e " + path("env.exr"), out = " -o " + path("out.png");
@@ -427,7 +427,7 @@ TEST_F(SssRenderTool, HostileInputsAreRefusedAndLeaveTheFilesAsTheyWere) {
             1},
            {path("sphere.ply") + " -e " + path("tall.hdr") + out,
             path("tall.hdr") + ": header declares 64x2147483647 pixels", 1},
-           // Before: -o naming the environment overwrote it.
+           // Unchecked, -o naming the environment would overwrite it.
            {path("sphere.ply") + env + " -o " + path("env.exr"),
             "-o " + path("env.exr") + " is the same file as the environment (" + path("env.exr") +
                 "): refusing to overwrite an input",

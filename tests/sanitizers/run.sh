@@ -21,12 +21,10 @@ bash tests/sanitizers/build.sh "$build"
 driver=$(ls /usr/lib/*/dri/swrast_dri.so 2>/dev/null | head -1 || true)
 # workflow_test drives the tools through Snakemake (the orchestration: rules, reruns, the
 # contact sheet); every tool it calls is run under the sanitizers by the tools' own tests, and
-# under ASan it alone took 149 of the suite's 581 s. It runs in the Release suite. So do the tests
-# that only check how each tool refuses a command line (exit status and message, before any input
-# is parsed): each run is a fresh process (OIIO's ~260 libraries to bind), and these five were ~95
-# of the suite's 1,155 summed test seconds when Mesa's driver was still preloaded into every
-# process (0.85 s to start one); the code they reach is parsing, which the other tool tests run
-# under the sanitizers too.
+# under ASan it alone takes 149 of the suite's 581 s (measured). It runs in the Release suite. So
+# do the tests that only check how each tool refuses a command line (exit status and message,
+# before any input is parsed): each run is a fresh process (OIIO's ~260 libraries to bind), and
+# the code they reach is parsing, which the other tool tests run under the sanitizers too.
 command_line_only='SssIrrmap\.BadOptions|SssIrrmap\.FaceSizesAndEtaAreCheckedAsInTheOtherTools'
 command_line_only+='|SssRenderTool\.BadOptionsAreRejectedBeforeAnyOutput'
 command_line_only+='|BakeTool\.BadChoicesAreErrors'

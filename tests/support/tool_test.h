@@ -62,7 +62,7 @@ class ScratchDir {
   std::vector<std::string> fileNames() const { return fileNamesIn(dir_.string()); }
   std::size_t fileCount() const { return fileNames().size(); }
   // Each file's name and bytes ("<directory>" for a folder): what a refused run must leave as
-  // it was (issue 13).
+  // it was.
   std::vector<std::pair<std::string, std::string>> contents() const {
     std::vector<std::pair<std::string, std::string>> files;
     for (const std::string& name : fileNames()) {

@@ -105,7 +105,7 @@ double unlitSum(const TriangleMesh& sphere, const std::vector<glm::vec3>& b, con
   return sum;
 }
 
-// Issue 11's failure: the escape model's geometry-blind kernel put 1.7x the light on the unlit
+// Without the far field, the escape model's geometry-blind kernel puts 1.7x the light on the unlit
 // half of a 10 mm skin sphere under a sun. The far field follows the light through it.
 TEST(FarField, SunLitSphereUnlitHalfMatchesTheLightTracer) {
   const TriangleMesh sphere = makeIcosphere(3, 10.0f);
@@ -142,8 +142,9 @@ TEST(FarField, SunLitSphereUnlitHalfMatchesTheLightTracer) {
 // green and blue light leaves within the near window more often than the escape walks' diffuse
 // entry gives (it came straight back). B over the light tracer's, area means over the cap within
 // 26 degrees of the sun: 0.99 / 0.99 / 0.99 (R / G / B), with the escape walks' near share as it
-// is 1.00 / 0.97 / 0.96. (60-75 degrees from the sun it takes B from 0.99 to 0.97-0.98: the near
-// part there was too bright and hid the far field's averaging, 0.97x; README, "Under a sun".)
+// is 1.00 / 0.97 / 0.96. (60-75 degrees from the sun B reads 0.97-0.98 with the calibration and
+// 0.99 without: there the uncalibrated near part is too bright and hides the far field's
+// averaging, 0.97x; docs/accuracy.md, "Under a sun".)
 TEST(FarField, NearPartFollowsTheLightTracerUnderAHighSun) {
   const TriangleMesh sphere = makeIcosphere(3, 10.0f);
   const Material skin = findMaterialPreset("skin1");
@@ -180,8 +181,8 @@ TEST(FarField, NearPartFollowsTheLightTracerUnderAHighSun) {
 // (mean free path 4 mm) leaves the unlit face after a few scatterings, towards grazing angles more
 // than diffusion gives. The far field's exit lobe (optics/exit_lobe.h, the slope its own exits
 // measured) brings the radiance along the normal there within 8 % of the light tracer's (0.96-0.98
-// over two reference seeds; issue 11's target for a back-lit slab is 10 %), where the normalized
-// exit model for all of B (the bake before the lobe) reads 1.15-1.17x.
+// over two reference seeds), where the normalized exit model for all of B (no lobe) reads
+// 1.15-1.17x.
 TEST(FarField, ExitLobeGivesTheRadianceLeavingAThinSlab) {
   const TriangleMesh slab = makeSlab(20.0f, 2.0f, 20);
   const Material ketchup = findMaterialPreset("ketchup");
@@ -309,8 +310,8 @@ TEST(FarField, ReportedNoiseMatchesTheSpreadOverSeeds) {
 // The exit lobe's noise in the radiance along the normal (FarFieldReport::lobeNoise, part of the
 // bake's numerical error), with B held, against the slopes' spread over two seeds: a 10 mm skin1
 // sphere at about the bake's budget reads 0.39 % reported against 0.44 % measured. (On the 5 mm
-// sphere above, whose lobe kernel spans a third of it, it read about twice the spread when
-// measured in session 15: not tested.)
+// sphere above, whose lobe kernel spans a third of it, it reads about twice the spread: not
+// tested.)
 TEST(FarField, ReportedLobeNoiseMatchesTheSpreadOverSeeds) {
   const TwoSeeds t = farFieldOverTwoSeeds(3, 10.0f, 0.0042);
   ASSERT_TRUE(t.a.traced() && t.b.traced());
@@ -333,8 +334,8 @@ TEST(FarField, ReportedLobeNoiseMatchesTheSpreadOverSeeds) {
 // and what the near part's calibration adds to it (calibrateNearPart: the traced near exits'
 // variance and their covariance with the far ones, the same paths), against the spread of the
 // calibrated B over two of the far field's seeds on a 10 mm skin1 sphere at the bake's budget:
-// 0.57 % reported, 0.64 % measured (the far part 0.54 % against 0.45-0.64 % over four seeds). When
-// the noise was relative to P E + B_far, which counts the far light twice, it read 0.57 % against
+// 0.57 % reported, 0.64 % measured (the far part 0.54 % against 0.45-0.64 % over four seeds).
+// Relative to P E + B_far, which counts the far light twice, the noise would read 0.57 % against
 // 0.92 %.
 TEST(FarField, ReportedNearAndFarNoiseMatchTheSpreadOverSeeds) {
   const TriangleMesh sphere = makeIcosphere(3, 10.0f);
@@ -360,8 +361,7 @@ TEST(FarField, ReportedNearAndFarNoiseMatchTheSpreadOverSeeds) {
 // The light the object sends itself has no traced far field (that came from the environment):
 // with the far field on, the bounces still carry all of P, through the escape model's kernel as
 // without it, so that a pit lit mostly by the box's own light keeps its brightness. The near
-// share alone, as the bounces once took, left the pit's floor 15 % dark (marble's near share is a
-// small part of P).
+// share alone would leave the pit's floor 15 % dark (marble's near share is a small part of P).
 TEST(FarField, BouncesCarryAllTheLightTheObjectSendsItself) {
   const TriangleMesh box = boxWithPit();
   const Cubemap uniform(16, glm::vec3(1.0f));

@@ -127,7 +127,7 @@ TEST(ModelError, PyramidApexUnderASunOverheadSeesItsFacetsCosine) {
 
 TEST(ModelError, ExitModelSpreadGrowsAsTheAlbedoFalls) {
   // The normalized and calibrated exit models agree near albedo 1 (marble) and part at skin's
-  // and ketchup's (README, "The bake's predicted error": 1 %, 4-7 %, 7-12 % apart).
+  // and ketchup's (1 %, 4-7 %, 7-12 % apart: docs/accuracy.md, "The bake's predicted error").
   const glm::vec3 marble = exitModelSpread(findMaterialPreset("marble"));
   const glm::vec3 skin = exitModelSpread(findMaterialPreset("skin1"));
   const glm::vec3 ketchup = exitModelSpread(findMaterialPreset("ketchup"));

@@ -104,10 +104,11 @@ double unlitRadiance(const TriangleMesh& sphere, const std::vector<glm::vec3>& l
   return sum;
 }
 
-// Issue 11's case: a 5 mm ketchup sphere under a sun, whose red light crosses it unscattered.
+// A 5 mm ketchup sphere under a sun, whose red light crosses it unscattered.
 // sss-bake's whole pipeline (far field and unscattered light auto) against the light tracer's
 // radiance along the normal on the unlit half: with the unscattered light it is there, without it
-// the bake is well short (README, "Under a sun": 0.94x and 0.57-0.67x at 642 vertices).
+// the bake is well short (0.94x and 0.57-0.67x at 642 vertices; docs/accuracy.md, "Under a
+// sun").
 TEST(UnscatteredLight, KetchupSphereUnderASunMatchesTheLightTracer) {
   const TriangleMesh sphere = makeIcosphere(2, 5.0f);
   const Material ketchup = findMaterialPreset("ketchup");
@@ -199,7 +200,7 @@ TEST(UnscatteredLight, ReportedNoiseMatchesTheSpreadOverSeeds) {
     }
   const double measured = std::sqrt(variance / signal);
   EXPECT_GT(measured / reported, 0.9);
-  EXPECT_LT(measured / reported, 1.1);  // 1.14 with the streams of random.h before its hash
+  EXPECT_LT(measured / reported, 1.1);  // 1.14 with the seed merely added to the state (random.h)
 }
 
 TEST(UnscatteredLight, SameResultForAnyThreadCount) {

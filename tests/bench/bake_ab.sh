@@ -1,20 +1,23 @@
 #!/usr/bin/env bash
-# Two builds of bake_bench measured in one run, alternating, so that a shared machine's drift
-# falls on both alike: the before/after tables of a change to the bake
-# (tests/bench/results/bake/*_cost.csv).
-#   tests/bench/bake_ab.sh BEFORE_BAKE_BENCH AFTER_BAKE_BENCH OUT.csv [RUNS] [BENCHMARKS]
-# RUNS per side (default 5); BENCHMARKS space-separated (default "res2_auto res2_rays res2_none").
+# Two builds of a Google Benchmark program measured in one run, alternating, so that a shared
+# machine's drift falls on both alike: the before/after tables of a change
+# (tests/bench/results/*/*_cost.csv).
+#   tests/bench/bake_ab.sh BEFORE_BENCH AFTER_BENCH OUT.csv [RUNS] [BENCHMARKS]
+# RUNS per side (default 5); BENCHMARKS space-separated names after SSS_AB_PREFIX (default
+# "BM_BakeDragon/", bake_bench's; "" for diffusion_bench's "dragon_res3/gauss/0.01"), default
+# "res2_auto res2_rays res2_none".
 # Writes: benchmark, the medians, their ratio, each side's runs, and each side's rays per vertex
 # (bake_bench's `samples` counter). Needs the sample data (data/fetch.sh); run from the root.
 set -euo pipefail
 before=$1 after=$2 out=$3 runs=${4:-5}
+prefix=${SSS_AB_PREFIX-BM_BakeDragon/}
 benchmarks=${5:-res2_auto res2_rays res2_none}
 
 # Seconds and samples of one run of one benchmark: "SECONDS SAMPLES".
 run_once() {
-  "$1" --benchmark_filter="^BM_BakeDragon/$2/" --benchmark_format=csv 2>/dev/null |
+  "$1" --benchmark_filter="^$prefix$2/" --benchmark_format=csv 2>/dev/null |
     awk -F, '/^name,/ { for (i = 1; i <= NF; ++i) { gsub(/"/, "", $i); col[$i] = i }; next }
-             /^"BM_BakeDragon/ { s = col["samples"] ? $col["samples"] : "";
+             /^"/ { s = col["samples"] ? $col["samples"] : "";
                                  print $col["real_time"], (s == "" ? "-" : s) }'
 }
 

@@ -56,9 +56,7 @@ std::vector<glm::vec3> lightWithRays(const LightingInput& in, LightingReport& re
   RayLightingReport& rays = report.rays;
   VisibilityOptions options;
   options.samples = in.samples;
-  options.seed = in.run.seed;
-  options.threads = in.run.threads;
-  options.quiet = in.run.quiet;
+  options.run = in.run;
   options.entry = in.entry;
   options.pilot = VisibilityPilotOptions{};
   options.chooseSamples = [&](const VisibilityPilot& pilot) {

@@ -32,9 +32,7 @@ double relativeRms(const std::vector<glm::vec3>& value, const std::vector<glm::v
 std::vector<glm::vec3> pathTrace(const TransportInput& in, TransportReport& report) {
   PathTraceOptions options;
   options.samples = in.walks;
-  options.seed = in.run.seed;
-  options.threads = in.run.threads;
-  options.quiet = in.run.quiet;
+  options.run = in.run;
   options.estimateRadiance = false;
   PathTraceResult result = pathTraceSubsurface(in.meshMm, in.radiance, in.material, options);
   PathTraceStageReport& r = report.pathTracer;
@@ -53,8 +51,7 @@ std::vector<glm::vec3> diffusionSum(const TransportInput& in, TransportReport& r
   DiffusionOptions options;
   options.method = diffusionMethodOf(in.method);
   options.tolerance = in.diffusionTolerance;
-  options.threads = in.run.threads;
-  options.quiet = in.run.quiet;
+  options.run = in.run;
   const bool traced = in.farField && in.farField->traced();
   const std::span<const glm::vec3> farExitance =
       traced ? std::span<const glm::vec3>(in.farField->exitance) : std::span<const glm::vec3>();

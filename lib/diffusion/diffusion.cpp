@@ -170,14 +170,15 @@ std::vector<glm::vec3> sumInMortonOrder(const DiffusionInput& input, const Gauss
   const Stopwatch clock;
   if (method == DiffusionMethod::Incremental) {
     sorted = incrementalDiffusionSum(tree, irradiance, setup.fit.sum, setup.kernel, 0.25 * tol,
-                                     options.threads, options.quiet, stats, report.cutoffs);
+                                     options.run.threads, options.run.quiet, stats, report.cutoffs);
   } else {
     const double useTheta = method == DiffusionMethod::Hierarchical ? setup.theta : 0;
     report.clusterTheta = useTheta;
     Progress progress(std::string("diffusion (") + kDiffusionMethodNames.name(method) + ")",
-                      tree.groups.size(), options.quiet);
-    sorted = sumGaussianMixtureOverOctree(tree, irradiance, setup.kernel, useTheta, options.threads,
-                                          &progress, stats, std::move(clusters));
+                      tree.groups.size(), options.run.quiet);
+    sorted =
+        sumGaussianMixtureOverOctree(tree, irradiance, setup.kernel, useTheta, options.run.threads,
+                                     &progress, stats, std::move(clusters));
     progress.finish();
   }
   report.sumSeconds = clock.seconds();
@@ -197,7 +198,7 @@ std::vector<glm::vec3> unitWeightSums(const DiffusionInput& input, const Diffusi
   DiffusionOptions unitOptions = options;
   unitOptions.method = method;
   unitOptions.weightSums = false;
-  unitOptions.quiet = true;
+  unitOptions.run.quiet = true;
   return diffuse({input.positions, input.normals, input.areas, ones}, profile, unitOptions)
       .exitance;
 }
@@ -227,7 +228,7 @@ DiffusionResult diffuse(const DiffusionInput& input, const DiffusionProfile& pro
   DiffusionMethod method = options.method;
   std::vector<ClusterMoments> autoClusters;  // reused by the hierarchical sum
   if (method == DiffusionMethod::Auto) {
-    MethodChoice choice = chooseMethod(input, setup, exactCost, options.threads);
+    MethodChoice choice = chooseMethod(input, setup, exactCost, options.run.threads);
     report.indexSeconds += choice.seconds;
     if (choice.method == DiffusionMethod::Exact) {
       DiffusionResult exact = diffuseExact(input, profile, options, choice.reason, total);

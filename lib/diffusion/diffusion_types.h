@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/enum_names.h"
+#include "core/run_context.h"
 
 namespace sss {
 
@@ -35,10 +36,9 @@ struct DiffusionInput {
 
 struct DiffusionOptions {
   DiffusionMethod method = DiffusionMethod::Auto;
-  double tolerance = 0.01;  // target relative RMS error of B (the fit gets part of it)
-  int maxGaussians = 16;    // upper bound on K for fitGaussians (at most 16)
-  int threads = 0;          // <= 0: all cores
-  bool quiet = false;       // no progress bar on stderr
+  double tolerance = 0.01;         // target relative RMS error of B (the fit gets part of it)
+  int maxGaussians = 16;           // upper bound on K for fitGaussians (at most 16)
+  RunContext run{.quiet = false};  // the seed is unused: the sums are exact arithmetic
   // Also return rho_o = sum_i R_d(r_oi) A_i, the sum with E = 1 (finite_object_energy.h): fused
   // into the exact sum, a second pass of the same method otherwise.
   bool weightSums = false;

@@ -64,8 +64,8 @@ DiffusionResult exactDiffusionSum(const DiffusionInput& input, const DiffusionPr
   DiffusionResult out;
   out.exitance.resize(n);
   if (options.weightSums) out.weightSums.resize(n);
-  Progress progress("diffusion (exact)", n, options.quiet);
-  parallelFor(n, options.threads, 32, [&](std::size_t b, std::size_t e) {
+  Progress progress("diffusion (exact)", n, options.run.quiet);
+  parallelFor(n, options.run.threads, 32, [&](std::size_t b, std::size_t e) {
     for (std::size_t o = b; o < e; ++o) {
       glm::dvec3 sum, weights;
       sumAtVertex(input, profile, o, sum, weights);

@@ -53,13 +53,13 @@ FullPass traceAllVertices(std::size_t vertexCount, int samples, const Visibility
   if (options.entry) pass.entryWeighted.assign(vertexCount, glm::vec3(0.0f));
   pass.relativeVariance.assign(vertexCount, -1.0f);
   std::atomic<uint64_t> totalRays{0}, totalOccluded{0};
-  Progress progress("visibility", vertexCount, options.quiet);
+  Progress progress("visibility", vertexCount, options.run.quiet);
   Stopwatch traceClock;
-  parallelFor(vertexCount, options.threads, 256, [&](std::size_t begin, std::size_t end) {
+  parallelFor(vertexCount, options.run.threads, 256, [&](std::size_t begin, std::size_t end) {
     VertexEstimator estimator = makeEstimator();
     uint64_t rays = 0, occluded = 0;
     for (std::size_t v = begin; v < end; ++v) {
-      Pcg32 rng(options.seed, v);
+      Pcg32 rng(options.run.seed, v);
       const VertexEstimate e = estimator.estimate(v, samples, rng);
       pass.irradiance[v] = e.irradiance;
       if (options.entry) pass.entryWeighted[v] = e.entryWeighted;
@@ -105,14 +105,15 @@ std::vector<glm::vec3> transmittedIrradianceWithVisibility(std::span<const glm::
 
   Stopwatch buildClock;
   const TriangleScene scene(positions, triangles,
-                            TriangleSceneOptions::surfaceRays(options.threads));
+                            TriangleSceneOptions::surfaceRays(options.run.threads));
   const double buildSeconds = buildClock.seconds();
 
   const float extent = boundsOf(positions).longestSide();
   const VertexFacets facets = lightFacets(positions, normals, triangles);
   Stopwatch unoccludedClock;
   std::optional<UnoccludedIntake> unoccluded;
-  if (options.ratioToUnoccluded) unoccluded.emplace(radiance, eta, options.entry, options.threads);
+  if (options.ratioToUnoccluded)
+    unoccluded.emplace(radiance, eta, options.entry, options.run.threads);
   const double unoccludedSeconds = unoccludedClock.seconds();
   const UnoccludedIntake* control = unoccluded ? &*unoccluded : nullptr;
   const auto makeEstimator = [&]() {
@@ -122,7 +123,7 @@ std::vector<glm::vec3> transmittedIrradianceWithVisibility(std::span<const glm::
 
   VisibilityPilot pilot;
   if (options.pilot.replicas > 0) {
-    pilot = runVisibilityPilot(vertexCount, options.pilot, options.seed, options.threads,
+    pilot = runVisibilityPilot(vertexCount, options.pilot, options.run.seed, options.run.threads,
                                makeEstimator);
   }
   const int samples = options.chooseSamples ? options.chooseSamples(pilot) : options.samples;

@@ -41,6 +41,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "core/run_context.h"
 #include "envmap/cubemap.h"
 #include "lighting/visibility_pilot.h"
 #include "material/directional_albedo_weight.h"
@@ -48,10 +49,8 @@
 namespace sss {
 
 struct VisibilityOptions {
-  int samples = 64;  // rays per vertex (half environment, half cosine); >= 2
-  uint64_t seed = 1;
-  int threads = 0;                        // <= 0: all cores
-  bool quiet = true;                      // no progress bar
+  int samples = 64;                       // rays per vertex (half environment, half cosine); >= 2
+  RunContext run;                         // quiet by default: no progress bar
   VisibilityPilotOptions pilot{0, 0, 0};  // replicas 0: no pilot
   // The directional entry (material/directional_albedo_weight.h): when set, the full pass also
   // returns E_w, the same samples weighted by w(cosine) (VisibilityReport::entryWeighted). Not

@@ -271,8 +271,8 @@ void EscapeWalks::add(int walksPerProbe) {
   State& st = *state_;
   const int first = st.walks, last = st.walks + walksPerProbe;
   std::atomic<uint64_t> totalEvents{0}, totalLost{0};
-  Progress progress("escape walks", st.probes, st.options.quiet);
-  parallelFor(st.probes, st.options.threads, 8, [&](std::size_t begin, std::size_t end) {
+  Progress progress("escape walks", st.probes, st.options.run.quiet);
+  parallelFor(st.probes, st.options.run.threads, 8, [&](std::size_t begin, std::size_t end) {
     uint64_t events = 0, lost = 0;
     for (std::size_t k = begin; k < end; ++k) {
       const uint32_t v = st.probeVertex(k);
@@ -280,7 +280,7 @@ void EscapeWalks::add(int walksPerProbe) {
       for (int c = 0; c < 3; ++c) {
         for (int s = first; s < last; ++s) {
           // Walk s of vertex v in channel c has a stream of its own: rounds add up.
-          Pcg32 rng(st.options.seed, ((uint64_t(v) * 3u + uint64_t(c)) << 24) | uint64_t(s));
+          Pcg32 rng(st.options.run.seed, ((uint64_t(v) * 3u + uint64_t(c)) << 24) | uint64_t(s));
           const SurfacePoint entry = st.entries.sample(v, rng);
           const WalkOutcome o =
               st.walker.walk(entry.position, entry.normal, entry.triangle, c, rng);
@@ -393,7 +393,7 @@ void EscapeWalks::State::smoothAll(std::span<const ProbeEstimates> estimates,
     o.value.assign(n, glm::vec3(0.0f));
     o.variance.assign(n, glm::dvec3(0.0));
   }
-  parallelFor(n, options.threads, 64, [&](std::size_t begin, std::size_t end) {
+  parallelFor(n, options.run.threads, 64, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) smoothAt(i, estimates, smooth, out);
   });
 }

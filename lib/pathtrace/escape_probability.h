@@ -40,6 +40,8 @@
 
 #include <glm/vec3.hpp>
 
+#include "core/run_context.h"
+
 namespace sss {
 
 struct TriangleMesh;  // lib/mesh/triangle_mesh.h
@@ -53,9 +55,7 @@ struct EscapeOptions {
   // W(d) = exp(-d^2 / (2 w^2)) of their exit's distance d from the entry
   // (lib/transport/far_field.h).
   glm::dvec3 nearWindowMm{0.0};
-  uint64_t seed = 1;
-  int threads = 0;    // <= 0: all cores
-  bool quiet = true;  // no progress bar on stderr
+  RunContext run;
 };
 
 struct EscapeResult {

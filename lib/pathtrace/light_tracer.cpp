@@ -145,7 +145,7 @@ void LightTracer::tallyExit(const MediumExit& exit, const glm::vec3& entry, glm:
 }
 
 void LightTracer::tracePath(uint64_t index, BatchTally& tally) const {
-  Pcg32 rng(options_.seed, index);
+  Pcg32 rng(options_.run.seed, index);
   const DistantLight::Sample s = light_.sample(rng.uniformDouble(), rng.uniformDouble());
   glm::dvec3 power = s.weight * (M_PI * radius_ * radius_);
   tally.source += power;
@@ -312,8 +312,8 @@ LightTraceResult lightTraceSubsurface(const std::vector<glm::vec3>& positions,
   const std::size_t batchCount = std::size_t(options.batches);
   std::vector<BatchTally> batches(batchCount);
   std::vector<uint64_t> sizes(batchCount);
-  Progress progress("lighttrace", batchCount, options.quiet);
-  parallelFor(batchCount, options.threads, 1, [&](std::size_t begin, std::size_t end) {
+  Progress progress("lighttrace", batchCount, options.run.quiet);
+  parallelFor(batchCount, options.run.threads, 1, [&](std::size_t begin, std::size_t end) {
     for (std::size_t b = begin; b < end; ++b) {
       const uint64_t first = options.paths * b / batchCount;
       const uint64_t last = options.paths * (b + 1) / batchCount;

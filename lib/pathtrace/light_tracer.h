@@ -53,6 +53,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "core/run_context.h"
 #include "envmap/cubemap.h"
 #include "pathtrace/subsurface_path_tracer.h"  // HomogeneousMedium
 
@@ -92,9 +93,7 @@ class DistantLight {
 struct LightTraceOptions {
   uint64_t paths = 1 << 20;
   int batches = 32;  // for the standard errors; at least 2
-  uint64_t seed = 1;
-  int threads = 0;  // <= 0: all cores
-  bool quiet = true;
+  RunContext run;
   double coneHalfAngleDeg = 15.0;  // radiance along the normal: exits within this cone
   // Count light scattered at least this often in all: 0 (default) counts everything, 1 leaves
   // out unscattered transmission (the backward tracer's default).

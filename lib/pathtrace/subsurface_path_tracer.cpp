@@ -199,7 +199,7 @@ void VertexTracer::warnOfLongWalks(PathTraceResult& result) const {
   const Stopwatch pilotClock;
   for (std::size_t k = 0; k < probes; ++k) {
     const std::size_t i = vertexAt(k * n / probes);
-    Pcg32 rng(options_.seed ^ 0x9E3779B97F4A7C15ULL, i);
+    Pcg32 rng(options_.run.seed ^ 0x9E3779B97F4A7C15ULL, i);
     const glm::vec3 normal = glm::normalize(normals_[i]);
     for (std::size_t s = 0; s < kPilotWalks / probes; ++s, ++walks) {
       MediumWalkStats stats;
@@ -218,8 +218,9 @@ void VertexTracer::warnOfLongWalks(PathTraceResult& result) const {
     expected = std::max(expected, std::min(3.0 * std::sqrt(absorption), across));
   }
   const int estimates = int(options_.estimateExitance) + int(options_.estimateRadiance);
-  const double predicted = secondsPerEvent * expected * double(n) * options_.samples * estimates /
-                           (options_.threads <= 0 ? defaultThreadCount() : options_.threads);
+  const double predicted =
+      secondsPerEvent * expected * double(n) * options_.samples * estimates /
+      (options_.run.threads <= 0 ? defaultThreadCount() : options_.run.threads);
   if (expected > kLongWalkEvents) {
     addWarning(result, "the albedo makes walks long: about " + format("%.0f", expected) +
                            " scattering events per walk; expect roughly " +
@@ -230,7 +231,7 @@ void VertexTracer::warnOfLongWalks(PathTraceResult& result) const {
 
 void VertexTracer::traceVertex(std::size_t k, PathTraceResult& result, WalkCounts& counts) const {
   const std::size_t i = vertexAt(k);
-  Pcg32 rng(options_.seed, i);
+  Pcg32 rng(options_.run.seed, i);
   const glm::vec3 normal = glm::normalize(normals_[i]);
   const uint64_t escapedBefore = counts.escaped, walksBefore = counts.walks;
   if (options_.estimateExitance) {
@@ -314,8 +315,8 @@ PathTraceResult pathTraceSubsurface(const std::vector<glm::vec3>& positions,
   const std::size_t n = tracer.count();
   allocateResult(n, options, result);
   AtomicWalkCounts total;
-  Progress progress("pathtrace", n, options.quiet);
-  parallelFor(n, options.threads, 4, [&](std::size_t begin, std::size_t end) {
+  Progress progress("pathtrace", n, options.run.quiet);
+  parallelFor(n, options.run.threads, 4, [&](std::size_t begin, std::size_t end) {
     WalkCounts counts;
     for (std::size_t k = begin; k < end; ++k) {
       tracer.traceVertex(k, result, counts);

@@ -56,6 +56,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "core/run_context.h"
 #include "envmap/cubemap.h"
 
 namespace sss {
@@ -83,9 +84,7 @@ struct PathTraceOptions {
   // Only these vertices (indices into the mesh), in this order; the result arrays then hold one
   // entry per listed vertex. Empty: every vertex. A vertex's value does not depend on the list.
   std::vector<uint32_t> vertices;
-  uint64_t seed = 1;
-  int threads = 0;     // <= 0: all cores
-  bool quiet = false;  // no progress bar
+  RunContext run{.quiet = false};
   bool estimateExitance = true;
   bool estimateRadiance = true;
   RadianceDirection radianceDirection = RadianceDirection::Normal;

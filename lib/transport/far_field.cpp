@@ -130,9 +130,7 @@ TracedRound traceRound(const FarFieldInput& in, const SurfaceAverage& average,
   LightTraceOptions o;
   o.paths = paths;
   o.firstPath = firstPath;
-  o.seed = in.options.run.seed;
-  o.threads = in.options.run.threads;
-  o.quiet = in.options.run.quiet;
+  o.run = in.options.run;
   o.nearWindowMm = farFieldWindowMm(in.material);
   o.stopAtFirstExit = true;
   // What crosses unscattered leaves collimated: light no exit model of B describes.
@@ -210,8 +208,8 @@ double farFieldSensitivity(const FarFieldInput& in, const SurfaceAverage& averag
   const double length = 1.0 / std::min({tr.x, tr.y, tr.z});
   const std::vector<glm::vec3> local = average(in.irradiance);
   DiffusionOptions o;
-  o.threads = in.options.run.threads;
-  o.quiet = true;
+  o.run.threads = in.options.run.threads;
+  o.run.quiet = true;
   o.tolerance = 0.01;  // a test against the noise budget, not a result
   const std::vector<glm::vec3> wide = gaussianAverageIrradiance(
       {in.meshMm.positions, in.meshMm.normals, in.areasMm2, in.irradiance}, length, o);
@@ -303,6 +301,32 @@ FarField skip(FarField out, std::string reason, const Stopwatch& clock) {
   return out;
 }
 
+// The traced far field from its round: B_far, the exit lobe's slopes, with the near exits'
+// tallies for calibrateNearPart where asked, and the report's measures of them.
+void keepTracedRound(FarField& out, const FarFieldInput& in, const SurfaceAverage& average,
+                     const TracedRound& round, double noise) {
+  const FarFieldOptions& o = in.options;
+  FarFieldReport& r = out.report;
+  out.exitance.assign(round.mean.size(), glm::vec3(0.0f));
+  for (std::size_t i = 0; i < round.mean.size(); ++i) out.exitance[i] = glm::vec3(round.mean[i]);
+  out.slope = exitLobeSlopes(round, float(in.material.eta));
+  r.meanExitSlope = weightedMeanSlope(out, in.areasMm2);
+  r.traced = true;
+  r.paths = round.paths;
+  r.relativeStdError = noise;
+  r.averagingBias = averagingBias(in, average, round, out.exitance);
+  r.lobeNoise = lobeNoise(in, round, out.slope);
+  if (!(o.lobeOfAllExits && o.calibrateNearShare)) return;
+  out.nearExitance.resize(round.nearMean.size());
+  out.nearVariance.resize(round.nearMean.size());
+  out.nearFarCovariance.resize(round.nearMean.size());
+  for (std::size_t i = 0; i < round.nearMean.size(); ++i) {
+    out.nearExitance[i] = glm::vec3(round.nearMean[i]);
+    out.nearVariance[i] = glm::vec3(round.nearVariance[i]);
+    out.nearFarCovariance[i] = glm::vec3(round.nearFarCovariance[i]);
+  }
+}
+
 }  // namespace
 
 FarField traceFarField(const FarFieldInput& in) {
@@ -368,25 +392,7 @@ FarField traceFarField(const FarFieldInput& in) {
                           traceRound(in, average, lobeAverage, round.paths, total - round.paths));
     noise = relativeNoise(in, round);
   }
-  out.exitance.assign(round.mean.size(), glm::vec3(0.0f));
-  for (std::size_t i = 0; i < round.mean.size(); ++i) out.exitance[i] = glm::vec3(round.mean[i]);
-  out.slope = exitLobeSlopes(round, float(in.material.eta));
-  r.meanExitSlope = weightedMeanSlope(out, in.areasMm2);
-  r.traced = true;
-  r.paths = round.paths;
-  r.relativeStdError = noise;
-  r.averagingBias = averagingBias(in, average, round, out.exitance);
-  r.lobeNoise = lobeNoise(in, round, out.slope);
-  if (o.lobeOfAllExits && o.calibrateNearShare) {
-    out.nearExitance.resize(round.nearMean.size());
-    out.nearVariance.resize(round.nearMean.size());
-    out.nearFarCovariance.resize(round.nearMean.size());
-    for (std::size_t i = 0; i < round.nearMean.size(); ++i) {
-      out.nearExitance[i] = glm::vec3(round.nearMean[i]);
-      out.nearVariance[i] = glm::vec3(round.nearVariance[i]);
-      out.nearFarCovariance[i] = glm::vec3(round.nearFarCovariance[i]);
-    }
-  }
+  keepTracedRound(out, in, average, round, noise);
   r.reason =
       std::string(automatic ? "irradiance varies on the diffusion length's scale" : "requested") +
       " (far field moves " + format("%.2g%%", 100.0 * r.sensitivity) + " of B" +

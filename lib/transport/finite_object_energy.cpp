@@ -85,9 +85,7 @@ int walksFor(int walks, double ratio, int maxWalks) {
 EscapeOptions escapeOptionsOf(const EnergyOptions& options) {
   EscapeOptions escape;
   escape.maxProbes = options.maxProbes;
-  escape.seed = options.run.seed;
-  escape.threads = options.run.threads;
-  escape.quiet = options.run.quiet;
+  escape.run = options.run;
   escape.nearWindowMm = options.nearWindowMm;
   return escape;
 }
@@ -152,7 +150,7 @@ std::vector<glm::vec3> gaussianAverageIrradiance(const DiffusionInput& input, do
   }
   DiffusionOptions average = options;
   average.weightSums = true;
-  average.quiet = true;
+  average.run.quiet = true;
   if (weights) average.knownWeightSums = *weights;
   DiffusionResult r = diffuse(input, GaussianProfile(sigmaMm * sigmaMm), average);
   if (weights && weights->empty()) *weights = r.weightSums;

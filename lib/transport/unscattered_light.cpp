@@ -30,9 +30,8 @@ TracedRound traceRound(const UnscatteredLightInput& in, uint64_t firstPath, uint
   o.paths = paths;
   o.firstPath = firstPath;
   o.batches = kBatches;
-  o.seed = in.options.run.seed ^ kSeedSalt;
-  o.threads = in.options.run.threads;
-  o.quiet = in.options.run.quiet;
+  o.run = in.options.run;
+  o.run.seed ^= kSeedSalt;
   o.coneHalfAngleDeg = in.options.coneHalfAngleDeg;
   o.unscatteredOnly = true;
   const TriangleMesh& mesh = in.meshMm;

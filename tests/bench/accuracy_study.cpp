@@ -157,7 +157,7 @@ void halfSpaceStudy(const std::string& outDir, int walks) {
     PathTraceOptions options;
     options.samples = walks;
     options.vertices = {top};
-    options.quiet = true;
+    options.run.quiet = true;
     options.minScatteringOrder = 1;
     const PathTraceResult all = pathTraceSubsurface(box, uniform, m, options);
     options.minScatteringOrder = 2;
@@ -258,9 +258,9 @@ void sceneStudy(const Scene& scene, int walks, int visibilitySamples, WalkEntry 
   PathTraceOptions options;
   options.samples = walks;
   options.vertices = ref.vertices;
-  options.quiet = true;
+  options.run.quiet = true;
   options.entry = entry;
-  options.seed =
+  options.run.seed =
       study::kReferenceSeed;  // apart from the bake's visibility rays (seed 1, per vertex)
   const PathTraceResult pt = pathTraceSubsurface(mesh, *scene.env, scene.material, options);
   ref.radiance = pt.radiance;
@@ -353,7 +353,7 @@ void sceneStudy(const Scene& scene, int walks, int visibilitySamples, WalkEntry 
   for (const std::string& profileName : listProfiles()) {
     const auto profile = makeProfile(profileName, scene.material);
     DiffusionOptions dopt;
-    dopt.quiet = true;
+    dopt.run.quiet = true;
     dopt.method = DiffusionMethod::Exact;
     const DiffusionResult exact = diffuse(input, *profile, dopt);
     record(profileName, "exact", "exact", 0.0, 0, exact.report.totalSeconds, exact.exitance,
@@ -396,7 +396,7 @@ void sceneStudy(const Scene& scene, int walks, int visibilitySamples, WalkEntry 
     const AutoChoice choice = autoChoice(mesh, areas, scene.material, tol);
     const EnergyPlan& plan = choice.plan;
     DiffusionOptions dopt;
-    dopt.quiet = true;
+    dopt.run.quiet = true;
     dopt.tolerance = choice.diffusionTolerance;
     const Stopwatch clock;
     const DiffusionResult r = diffuseWithEnergy(input, *choice.profile, dopt, plan, scene.material);
@@ -437,7 +437,7 @@ void sceneStudy(const Scene& scene, int walks, int visibilitySamples, WalkEntry 
     if (farMode != FarFieldMode::Off && !far.traced()) continue;  // the same as the row before
     const std::string suffix = far.traced() ? "-far" : "";
     DiffusionOptions dopt;
-    dopt.quiet = true;
+    dopt.run.quiet = true;
     dopt.method = DiffusionMethod::Exact;
     const DiffusionResult exact =
         diffuseWithEnergy(weighted, profile, dopt, plan, scene.material, far.exitance);

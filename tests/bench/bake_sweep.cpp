@@ -113,7 +113,7 @@ int main(int argc, char** argv) {
 
     sss::VisibilityOptions vo;
     vo.samples = 64;
-    vo.threads = threads;
+    vo.run.threads = threads;
     clock.restart();
     const auto e = sss::transmittedIrradianceWithVisibility(mesh.positions, mesh.normals,
                                                             mesh.triangles, env, 1.3f, vo);
@@ -126,17 +126,17 @@ int main(int argc, char** argv) {
     if (!visibilityOut.empty()) {
       sss::DiffusionOptions o;
       o.method = sss::DiffusionMethod::Hierarchical;
-      o.threads = threads;
-      o.quiet = true;
+      o.run.threads = threads;
+      o.run.quiet = true;
       sss::VisibilityOptions ro = vo;
       ro.samples = referenceSamples;
-      ro.seed = 99;
+      ro.run.seed = 99;
       const auto eRef = sss::transmittedIrradianceWithVisibility(mesh.positions, mesh.normals,
                                                                  mesh.triangles, env, 1.3f, ro);
       const auto bRef = sss::diffuse({mesh.positions, mesh.normals, areas, eRef}, *profile, o);
       for (int samples : {16, 32, 64, 128, 256, 512, 1024}) {
         ro.samples = samples;
-        ro.seed = 1;
+        ro.run.seed = 1;
         ro.pilot = sss::VisibilityPilotOptions{};
         sss::VisibilityNoiseModel model;
         ro.chooseSamples = [&](const sss::VisibilityPilot& pilot) {
@@ -175,8 +175,8 @@ int main(int argc, char** argv) {
       sss::DiffusionOptions o;
       o.method = method;
       o.tolerance = tolerance;
-      o.threads = threads;
-      o.quiet = true;
+      o.run.threads = threads;
+      o.run.quiet = true;
       std::vector<double> times;
       sss::DiffusionResult result;
       for (int r = 0; r < repeats; ++r) {

@@ -150,7 +150,7 @@ void study(const Scene& s, const Shape& shape, uint64_t paths, const std::string
   const HomogeneousMedium medium = homogeneousMediumOf(s.material);
   LightTraceOptions lo;
   lo.paths = paths;
-  lo.seed = study::kReferenceSeed;
+  lo.run.seed = study::kReferenceSeed;
   const LightTraceResult ref = cachedReference(cache, s.name + "-" + std::to_string(paths), [&] {
     return lightTraceSubsurface(mesh.positions, mesh.normals, mesh.triangles,
                                 DistantLight::environment(env.radiance), medium, lo);

@@ -77,7 +77,7 @@ Scene& scene(const std::string& name) {
 
 DiffusionResult run(const Scene& s, DiffusionMethod method, double tolerance) {
   DiffusionOptions options;
-  options.method = method, options.tolerance = tolerance, options.quiet = true;
+  options.method = method, options.tolerance = tolerance, options.run.quiet = true;
   return diffuse(s.input(), marble(), options);
 }
 

@@ -38,7 +38,7 @@ Level makeLevel(int subdivisions) {
 std::vector<glm::vec3> run(const Level& l, const DiffusionProfile& profile, DiffusionMethod method,
                            double tolerance) {
   DiffusionOptions options;
-  options.method = method, options.tolerance = tolerance, options.quiet = true;
+  options.method = method, options.tolerance = tolerance, options.run.quiet = true;
   return diffuse({l.mesh.positions, l.mesh.normals, l.areas, l.irradiance}, profile, options)
       .exitance;
 }

@@ -197,7 +197,7 @@ DiffusionResult bakeExitance(const Scene& s, const Cubemap& env, const std::vect
   const std::string profileName = autoProfileName(plan.model);
   const auto profile = makeProfile(profileName, s.material);
   DiffusionOptions dopt;
-  dopt.quiet = true;
+  dopt.run.quiet = true;
   const double energyError =
       plan.model != EnergyModel::Escape ? 0.0
       : far.traced() ? std::hypot(plan.escape.nearErrorInB(), far.report.relativeStdError)
@@ -264,7 +264,7 @@ void study(const Scene& s, uint64_t paths, const std::string& cache, std::ofstre
   const HomogeneousMedium medium = homogeneousMediumOf(s.material);
   LightTraceOptions lo;
   lo.paths = paths;
-  lo.seed = study::kReferenceSeed;
+  lo.run.seed = study::kReferenceSeed;
   const std::string key = s.name + "-" + std::to_string(paths);
   const LightTraceResult ref = cachedReference(cache, key, [&] {
     return lightTraceSubsurface(s.mesh.positions, s.mesh.normals, s.mesh.triangles,

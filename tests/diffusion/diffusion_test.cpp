@@ -64,7 +64,7 @@ double relativeRms(const std::vector<glm::vec3>& a, const std::vector<glm::vec3>
 DiffusionResult run(const Scene& s, const DiffusionProfile& profile, DiffusionMethod method,
                     int threads = 0, double tolerance = 0.01) {
   DiffusionOptions options;
-  options.method = method, options.threads = threads, options.quiet = true;
+  options.method = method, options.run.threads = threads, options.run.quiet = true;
   options.tolerance = tolerance;
   return diffuse(s.input(), profile, options);
 }

@@ -62,8 +62,8 @@ struct Scene {
   std::vector<glm::vec3> exitance(int samples, uint64_t seed, VisibilityNoiseModel* model) const {
     VisibilityOptions options;
     options.samples = samples;
-    options.seed = seed;
-    options.threads = 2;
+    options.run.seed = seed;
+    options.run.threads = 2;
     if (model) {
       options.pilot = VisibilityPilotOptions{};
       options.chooseSamples = [&](const VisibilityPilot& pilot) {
@@ -76,8 +76,8 @@ struct Scene {
     DiffusionOptions diffusion;
     diffusion.method = DiffusionMethod::Gauss;
     diffusion.tolerance = 1e-3;
-    diffusion.threads = 2;
-    diffusion.quiet = true;
+    diffusion.run.threads = 2;
+    diffusion.run.quiet = true;
     return diffuse({mesh.positions, mesh.normals, areas, e}, *profile, diffusion).exitance;
   }
 };

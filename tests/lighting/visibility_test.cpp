@@ -195,7 +195,7 @@ SeedStatistics overSeeds(const TriangleMesh& mesh, const Cubemap& env, bool rati
   for (int seed = 1; seed <= seeds; ++seed) {
     VisibilityOptions options;
     options.samples = samples;
-    options.seed = static_cast<uint64_t>(seed);
+    options.run.seed = static_cast<uint64_t>(seed);
     options.ratioToUnoccluded = ratio;
     const auto e = transmittedIrradianceWithVisibility(mesh.positions, mesh.normals, mesh.triangles,
                                                        env, kEta, options);
@@ -448,16 +448,16 @@ TEST(Visibility, SameResultForAnyThreadCount) {
   const TriangleMesh mesh = floorAndWall(12);
   VisibilityOptions options;
   options.samples = 32;
-  options.seed = 7;
-  options.threads = 1;
+  options.run.seed = 7;
+  options.run.threads = 1;
   const auto one = transmittedIrradianceWithVisibility(mesh.positions, mesh.normals, mesh.triangles,
                                                        env, kEta, options);
-  options.threads = 2;
+  options.run.threads = 2;
   const auto two = transmittedIrradianceWithVisibility(mesh.positions, mesh.normals, mesh.triangles,
                                                        env, kEta, options);
   ASSERT_EQ(one.size(), two.size());
   for (std::size_t v = 0; v < one.size(); ++v) ASSERT_EQ(one[v], two[v]) << v;
-  options.seed = 8;
+  options.run.seed = 8;
   const auto other = transmittedIrradianceWithVisibility(mesh.positions, mesh.normals,
                                                          mesh.triangles, env, kEta, options);
   EXPECT_NE(one, other);

@@ -69,7 +69,7 @@ PathTracedEscape pathTracedEscape(const TriangleMesh& mesh, const Material& mate
   options.vertices = vertices;
   options.estimateRadiance = false;
   options.occlusion = false;
-  options.quiet = true;
+  options.run.quiet = true;
   const PathTraceResult r =
       pathTraceSubsurface(mesh, Cubemap(8, glm::vec3(1.0f)), material, options);
   const double entered = M_PI * (1.0 - diffuseFresnelReflectance(float(material.eta)));
@@ -149,7 +149,7 @@ TEST(EscapeProbability, HalfSpaceMatchesTabulatedAlbedoAndPathTracer) {
   options.smoothing = 0.5;
   std::vector<glm::dvec3> inner;
   for (uint64_t seed = 1; seed <= 6; ++seed) {
-    options.seed = seed;
+    options.run.seed = seed;
     const EscapeResult r = escape(slab, skin, options);
     ASSERT_EQ(r.probes, slab.positions.size());
     // Top and bottom vertices whose smoothing reach (3 sigma) stays 3 lmax from the sides.
@@ -447,16 +447,16 @@ TEST(EscapeProbability, SameResultForAnyThreadCount) {
   EscapeOptions options;
   options.walks = 8;
   options.maxProbes = 100;  // a stride over the 162 vertices
-  options.seed = 42;
-  options.threads = 1;
+  options.run.seed = 42;
+  options.run.threads = 1;
   const EscapeResult one = escape(sphere, material, options);
-  options.threads = 2;
+  options.run.threads = 2;
   const EscapeResult two = escape(sphere, material, options);
   EXPECT_EQ(one.probability, two.probability);
   EXPECT_EQ(one.relativeStdError, two.relativeStdError);
   EXPECT_EQ(one.meanScatteringEvents, two.meanScatteringEvents);
   // Another seed: other walks, the same probability within the standard errors.
-  options.seed = 43;
+  options.run.seed = 43;
   const EscapeResult other = escape(sphere, material, options);
   EXPECT_NE(other.probability, one.probability);
   const double se = std::hypot(channelStandardErrorBound(one), channelStandardErrorBound(other));
@@ -481,7 +481,7 @@ TEST(EscapeProbability, ReportedErrorMatchesSpreadOverSeeds) {
     std::vector<EscapeResult> runs;
     double reportedSq = 0.0;
     for (uint64_t seed = 1; seed <= 8; ++seed) {
-      options.seed = seed;
+      options.run.seed = seed;
       runs.push_back(escape(sphere, material, options));
       reportedSq += runs.back().relativeStdError * runs.back().relativeStdError / 8.0;
     }

@@ -57,7 +57,7 @@ std::vector<glm::vec3> diffuseExact(const TriangleMesh& mesh, const std::vector<
   const std::vector<float> areas = vertexAreas(mesh);
   DiffusionOptions options;
   options.method = DiffusionMethod::Exact;
-  options.quiet = true;
+  options.run.quiet = true;
   return diffuse({mesh.positions, mesh.normals, areas, e}, profile, options).exitance;
 }
 
@@ -71,7 +71,7 @@ std::vector<glm::vec3> diffuseExactEscape(const TriangleMesh& mesh, const std::v
   const EnergyPlan plan = planFiniteObjectEnergy(mesh, areas, m, energyOptions);
   DiffusionOptions options;
   options.method = DiffusionMethod::Exact;
-  options.quiet = true;
+  options.run.quiet = true;
   const DiffusionResult r =
       diffuseWithEnergy({mesh.positions, mesh.normals, areas, e}, profile, options, plan, m);
   return r.exitance;
@@ -91,7 +91,7 @@ TEST(FailureModes, ThinSlabDiffusionOverestimatesTheLitSide) {
   options.samples = 6000;
   options.vertices = {top, bottom};
   options.estimateRadiance = false;
-  options.quiet = true;
+  options.run.quiet = true;
   const PathTraceResult pt = pathTraceSubsurface(slab, light, marble, options);
   const std::vector<glm::vec3> e = irradiance(slab, light, marble);
   const auto dipole = makeProfile("dipole", marble);
@@ -131,7 +131,7 @@ PathTraceResult halfSpaceExit(int minScatteringOrder) {
   options.samples = 40000;
   options.vertices = {top};
   options.minScatteringOrder = minScatteringOrder;
-  options.quiet = true;
+  options.run.quiet = true;
   return pathTraceSubsurface(box.positions, box.normals, box.triangles, uniform, medium, options);
 }
 
@@ -179,7 +179,7 @@ double dipoleOverReference(int subdivisions, uint32_t vertices, int walks,
   PathTraceOptions options;
   options.samples = walks;
   options.estimateRadiance = false;
-  options.quiet = true;
+  options.run.quiet = true;
   for (uint32_t k = 0; k < vertices; ++k)
     options.vertices.push_back(uint32_t(k * sphere.positions.size() / vertices));
   const PathTraceResult pt = pathTraceSubsurface(sphere, uniform, marble, options);
@@ -234,7 +234,7 @@ TEST(FailureModes, SharpEdgesHoldUnderLightFromAbove) {
   PathTraceOptions options;
   options.samples = 4000;
   options.vertices = vertices;
-  options.quiet = true;
+  options.run.quiet = true;
   const PathTraceResult pt = pathTraceSubsurface(cube, light, marble, options);
   const std::vector<glm::vec3> e = irradiance(cube, light, marble);
   const auto dipole = makeProfile("dipole", marble);
@@ -279,10 +279,10 @@ TEST(FailureModes, StrongSunStandardErrorsAreHonest) {
   PathTraceOptions options;
   options.samples = 128;
   options.estimateRadiance = false;
-  options.quiet = true;
+  options.run.quiet = true;
   for (uint32_t k = 0; k < 64; ++k) options.vertices.push_back(k * 162 / 64);
   const PathTraceResult a = pathTraceSubsurface(sphere, sun, marble, options);
-  options.seed = 2;
+  options.run.seed = 2;
   const PathTraceResult b = pathTraceSubsurface(sphere, sun, marble, options);
   double z2 = 0.0, relSe = 0.0;
   for (std::size_t k = 0; k < options.vertices.size(); ++k) {

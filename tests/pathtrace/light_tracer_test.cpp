@@ -71,7 +71,7 @@ TEST(LightTracer, MatchesBackwardTracerUnderUniformLight) {
   PathTraceOptions po;
   po.samples = 1500;
   po.minScatteringOrder = 0;  // the light tracer counts every order
-  po.quiet = true;
+  po.run.quiet = true;
   // Entering over each vertex's facets: the faceted surface the light tracer sees. Entering at
   // the vertex through its smooth normal (the apex of a cone of facets, where light escapes more
   // easily) measures 1.4 %, 0.6 % and 4.6 % more than the facets' hat-weighted mean on this
@@ -167,11 +167,11 @@ TEST(LightTracer, UnscatteredAndScatteredLightAddUpToAllOfIt) {
   lo.paths = 400000;
   const LightTraceResult all = lightTrace(sphere, sun, medium, lo);
   lo.minScatteringOrder = 1;
-  lo.seed = 2;
+  lo.run.seed = 2;
   const LightTraceResult scattered = lightTrace(sphere, sun, medium, lo);
   lo.minScatteringOrder = 0;
   lo.unscatteredOnly = true;
-  lo.seed = 3;
+  lo.run.seed = 3;
   const LightTraceResult unscattered = lightTrace(sphere, sun, medium, lo);
   double chiB = 0.0, chiL = 0.0, unscatteredL = 0.0, totalL = 0.0;
   int dof = 0;
@@ -345,7 +345,7 @@ TEST(LightTracer, ReportedStandardErrorsMatchTheSpreadOverSeeds) {
   std::vector<glm::dvec3> sum(n, glm::dvec3(0.0)), sum2(n, glm::dvec3(0.0)),
       reported(n, glm::dvec3(0.0));
   for (int s = 0; s < kSeeds; ++s) {
-    lo.seed = 100 + s;
+    lo.run.seed = 100 + s;
     const LightTraceResult r = lightTrace(pit, sun, medium, lo);
     for (std::size_t v = 0; v < n; ++v) {
       const glm::dvec3 l(r.radiance[v]), se(r.radianceStdErr[v]);
@@ -371,9 +371,9 @@ TEST(LightTracer, SameResultForAnyThreadCount) {
   lo.paths = 4000;
   lo.batches = 8;
   const DistantLight light = DistantLight::disc({0.0f, 0.0f, 1.0f}, 0.1, glm::vec3(1.0f));
-  lo.threads = 1;
+  lo.run.threads = 1;
   const LightTraceResult one = lightTrace(sphere, light, medium, lo);
-  lo.threads = 3;
+  lo.run.threads = 3;
   const LightTraceResult three = lightTrace(sphere, light, medium, lo);
   EXPECT_EQ(one.exitance, three.exitance);
   EXPECT_EQ(one.radiance, three.radiance);

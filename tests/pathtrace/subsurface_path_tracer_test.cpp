@@ -108,7 +108,7 @@ TEST(PathTracer, HalfSpaceAlbedoMatchesChandrasekhar) {
   options.vertices = {static_cast<uint32_t>(top)};
   options.estimateRadiance = false;
   options.minScatteringOrder = 0;  // the whole albedo: with eta = 1 nothing reflects specularly
-  options.quiet = true;
+  options.run.quiet = true;
   const Cubemap uniform(8, glm::vec3(1.0f));
   const PathTraceResult r = traceMedium(box, uniform, medium, options);
   ASSERT_EQ(r.exitance.size(), 1u);
@@ -134,7 +134,7 @@ TEST(PathTracer, ConservesEnergyWithoutAbsorption) {
   medium.eta = 1.0;
   PathTraceOptions options;
   options.samples = 16;
-  options.quiet = true;
+  options.run.quiet = true;
   const Cubemap uniform(8, glm::vec3(1.0f));
   const PathTraceResult r = traceMedium(sphere, uniform, medium, options);
   double sum = 0.0;
@@ -158,7 +158,7 @@ TEST(PathTracer, ConservesEnergyThroughFresnelBoundary) {
   options.samples = 400;
   options.vertices = {0, 7, 40, 100};
   options.minScatteringOrder = 0;
-  options.quiet = true;
+  options.run.quiet = true;
   const Cubemap uniform(8, glm::vec3(1.0f));
   const PathTraceResult r = traceMedium(sphere, uniform, medium, options);
   const double entered = M_PI * (1.0 - diffuseFresnelReflectance(1.3f));
@@ -181,7 +181,7 @@ TEST(PathTracer, NoScatteringGivesNoSubsurfaceExitance) {
   medium.eta = 1.3;
   PathTraceOptions options;
   options.samples = 32;
-  options.quiet = true;
+  options.run.quiet = true;
   const Cubemap uniform(8, glm::vec3(1.0f));
   const PathTraceResult r = traceMedium(sphere, uniform, medium, options);
   for (std::size_t i = 0; i < sphere.positions.size(); ++i) {
@@ -205,12 +205,12 @@ TEST(PathTracer, SameResultForAnyThreadCountAndVertexSubset) {
   medium.g = 0.3;
   PathTraceOptions options;
   options.samples = 8;
-  options.seed = 42;
-  options.quiet = true;
+  options.run.seed = 42;
+  options.run.quiet = true;
   const Cubemap uniform(8, glm::vec3(0.5f, 1.0f, 2.0f));
-  options.threads = 1;
+  options.run.threads = 1;
   const PathTraceResult one = traceMedium(sphere, uniform, medium, options);
-  options.threads = 2;
+  options.run.threads = 2;
   const PathTraceResult two = traceMedium(sphere, uniform, medium, options);
   EXPECT_EQ(one.exitance, two.exitance);
   EXPECT_EQ(one.radiance, two.radiance);
@@ -239,7 +239,7 @@ TEST(PathTracer, HenyeyGreensteinFollowsTheSimilarityRelation) {
   options.samples = 20000;
   options.vertices = {static_cast<uint32_t>(top)};
   options.estimateRadiance = false;
-  options.quiet = true;
+  options.run.quiet = true;
   const Cubemap uniform(8, glm::vec3(1.0f));
   const PathTraceResult iso = traceMedium(box, uniform, isotropic, options);
   const PathTraceResult hg = traceMedium(box, uniform, forward, options);
@@ -256,7 +256,7 @@ TEST(PathTracer, WarnsWhenWalksAreLong) {
   PathTraceOptions options;
   options.samples = 1;
   options.vertices = {0};
-  options.quiet = true;
+  options.run.quiet = true;
   const Cubemap uniform(4, glm::vec3(1.0f));
   const PathTraceResult r = traceMedium(sphere, uniform, medium, options);
   ASSERT_FALSE(r.warnings.empty());
@@ -280,7 +280,7 @@ TEST(PathTracer, MaterialOverloadAndViewerDirection) {
   PathTraceOptions options;
   options.samples = 16;
   options.vertices = {3};
-  options.quiet = true;
+  options.run.quiet = true;
   const Cubemap env(8, glm::vec3(1.0f, 0.5f, 0.25f));
   const PathTraceResult a = pathTraceSubsurface(sphere, env, material, options);
   const PathTraceResult b = traceMedium(sphere, env, medium, options);
@@ -301,7 +301,7 @@ TEST(PathTracer, RejectsBadInput) {
   const Cubemap uniform(4, glm::vec3(1.0f));
   HomogeneousMedium medium;
   PathTraceOptions options;
-  options.quiet = true;
+  options.run.quiet = true;
   auto run = [&] { traceMedium(sphere, uniform, medium, options); };
   EXPECT_THROW(run(), Error);  // no extinction
   medium.sigmaS = glm::dvec3(1.0);

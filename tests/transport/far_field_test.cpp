@@ -47,7 +47,7 @@ std::vector<glm::vec3> entryWeightedIrradiance(const TriangleMesh& mesh, const C
   VisibilityOptions vis;
   vis.samples = samples;
   vis.entry = &weight;
-  vis.threads = threads;
+  vis.run.threads = threads;
   VisibilityReport visReport;
   transmittedIrradianceWithVisibility(mesh.positions, mesh.normals, mesh.triangles, env,
                                       float(m.eta), vis, &visReport);
@@ -85,8 +85,8 @@ Baked bakeWith(const TriangleMesh& mesh, const Cubemap& env, const Material& m, 
   const auto profile = makeProfile("dipole", m);
   DiffusionOptions d;
   d.method = DiffusionMethod::Exact;
-  d.quiet = true;
-  d.threads = threads;
+  d.run.quiet = true;
+  d.run.threads = threads;
   DiffusionResult r = diffuseWithEnergy({mesh.positions, mesh.normals, areas, e}, *profile, d, plan,
                                         m, far.exitance);
   const double nearNoise =
@@ -115,7 +115,7 @@ TEST(FarField, SunLitSphereUnlitHalfMatchesTheLightTracer) {
   const HomogeneousMedium medium = homogeneousMediumOf(skin);
   LightTraceOptions lo;
   lo.paths = 300000;
-  lo.seed = 99;  // independent of the far field's paths
+  lo.run.seed = 99;  // independent of the far field's paths
   const LightTraceResult ref =
       lightTraceSubsurface(sphere.positions, sphere.normals, sphere.triangles,
                            DistantLight::environment(env), medium, lo);
@@ -152,7 +152,7 @@ TEST(FarField, NearPartFollowsTheLightTracerUnderAHighSun) {
   const Cubemap env = sunEnvironment(sun);
   LightTraceOptions lo;
   lo.paths = 1000000;
-  lo.seed = 99;  // independent of the far field's paths
+  lo.run.seed = 99;  // independent of the far field's paths
   lo.minScatteringOrder = 1;
   const LightTraceResult ref =
       lightTraceSubsurface(sphere.positions, sphere.normals, sphere.triangles,
@@ -190,7 +190,7 @@ TEST(FarField, ExitLobeGivesTheRadianceLeavingAThinSlab) {
   const Cubemap env = sunEnvironment(sun);
   LightTraceOptions lo;
   lo.paths = 2000000;
-  lo.seed = 99;
+  lo.run.seed = 99;
   lo.minScatteringOrder = 1;  // the unscattered light leaves along the sun, outside the cone
   const LightTraceResult ref =
       lightTraceSubsurface(slab.positions, slab.normals, slab.triangles,

@@ -116,7 +116,7 @@ TEST(UnscatteredLight, KetchupSphereUnderASunMatchesTheLightTracer) {
   const Cubemap env = study::sunEnvironment(sun, 2.0, 64);
   LightTraceOptions lo;
   lo.paths = 400000;
-  lo.seed = study::kReferenceSeed;
+  lo.run.seed = study::kReferenceSeed;
   const LightTraceResult ref =
       lightTraceSubsurface(sphere.positions, sphere.normals, sphere.triangles,
                            DistantLight::environment(env), homogeneousMediumOf(ketchup), lo);

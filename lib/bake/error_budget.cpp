@@ -19,9 +19,11 @@ double leftOver(double tolerance, double s1, double e1, double s2, double e2) {
 
 double ErrorBudget::diffusionTolerance(bool escapeWalks, double walkError,
                                        std::optional<double> visibilityError) const {
+  // Without escape walks there is no walk error to leave room for, whatever the caller passes.
   const double walkShare = escapeWalks ? kWalkShare : 0.0;
-  if (!visibilityError) return leftOver(tolerance_, walkShare, walkError, 0.0, 0.0);
-  return leftOver(tolerance_, visibilityShare(escapeWalks), *visibilityError, walkShare, walkError);
+  const double walks = escapeWalks ? walkError : 0.0;
+  if (!visibilityError) return leftOver(tolerance_, walkShare, walks, 0.0, 0.0);
+  return leftOver(tolerance_, visibilityShare(escapeWalks), *visibilityError, walkShare, walks);
 }
 
 double ErrorBudget::total(double visibility, double diffusion, double walks) {

@@ -99,6 +99,16 @@ TEST(ErrorBudget, DiffusionToleranceFallsWithSpentErrorAndScalesWithTheTolerance
   }
 }
 
+// Without escape walks no walk error is spent, so a stray walk error leaves the rays' split as it
+// is: with the rays at 0.005 of a 0.01 tolerance, sqrt(0.01^2 - 0.005^2) whatever walkError says.
+TEST(ErrorBudget, WalkErrorCountsOnlyWithEscapeWalks) {
+  const ErrorBudget budget(0.01);
+  const double expected = std::sqrt(0.01 * 0.01 - 0.005 * 0.005);
+  EXPECT_NEAR(budget.diffusionTolerance(false, 0.006, 0.005), expected, 1e-15);
+  EXPECT_NEAR(budget.diffusionTolerance(false, 0.0, 0.005), expected, 1e-15);
+  EXPECT_LT(budget.diffusionTolerance(true, 0.006, 0.005), expected);
+}
+
 // Independent errors add in quadrature: total = sqrt(a^2 + b^2 + c^2) (3-4-12-13 is exact).
 TEST(ErrorBudget, TotalAddsIndependentErrorsInQuadrature) {
   EXPECT_NEAR(ErrorBudget::total(3.0, 4.0, 12.0), 13.0, 1e-12);

@@ -2,6 +2,7 @@
 // irradiance cubemap (mode none) and from visibility rays (mode rays), against the closed form of
 // a uniform sky, each other on a convex sphere, and the directional entry's weight under a sun.
 #include "bake/light_vertices.h"
+#include "support/small_sun.h"
 
 #include <gtest/gtest.h>
 
@@ -130,16 +131,6 @@ TEST(LightVertices, ForcedSamplesAreReportedAsForced) {
   EXPECT_EQ(lit.report.rays.budget, 0.01);
   const glm::dvec3 reference = uniformSkyIrradiance(static_cast<float>(s.material.eta));
   EXPECT_LT(maxRelativeDeviation(lit.irradiance, reference), 0.01);
-}
-
-// Black but for a sun of 1.8 degrees' radius towards `sun` (the texels within it).
-Cubemap smallSun(const glm::vec3& sun) {
-  Cubemap env(64, glm::vec3(0.0f));
-  for (int f = 0; f < 6; ++f)
-    for (int y = 0; y < 64; ++y)
-      for (int x = 0; x < 64; ++x)
-        if (glm::dot(env.direction(f, x, y), sun) > 0.9995f) env.at(f, x, y) = glm::vec3(1e3f);
-  return env;
 }
 
 // The directional entry weights each direction by w(mu) (directional_albedo_weight.h). At a vertex

@@ -4,6 +4,7 @@
 #include "lighting/facet_light.h"
 #include "lighting/unoccluded_intake.h"
 #include "lighting/visibility_noise_model.h"
+#include "support/small_sun.h"
 
 #include <gtest/gtest.h>
 
@@ -163,16 +164,6 @@ TEST(Visibility, ConvexSphereMatchesUnshadowedIrradiance) {
     EXPECT_LT(rms, 0.03);
     EXPECT_LT(rms, 1.5 * report.relativeStdError);
   }
-}
-
-// Black but for a sun of 1.8 degrees' radius (the texels within it) towards `sun`.
-Cubemap smallSun(const glm::vec3& sun) {
-  Cubemap env(64, glm::vec3(0.0f));
-  for (int f = 0; f < 6; ++f)
-    for (int y = 0; y < 64; ++y)
-      for (int x = 0; x < 64; ++x)
-        if (glm::dot(env.direction(f, x, y), sun) > 0.9995f) env.at(f, x, y) = glm::vec3(1e3f);
-  return env;
 }
 
 // The same sun over a sky whose radiance grows towards +y.

@@ -37,6 +37,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "core/relative_rms.h"
 #include "core/timer.h"
 #include "envmap/cubemap_io.h"
 #include "envmap/environment.h"
@@ -140,8 +141,8 @@ void printErrors(const char* name, const Cubemap& cube, const std::vector<glm::v
   }
   std::vector<glm::vec3> looked(probes.size());
   for (std::size_t i = 0; i < probes.size(); ++i) looked[i] = cube.sample(probes[i]);
-  std::printf("%s,%.6g,%.6g,%.6g,%.6g\n", name, relativeRmsError(texels, reference), worst, lowest,
-              relativeRmsError(looked, probeRef));
+  std::printf("%s,%.6g,%.6g,%.6g,%.6g\n", name, relativeRms(texels, reference), worst, lowest,
+              relativeRms(looked, probeRef));
 }
 
 int error(const std::string& env, const std::string& ours, const std::string& cmft) {
@@ -167,7 +168,7 @@ int orientation(const std::string& env, const std::string& cmft) {
   for (int f = 0; f < 6; ++f) {
     std::vector<glm::vec3> a(ours.data() + f * n * n, ours.data() + (f + 1) * n * n);
     std::vector<glm::vec3> b(theirs.data() + f * n * n, theirs.data() + (f + 1) * n * n);
-    std::printf("face %d: relative RMS %.4f\n", f, relativeRmsError(b, a));
+    std::printf("face %d: relative RMS %.4f\n", f, relativeRms(b, a));
   }
   return 0;
 }

@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "core/luminance.h"
 #include "core/random.h"
+#include "core/relative_rms.h"
 #include "irradiance/brute_force.h"
 #include "irradiance/irradiance.h"
 #include "optics/fresnel.h"
@@ -93,7 +94,7 @@ TEST(Irradiance, BruteForceEqualsTheDirectSum) {
     EXPECT_LT(brute.stats().clusters, env.texelCount());
     EXPECT_LE(brute.stats().estimatedError, 0.01);
     const std::vector<glm::vec3> dense = fibonacciSphere(3000);
-    EXPECT_LT(relativeRmsError(brute.at(dense), irradianceAtNormals(env, dense, eta)), 0.015);
+    EXPECT_LT(relativeRms(brute.at(dense), irradianceAtNormals(env, dense, eta)), 0.015);
   }
 }
 
@@ -248,7 +249,7 @@ TEST(EquirectIrradiance, SmallSunReportedErrorHoldsAndThreadsAgree) {
       irradianceAtNormals(RadianceGrid::fromEquirect(image, 1), normals, 1.0f);
   std::vector<glm::vec3> looked(normals.size());
   for (std::size_t i = 0; i < normals.size(); ++i) looked[i] = one.irradiance.sample(normals[i]);
-  const double actual = relativeRmsError(looked, exact);
+  const double actual = relativeRms(looked, exact);
   EXPECT_LE(actual, o.tolerance);
   EXPECT_LE(actual, 1.5 * one.estimatedError) << "reported " << one.estimatedError;
   for (std::size_t i = 0; i < one.irradiance.texelCount(); ++i) {

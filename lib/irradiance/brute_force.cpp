@@ -122,19 +122,15 @@ Terms texelTerms(const Cubemap& radiance) {
   const std::vector<float> omega = radiance.faceSolidAngles();
   Terms t;
   resizeTerms(t, radiance.texelCount(), 6);
-  for (int f = 0; f < 6; ++f) {
-    for (int y = 0; y < n; ++y) {
-      for (int x = 0; x < n; ++x) {
-        const std::size_t i = radiance.index(f, x, y);
-        const glm::vec3 w = radiance.direction(f, x, y);
-        const glm::vec3 l = radiance.at(f, x, y) * omega[y * n + x];
-        for (int k = 0; k < 3; ++k) {
-          t.a[k][i] = w[k];
-          t.a[3 + k][i] = l[k];
-        }
-      }
+  forEachTexel(n, [&](int f, int x, int y) {
+    const std::size_t i = radiance.index(f, x, y);
+    const glm::vec3 w = radiance.direction(f, x, y);
+    const glm::vec3 l = radiance.at(f, x, y) * omega[y * n + x];
+    for (int k = 0; k < 3; ++k) {
+      t.a[k][i] = w[k];
+      t.a[3 + k][i] = l[k];
     }
-  }
+  });
   return t;
 }
 
@@ -348,11 +344,9 @@ Cubemap BruteForceIrradiance::cubemap(int faceSize) const {
   if (faceSize <= 0) throw Error("irradiance face size must be positive");
   Cubemap cube(faceSize);
   std::vector<glm::vec3> normals(cube.texelCount());
-  for (int f = 0; f < 6; ++f) {
-    for (int y = 0; y < faceSize; ++y) {
-      for (int x = 0; x < faceSize; ++x) normals[cube.index(f, x, y)] = cube.direction(f, x, y);
-    }
-  }
+  forEachTexel(faceSize, [&](int f, int x, int y) {
+    normals[cube.index(f, x, y)] = cube.direction(f, x, y);
+  });
   const std::vector<glm::vec3> values = at(normals);
   std::copy(values.begin(), values.end(), cube.data());
   return cube;

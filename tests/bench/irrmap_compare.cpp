@@ -104,28 +104,21 @@ Cubemap readDdsCubemap(const std::string& path) {
 Cubemap mirroredInZ(const Cubemap& cube) {
   const int n = cube.size();
   Cubemap out(n);
-  for (int f = 0; f < 6; ++f) {
-    for (int y = 0; y < n; ++y) {
-      for (int x = 0; x < n; ++x) {
-        const glm::vec3 d = out.direction(f, x, y);
-        const CubeCoord c = Cubemap::project(glm::vec3(d.x, d.y, -d.z));
-        const int sx = std::min(n - 1, static_cast<int>(c.s * n));
-        const int sy = std::min(n - 1, static_cast<int>(c.t * n));
-        out.at(f, x, y) = cube.at(c.face, sx, sy);
-      }
-    }
-  }
+  forEachTexel(n, [&](int f, int x, int y) {
+    const glm::vec3 d = out.direction(f, x, y);
+    const CubeCoord c = Cubemap::project(glm::vec3(d.x, d.y, -d.z));
+    const int sx = std::min(n - 1, static_cast<int>(c.s * n));
+    const int sy = std::min(n - 1, static_cast<int>(c.t * n));
+    out.at(f, x, y) = cube.at(c.face, sx, sy);
+  });
   return out;
 }
 
 std::vector<glm::vec3> texelDirections(int n) {
   const Cubemap cube(n);
   std::vector<glm::vec3> dirs(cube.texelCount());
-  for (int f = 0; f < 6; ++f) {
-    for (int y = 0; y < n; ++y) {
-      for (int x = 0; x < n; ++x) dirs[cube.index(f, x, y)] = cube.direction(f, x, y);
-    }
-  }
+  forEachTexel(n,
+               [&](int f, int x, int y) { dirs[cube.index(f, x, y)] = cube.direction(f, x, y); });
   return dirs;
 }
 

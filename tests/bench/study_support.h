@@ -28,11 +28,10 @@ namespace sss::study {
 inline Cubemap sunEnvironment(const glm::vec3& towardsSun, double radiusDeg, int faceSize) {
   Cubemap env(faceSize, glm::vec3(0.0f));
   const float cosRadius = float(std::cos(radiusDeg * M_PI / 180.0));
-  for (int f = 0; f < 6; ++f)
-    for (int y = 0; y < faceSize; ++y)
-      for (int x = 0; x < faceSize; ++x)
-        if (glm::dot(env.direction(f, x, y), towardsSun) >= cosRadius)
-          env.at(f, x, y) = glm::vec3(1000.0f);
+  forEachTexel(faceSize, [&](int f, int x, int y) {
+    if (glm::dot(env.direction(f, x, y), towardsSun) >= cosRadius)
+      env.at(f, x, y) = glm::vec3(1000.0f);
+  });
   return env;
 }
 

@@ -37,14 +37,10 @@ TEST(SampleEnvironments, ShOrderTwoWithinRamamoorthiHanrahanError) {
     const SphericalHarmonics sh =
         SphericalHarmonics::project(radiance, 2).convolved(TransmittedCosineKernel(1.0f));
     double flux = 0.0;
-    for (int f = 0; f < 6; ++f) {
-      for (int y = 0; y < radiance.size(); ++y) {
-        for (int x = 0; x < radiance.size(); ++x) {
-          flux += glm::dot(radiance.at(f, x, y), glm::vec3(0.2126f, 0.7152f, 0.0722f)) *
-                  radiance.solidAngle(f, x, y);
-        }
-      }
-    }
+    forEachTexel(radiance.size(), [&](int f, int x, int y) {
+      flux += glm::dot(radiance.at(f, x, y), glm::vec3(0.2126f, 0.7152f, 0.0722f)) *
+              radiance.solidAngle(f, x, y);
+    });
     double sumError = 0.0, maxError = 0.0, maxE = 0.0;
     for (std::size_t i = 0; i < normals.size(); ++i) {
       const double e = glm::dot(exact[i], glm::vec3(0.2126f, 0.7152f, 0.0722f));

@@ -25,10 +25,9 @@ namespace {
 // A sky gradient plus a small bright blob (a sun): both shadow edges and texel sampling noise.
 Cubemap sunAndSky(int size) {
   Cubemap env(size);
-  for (int f = 0; f < 6; ++f)
-    for (int y = 0; y < size; ++y)
-      for (int x = 0; x < size; ++x)
-        env.at(f, x, y) = glm::vec3(0.4f, 0.6f, 1.0f) * (1.2f + env.direction(f, x, y).y);
+  forEachTexel(size, [&](int f, int x, int y) {
+    env.at(f, x, y) = glm::vec3(0.4f, 0.6f, 1.0f) * (1.2f + env.direction(f, x, y).y);
+  });
   const int c = size / 2;
   for (int y = c; y < c + 2; ++y)
     for (int x = c - 3; x < c - 1; ++x)

@@ -142,11 +142,18 @@ Json toJson(const TransportReport& r) {
   return j;
 }
 
+// The entries a traced stage (far field, unscattered light) opens with: the mode asked for,
+// whether it traced and why, and its time.
+template <class Report, class Names>
+Json tracedStageJson(const Report& r, const Names& names) {
+  return {{"requested", names.name(r.requested)},
+          {"traced", r.traced},
+          {"reason", r.reason},
+          {"seconds", r.seconds}};
+}
+
 Json toJson(const FarFieldReport& r) {
-  Json j = {{"requested", kFarFieldModeNames.name(r.requested)},
-            {"traced", r.traced},
-            {"reason", r.reason},
-            {"seconds", r.seconds}};
+  Json j = tracedStageJson(r, kFarFieldModeNames);
   if (r.requested == FarFieldMode::Off || r.windowMm == glm::dvec3(0.0)) return j;
   j["sensitivity"] = r.sensitivity;
   j["near_window_mm"] = toJson(r.windowMm);
@@ -161,10 +168,7 @@ Json toJson(const FarFieldReport& r) {
 }
 
 Json toJson(const UnscatteredLightReport& r) {
-  Json j = {{"requested", kUnscatteredModeNames.name(r.requested)},
-            {"traced", r.traced},
-            {"reason", r.reason},
-            {"seconds", r.seconds}};
+  Json j = tracedStageJson(r, kUnscatteredModeNames);
   if (r.requested == UnscatteredMode::Off) return j;
   j["share"] = r.share;
   if (!r.traced) return j;

@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "core/format.h"
-#include "core/luminance.h"
+#include "core/relative_rms.h"
 #include "core/timer.h"
 #include "core/tool.h"
 #include "mesh/triangle_mesh.h"
@@ -13,21 +13,6 @@
 namespace sss {
 
 namespace {
-
-// Root mean square over vertices of |stderr| / |value| in luminance, for vertices with light.
-double relativeRms(const std::vector<glm::vec3>& value, const std::vector<glm::vec3>& stdErr) {
-  double sum = 0.0;
-  std::size_t count = 0;
-  for (std::size_t i = 0; i < value.size() && i < stdErr.size(); ++i) {
-    const double y = luminance(glm::dvec3(value[i]));
-    const double e = luminance(glm::dvec3(stdErr[i]));
-    if (y > 0.0) {
-      sum += (e / y) * (e / y);
-      ++count;
-    }
-  }
-  return count ? std::sqrt(sum / static_cast<double>(count)) : 0.0;
-}
 
 std::vector<glm::vec3> pathTrace(const TransportInput& in, TransportReport& report) {
   PathTraceOptions options;
@@ -42,7 +27,7 @@ std::vector<glm::vec3> pathTrace(const TransportInput& in, TransportReport& repo
   r.truncatedWalks = result.truncatedWalks;
   r.escapedWalks = result.escapedWalks;
   r.warnings = result.warnings;
-  report.estimatedError = relativeRms(result.exitance, result.exitanceStdErr);
+  report.estimatedError = rmsOfRelativeLuminance(result.exitance, result.exitanceStdErr);
   return std::move(result.exitance);
 }
 

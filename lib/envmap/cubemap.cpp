@@ -123,33 +123,25 @@ Cubemap Cubemap::resized(int faceSize) const {
   if (size_ % faceSize == 0) {
     // Box filter weighted by texel solid angle, so the flux of each output texel is kept.
     const int k = size_ / faceSize;
-    for (int f = 0; f < 6; ++f) {
-      for (int y = 0; y < faceSize; ++y) {
-        for (int x = 0; x < faceSize; ++x) {
-          glm::dvec3 flux(0.0);
-          double omega = 0.0;
-          for (int j = 0; j < k; ++j) {
-            for (int i = 0; i < k; ++i) {
-              const double w = solidAngle(f, x * k + i, y * k + j);
-              flux += w * glm::dvec3(at(f, x * k + i, y * k + j));
-              omega += w;
-            }
-          }
-          out.at(f, x, y) = glm::vec3(flux / omega);
+    forEachTexel(faceSize, [&](int f, int x, int y) {
+      glm::dvec3 flux(0.0);
+      double omega = 0.0;
+      for (int j = 0; j < k; ++j) {
+        for (int i = 0; i < k; ++i) {
+          const double w = solidAngle(f, x * k + i, y * k + j);
+          flux += w * glm::dvec3(at(f, x * k + i, y * k + j));
+          omega += w;
         }
       }
-    }
+      out.at(f, x, y) = glm::vec3(flux / omega);
+    });
     return out;
   }
   const int k = std::max(2, (2 * size_ + faceSize - 1) / faceSize);
-  for (int f = 0; f < 6; ++f) {
-    for (int y = 0; y < faceSize; ++y) {
-      for (int x = 0; x < faceSize; ++x) {
-        out.at(f, x, y) = averageOverTexel<glm::vec3>(
-            f, x, y, faceSize, k, [this](const glm::vec3& d) { return sample(d); });
-      }
-    }
-  }
+  forEachTexel(faceSize, [&](int f, int x, int y) {
+    out.at(f, x, y) = averageOverTexel<glm::vec3>(f, x, y, faceSize, k,
+                                                  [this](const glm::vec3& d) { return sample(d); });
+  });
   return out;
 }
 

@@ -16,6 +16,15 @@ namespace sss {
 
 enum class CubeFace : int { PosX = 0, NegX, PosY, NegY, PosZ, NegZ };
 
+// Calls f(face, x, y) for every texel of a cubemap of face size `size`, in storage order: face by
+// face, row y by row, column x by column. Sums over texels taken in it keep their rounding.
+template <typename F>
+void forEachTexel(int size, F&& f) {
+  for (int face = 0; face < 6; ++face)
+    for (int y = 0; y < size; ++y)
+      for (int x = 0; x < size; ++x) f(face, x, y);
+}
+
 // Where a direction hits the cube: face and (s, t) in [0, 1]^2 on it.
 struct CubeCoord {
   int face;

@@ -81,24 +81,16 @@ Cubemap cubeOrCrossToCubemap(const ImageRgb& image, EnvironmentLayout layout) {
   } else if (image.width > image.height) {  // horizontal cross
     const int n = image.width / 4;
     cube = Cubemap(n);
-    for (int f = 0; f < 6; ++f) {
-      for (int y = 0; y < n; ++y) {
-        for (int x = 0; x < n; ++x) {
-          cube.at(f, x, y) = image.at(kCrossCol[f] * n + x, kCrossRow[f] * n + y);
-        }
-      }
-    }
+    forEachTexel(n, [&](int f, int x, int y) {
+      cube.at(f, x, y) = image.at(kCrossCol[f] * n + x, kCrossRow[f] * n + y);
+    });
   } else {  // vertical cross: as the horizontal one, but -Z below -Y, turned by 180 degrees
     const int n = image.width / 3;
     cube = Cubemap(n);
-    for (int f = 0; f < 6; ++f) {
-      for (int y = 0; y < n; ++y) {
-        for (int x = 0; x < n; ++x) {
-          cube.at(f, x, y) = f == 5 ? image.at(2 * n - 1 - x, 4 * n - 1 - y)
-                                    : image.at(kCrossCol[f] * n + x, kCrossRow[f] * n + y);
-        }
-      }
-    }
+    forEachTexel(n, [&](int f, int x, int y) {
+      cube.at(f, x, y) = f == 5 ? image.at(2 * n - 1 - x, 4 * n - 1 - y)
+                                : image.at(kCrossCol[f] * n + x, kCrossRow[f] * n + y);
+    });
   }
   return cube;
 }
@@ -137,13 +129,9 @@ ImageRgb cubemapToCross(const Cubemap& cubemap) {
   image.width = 4 * n;
   image.height = 3 * n;
   image.pixels.assign(static_cast<std::size_t>(image.width) * image.height, glm::vec3(0.0f));
-  for (int f = 0; f < 6; ++f) {
-    for (int y = 0; y < n; ++y) {
-      for (int x = 0; x < n; ++x) {
-        image.at(kCrossCol[f] * n + x, kCrossRow[f] * n + y) = cubemap.at(f, x, y);
-      }
-    }
-  }
+  forEachTexel(n, [&](int f, int x, int y) {
+    image.at(kCrossCol[f] * n + x, kCrossRow[f] * n + y) = cubemap.at(f, x, y);
+  });
   return image;
 }
 

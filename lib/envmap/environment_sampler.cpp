@@ -17,17 +17,12 @@ std::vector<double> texelWeights(const Cubemap& radiance, double& total) {
   const int n = radiance.size();
   std::vector<double> weight(radiance.texelCount());
   total = 0.0;
-  for (int face = 0; face < 6; ++face) {
-    for (int y = 0; y < n; ++y) {
-      for (int x = 0; x < n; ++x) {
-        const std::size_t i = radiance.index(face, x, y);
-        const double w = std::max(0.0f, luminance(radiance.at(face, x, y))) *
-                         static_cast<double>(radiance.solidAngle(face, x, y));
-        weight[i] = w;
-        total += w;
-      }
-    }
-  }
+  forEachTexel(n, [&](int face, int x, int y) {
+    const double w = std::max(0.0f, luminance(radiance.at(face, x, y))) *
+                     static_cast<double>(radiance.solidAngle(face, x, y));
+    weight[radiance.index(face, x, y)] = w;
+    total += w;
+  });
   return weight;
 }
 

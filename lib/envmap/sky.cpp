@@ -144,24 +144,19 @@ void addSun(Cubemap& cube, const glm::dvec3& sun, double radius, const glm::dvec
   const glm::dvec3 sunRadiance = sunIrradiance / sunSolidAngle;
   const int ks = 8;
   const double cosRadius = std::cos(radius);
-  for (int f = 0; f < 6; ++f) {
-    for (int y = 0; y < faceSize; ++y) {
-      for (int x = 0; x < faceSize; ++x) {
-        if (glm::dot(glm::dvec3(cube.direction(f, x, y)), sun) <
-            std::cos(radius + 2.0 * texelAngle))
-          continue;
-        int inside = 0;
-        for (int j = 0; j < ks; ++j) {
-          for (int i = 0; i < ks; ++i) {
-            const glm::dvec3 w = glm::normalize(glm::dvec3(Cubemap::unproject(
-                f, (x + (i + 0.5f) / ks) / faceSize, (y + (j + 0.5f) / ks) / faceSize)));
-            inside += glm::dot(w, sun) >= cosRadius;
-          }
-        }
-        cube.at(f, x, y) += glm::vec3(sunRadiance * (inside / double(ks * ks)));
+  forEachTexel(faceSize, [&](int f, int x, int y) {
+    if (glm::dot(glm::dvec3(cube.direction(f, x, y)), sun) < std::cos(radius + 2.0 * texelAngle))
+      return;
+    int inside = 0;
+    for (int j = 0; j < ks; ++j) {
+      for (int i = 0; i < ks; ++i) {
+        const glm::dvec3 w = glm::normalize(glm::dvec3(Cubemap::unproject(
+            f, (x + (i + 0.5f) / ks) / faceSize, (y + (j + 0.5f) / ks) / faceSize)));
+        inside += glm::dot(w, sun) >= cosRadius;
       }
     }
-  }
+    cube.at(f, x, y) += glm::vec3(sunRadiance * (inside / double(ks * ks)));
+  });
 }
 
 double parseNumber(const std::string& key, const std::string& value) {

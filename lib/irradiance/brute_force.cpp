@@ -10,6 +10,7 @@
 #include "core/luminance.h"
 #include "core/parallel.h"
 #include "core/progress.h"
+#include "core/relative_rms.h"
 #include "irradiance/radiance_grid.h"
 
 namespace sss {
@@ -55,9 +56,8 @@ inline void fresnelFactor(const TransmittedCosineKernel& kernel, const v8& mu, v
 }
 
 // sum_j k(n . w_j) (L dw)_j over terms [begin, end) for one normal.
-SSS_AVX2_CLONES glm::vec3 sumTexels(
-    const Terms& t, std::size_t begin, std::size_t end, const glm::vec3& n,
-    const TransmittedCosineKernel* fresnel) {
+SSS_AVX2_CLONES glm::vec3 sumTexels(const Terms& t, std::size_t begin, std::size_t end,
+                                    const glm::vec3& n, const TransmittedCosineKernel* fresnel) {
   const v8 zero = {};
   v8 sr = zero, sg = zero, sb = zero;
   for (std::size_t j = begin; j < end; j += kLanes) {
@@ -76,9 +76,8 @@ SSS_AVX2_CLONES glm::vec3 sumTexels(
 }
 
 // sum_c max(0, n . V_c) F_t(n . d) over clusters [begin, end) for one normal.
-SSS_AVX2_CLONES glm::vec3 sumClusters(
-    const Terms& t, std::size_t begin, std::size_t end, const glm::vec3& n,
-    const TransmittedCosineKernel* fresnel) {
+SSS_AVX2_CLONES glm::vec3 sumClusters(const Terms& t, std::size_t begin, std::size_t end,
+                                      const glm::vec3& n, const TransmittedCosineKernel* fresnel) {
   const v8 zero = {};
   v8 s[3] = {zero, zero, zero};
   for (std::size_t j = begin; j < end; j += kLanes) {
@@ -123,19 +122,15 @@ Terms texelTerms(const Cubemap& radiance) {
   const std::vector<float> omega = radiance.faceSolidAngles();
   Terms t;
   resizeTerms(t, radiance.texelCount(), 6);
-  for (int f = 0; f < 6; ++f) {
-    for (int y = 0; y < n; ++y) {
-      for (int x = 0; x < n; ++x) {
-        const std::size_t i = radiance.index(f, x, y);
-        const glm::vec3 w = radiance.direction(f, x, y);
-        const glm::vec3 l = radiance.at(f, x, y) * omega[y * n + x];
-        for (int k = 0; k < 3; ++k) {
-          t.a[k][i] = w[k];
-          t.a[3 + k][i] = l[k];
-        }
-      }
+  forEachTexel(n, [&](int f, int x, int y) {
+    const std::size_t i = radiance.index(f, x, y);
+    const glm::vec3 w = radiance.direction(f, x, y);
+    const glm::vec3 l = radiance.at(f, x, y) * omega[y * n + x];
+    for (int k = 0; k < 3; ++k) {
+      t.a[k][i] = w[k];
+      t.a[3 + k][i] = l[k];
     }
-  }
+  });
   return t;
 }
 
@@ -256,18 +251,6 @@ std::vector<glm::vec3> fibonacciSphere(int count) {
   return dirs;
 }
 
-double relativeRmsError(const std::vector<glm::vec3>& approx,
-                        const std::vector<glm::vec3>& reference) {
-  if (approx.size() != reference.size()) throw Error("relativeRmsError: size mismatch");
-  double num = 0.0, den = 0.0;
-  for (std::size_t i = 0; i < approx.size(); ++i) {
-    const glm::dvec3 d = glm::dvec3(approx[i]) - glm::dvec3(reference[i]);
-    num += glm::dot(d, d);
-    den += glm::dot(glm::dvec3(reference[i]), glm::dvec3(reference[i]));
-  }
-  return den > 0.0 ? std::sqrt(num / den) : (num > 0.0 ? INFINITY : 0.0);
-}
-
 std::vector<glm::vec3> irradianceAtNormals(const Cubemap& radiance,
                                            const std::vector<glm::vec3>& normals, float eta,
                                            int threads) {
@@ -295,8 +278,8 @@ BruteForceIrradiance::BruteForceIrradiance(const Cubemap& radiance,
   }
   std::vector<glm::vec3> ownReference;
   if (options.probeNormals && !options.probeReference) {
-    ownReference = irradianceAtNormals(radiance, *options.probeNormals, options.eta,
-                                       options.threads);
+    ownReference =
+        irradianceAtNormals(radiance, *options.probeNormals, options.eta, options.threads);
     options_.probeReference = &ownReference;
   }
   buildToTolerance(RadianceGrid::fromCubemap(radiance));
@@ -337,7 +320,7 @@ void BruteForceIrradiance::buildToTolerance(const RadianceGrid& grid) {
     terms_ = clusterTerms(cut);
     stats_.clusters = cut.size();
     stats_.refinements = round;
-    stats_.estimatedError = relativeRmsError(at(*probes), *reference);
+    stats_.estimatedError = relativeRms(at(*probes), *reference);
     if (stats_.estimatedError <= options_.tolerance || cut.size() >= grid.cellCount() ||
         round == 12) {
       break;
@@ -361,11 +344,9 @@ Cubemap BruteForceIrradiance::cubemap(int faceSize) const {
   if (faceSize <= 0) throw Error("irradiance face size must be positive");
   Cubemap cube(faceSize);
   std::vector<glm::vec3> normals(cube.texelCount());
-  for (int f = 0; f < 6; ++f) {
-    for (int y = 0; y < faceSize; ++y) {
-      for (int x = 0; x < faceSize; ++x) normals[cube.index(f, x, y)] = cube.direction(f, x, y);
-    }
-  }
+  forEachTexel(faceSize, [&](int f, int x, int y) {
+    normals[cube.index(f, x, y)] = cube.direction(f, x, y);
+  });
   const std::vector<glm::vec3> values = at(normals);
   std::copy(values.begin(), values.end(), cube.data());
   return cube;

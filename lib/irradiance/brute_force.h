@@ -86,8 +86,4 @@ std::vector<glm::vec3> irradianceAtNormals(const RadianceGrid& grid,
 // Evenly spread unit vectors (spherical Fibonacci lattice), for error estimates on the sphere.
 std::vector<glm::vec3> fibonacciSphere(int count);
 
-// Relative RMS error over samples of equal weight: sqrt(sum |a - r|^2 / sum |r|^2) (RGB norms).
-double relativeRmsError(const std::vector<glm::vec3>& approx,
-                        const std::vector<glm::vec3>& reference);
-
 }  // namespace sss

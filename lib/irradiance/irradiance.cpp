@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "core/format.h"
+#include "core/relative_rms.h"
 #include "core/timer.h"
 #include "irradiance/brute_force.h"
 
@@ -60,7 +61,7 @@ SphericalHarmonics useSh(IrradianceResult& result, const SphericalHarmonics& rad
   result.irradianceSh = result.radianceSh.convolved(kernel, window);
   result.method = IrradianceMethod::Sh;
   result.shOrder = order;
-  error = relativeRmsError(evaluateSh(result.irradianceSh, probes.normals), probes.reference);
+  error = relativeRms(evaluateSh(result.irradianceSh, probes.normals), probes.reference);
   return result.irradianceSh;
 }
 
@@ -138,14 +139,14 @@ void buildCubemap(const IrradianceOptions& o, const Probes& probes, Build build,
   if (o.faceSize > 0) {
     result.irradiance = build(o.faceSize);
     result.estimatedError =
-        relativeRmsError(sampleCubemap(result.irradiance, probes.normals), probes.reference);
+        relativeRms(sampleCubemap(result.irradiance, probes.normals), probes.reference);
   } else {
     for (int size : kAutoFaceSizes) {
       // Tolerance 0 cannot be met by interpolation: go straight to the largest size.
       if (o.tolerance <= 0.0 && size != kAutoFaceSizes[std::size(kAutoFaceSizes) - 1]) continue;
       result.irradiance = build(size);
       result.estimatedError =
-          relativeRmsError(sampleCubemap(result.irradiance, probes.normals), probes.reference);
+          relativeRms(sampleCubemap(result.irradiance, probes.normals), probes.reference);
       if (result.estimatedError <= o.tolerance) break;
     }
     result.reason += "; face size " + std::to_string(result.irradiance.size());

@@ -33,15 +33,11 @@ RadianceGrid RadianceGrid::fromCubemap(const Cubemap& radiance) {
   grid.sourceTexels_ = radiance.texelCount();
   grid.cells_.assign(grid.cellCount() * kValues, 0.0f);
   const std::vector<float> omega = radiance.faceSolidAngles();
-  for (int f = 0; f < 6; ++f) {
-    for (int y = 0; y < n; ++y) {
-      for (int x = 0; x < n; ++x) {
-        // Centre direction times solid angle, as the exact sum over texels has it.
-        addMoment(radiance.direction(f, x, y) * omega[y * n + x], radiance.at(f, x, y),
-                  omega[y * n + x], &grid.cells_[radiance.index(f, x, y) * kValues]);
-      }
-    }
-  }
+  forEachTexel(n, [&](int f, int x, int y) {
+    // Centre direction times solid angle, as the exact sum over texels has it.
+    addMoment(radiance.direction(f, x, y) * omega[y * n + x], radiance.at(f, x, y),
+              omega[y * n + x], &grid.cells_[radiance.index(f, x, y) * kValues]);
+  });
   grid.buildTables();
   return grid;
 }

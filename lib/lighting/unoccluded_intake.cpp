@@ -64,10 +64,10 @@ std::vector<SourceTexel> sourceTexels(const Cubemap& radiance, int size) {
     texels.push_back({map.direction(f, x, y), l * solidAngle});
     return true;
   };
-  const auto addFace = [&](const Cubemap& map, const std::vector<float>& solidAngles, int f) {
-    for (int y = 0; y < map.size(); ++y)
-      for (int x = 0; x < map.size(); ++x)
-        addTexel(map, solidAngles[std::size_t(y) * map.size() + x], f, x, y);
+  const auto addAll = [&](const Cubemap& map, const std::vector<float>& solidAngles) {
+    forEachTexel(map.size(), [&](int f, int x, int y) {
+      addTexel(map, solidAngles[std::size_t(y) * map.size() + x], f, x, y);
+    });
   };
   if (radiance.size() < size) {
     // A coarse environment is piecewise constant over texels as wide as 20 degrees (the studies'
@@ -76,16 +76,14 @@ std::vector<SourceTexel> sourceTexels(const Cubemap& radiance, int size) {
     // k x k of the same radiance.
     const int k = (size + radiance.size() - 1) / radiance.size();
     Cubemap split(radiance.size() * k);
-    for (int f = 0; f < 6; ++f)
-      for (int y = 0; y < split.size(); ++y)
-        for (int x = 0; x < split.size(); ++x) split.at(f, x, y) = radiance.at(f, x / k, y / k);
-    const std::vector<float> angles = split.faceSolidAngles();
-    for (int f = 0; f < 6; ++f) addFace(split, angles, f);
+    forEachTexel(split.size(),
+                 [&](int f, int x, int y) { split.at(f, x, y) = radiance.at(f, x / k, y / k); });
+    addAll(split, split.faceSolidAngles());
     return texels;
   }
   const std::vector<float> fineAngles = radiance.faceSolidAngles();
   if (radiance.size() == size) {
-    for (int f = 0; f < 6; ++f) addFace(radiance, fineAngles, f);
+    addAll(radiance, fineAngles);
     return texels;
   }
   // The sharp texels: those of most flux (luminance times solid angle).
@@ -104,8 +102,7 @@ std::vector<SourceTexel> sourceTexels(const Cubemap& radiance, int size) {
     if (addTexel(radiance, fineAngles[i % perFace], f, x, y)) rest.at(f, x, y) = glm::vec3(0.0f);
   }
   const Cubemap coarse = rest.resized(size);
-  const std::vector<float> coarseAngles = coarse.faceSolidAngles();
-  for (int f = 0; f < 6; ++f) addFace(coarse, coarseAngles, f);
+  addAll(coarse, coarse.faceSolidAngles());
   return texels;
 }
 

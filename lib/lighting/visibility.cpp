@@ -13,6 +13,7 @@
 #include "core/parallel.h"
 #include "core/progress.h"
 #include "core/random.h"
+#include "core/relative_rms.h"
 #include "core/timer.h"
 #include "envmap/environment_sampler.h"
 #include "lighting/facet_light.h"
@@ -80,15 +81,10 @@ FullPass traceAllVertices(std::size_t vertexCount, int samples, const Visibility
 
 // Root mean square of the lit vertices' relative variances.
 double rmsRelativeStdError(const std::vector<float>& relativeVariance) {
-  double sum = 0.0;
-  std::size_t lit = 0;
-  for (float r : relativeVariance) {
-    if (r >= 0.0f) {
-      sum += r;
-      ++lit;
-    }
-  }
-  return lit > 0 ? std::sqrt(sum / static_cast<double>(lit)) : 0.0;
+  MeanSquare lit;
+  for (float r : relativeVariance)
+    if (r >= 0.0f) lit.add(r);
+  return lit.rms();
 }
 
 }  // namespace

@@ -127,25 +127,34 @@ void put(std::string& out, T value) {
   out.append(bytes, sizeof(T));
 }
 
-}  // namespace
-
-void writeBakedPly(const std::string& path, const BakedMesh& baked) {
-  checkBakedMesh(path, baked);
-  const TriangleMesh& mesh = baked.mesh;
-  const std::size_t nv = mesh.positions.size();
+// The names that go into the header as text: one word, one line each.
+void checkHeaderText(const std::string& path, const BakedMesh& baked) {
   if (baked.materialName.find_first_of(" \t\r\n=") != std::string::npos) {
     fail(path, "material name '" + baked.materialName + "' contains a space or '='");
   }
   for (const std::string& c : baked.extraComments) {
     if (c.find_first_of("\r\n") != std::string::npos) fail(path, "comment spans several lines");
   }
-  const bool hasE = !baked.irradiance.empty(), hasB = !baked.exitance.empty();
-  const bool hasL = !baked.radianceNormal.empty();
-  const bool hasFar = !baked.farExitance.empty();
-  const double scale = previewScaleFor(baked);
+}
 
-  std::string out;
-  out += "ply\nformat binary_little_endian 1.0\n";
+// Which optional per-vertex values the file carries.
+struct BakedFields {
+  explicit BakedFields(const BakedMesh& baked)
+      : irradiance(!baked.irradiance.empty()),
+        exitance(!baked.exitance.empty()),
+        radianceNormal(!baked.radianceNormal.empty()),
+        farField(!baked.farExitance.empty()) {}
+  bool irradiance, exitance, radianceNormal, farField;
+  // Bytes of one vertex record: position and normal, then the optional fields in order.
+  std::size_t vertexBytes() const {
+    return 24 + (irradiance ? 12 : 0) + (exitance ? 15 : 0) + (radianceNormal ? 12 : 0) +
+           (farField ? 24 : 0);
+  }
+};
+
+// The "comment sss" lines: format version, material, scale and flags, then the caller's.
+void appendComments(std::string& out, const BakedMesh& baked, const BakedFields& fields,
+                    double scale) {
   out += "comment sss format=" + std::to_string(kFormatVersion) + "\n";
   if (!baked.materialName.empty()) {
     out += "comment sss material=" + baked.materialName + "\n";
@@ -154,69 +163,99 @@ void writeBakedPly(const std::string& path, const BakedMesh& baked) {
     out += "comment sss eta=" + number(baked.eta) + "\n";
   }
   out += "comment sss mm_per_unit=" + number(baked.mmPerUnit) + "\n";
-  if (hasB) out += "comment sss preview_scale=" + number(scale) + "\n";
+  if (fields.exitance) out += "comment sss preview_scale=" + number(scale) + "\n";
   if (baked.meshChecked) out += "comment sss checked=1\n";
   if (baked.unscatteredTraced) out += "comment sss unscattered=1\n";
   for (const std::string& c : baked.extraComments) out += "comment " + c + "\n";
-  out += "element vertex " + std::to_string(nv) + "\n";
+}
+
+// The vertex element's properties, in the order appendVertex writes them.
+void appendVertexProperties(std::string& out, std::size_t vertices, const BakedFields& fields) {
+  out += "element vertex " + std::to_string(vertices) + "\n";
   for (const char* p : {"x", "y", "z", "nx", "ny", "nz"})
     out += std::string("property float ") + p + "\n";
-  if (hasE)
+  if (fields.irradiance)
     out +=
         "property float irradiance_r\nproperty float irradiance_g\nproperty float irradiance_b\n";
-  if (hasB) {
+  if (fields.exitance) {
     out += "property float exitance_r\nproperty float exitance_g\nproperty float exitance_b\n";
     out += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
   }
-  if (hasL)
+  if (fields.radianceNormal)
     out +=
         "property float radiance_normal_r\nproperty float radiance_normal_g\n"
         "property float radiance_normal_b\n";
-  if (hasFar)
+  if (fields.farField)
     out +=
         "property float far_exitance_r\nproperty float far_exitance_g\n"
         "property float far_exitance_b\nproperty float far_exit_slope_r\n"
         "property float far_exit_slope_g\nproperty float far_exit_slope_b\n";
-  out += "element face " + std::to_string(mesh.triangles.size()) + "\n";
-  out += "property list uchar int vertex_indices\nend_header\n";
+}
 
-  const std::size_t vertexBytes =
-      24 + (hasE ? 12 : 0) + (hasB ? 15 : 0) + (hasL ? 12 : 0) + (hasFar ? 24 : 0);
-  out.reserve(out.size() + nv * vertexBytes + mesh.triangles.size() * 13);
-  for (std::size_t i = 0; i < nv; ++i) {
-    for (int k = 0; k < 3; ++k) put(out, mesh.positions[i][k]);
-    for (int k = 0; k < 3; ++k) put(out, mesh.normals[i][k]);
-    if (hasE) {
-      for (int k = 0; k < 3; ++k) put(out, baked.irradiance[i][k]);
-    }
-    if (hasB) {
-      for (int k = 0; k < 3; ++k) put(out, baked.exitance[i][k]);
-      for (int k = 0; k < 3; ++k) {
-        put(out, srgb8(static_cast<float>(scale * baked.exitance[i][k])));
-      }
-    }
-    if (hasL) {
-      for (int k = 0; k < 3; ++k) put(out, baked.radianceNormal[i][k]);
-    }
-    if (hasFar) {
-      for (int k = 0; k < 3; ++k) put(out, baked.farExitance[i][k]);
-      for (int k = 0; k < 3; ++k) put(out, baked.farExitSlope[i][k]);
+// Vertex i's record: floats, and the exitance's 8-bit sRGB preview colour at `scale`.
+void appendVertex(std::string& out, const BakedMesh& baked, const BakedFields& fields, double scale,
+                  std::size_t i) {
+  for (int k = 0; k < 3; ++k) put(out, baked.mesh.positions[i][k]);
+  for (int k = 0; k < 3; ++k) put(out, baked.mesh.normals[i][k]);
+  if (fields.irradiance) {
+    for (int k = 0; k < 3; ++k) put(out, baked.irradiance[i][k]);
+  }
+  if (fields.exitance) {
+    for (int k = 0; k < 3; ++k) put(out, baked.exitance[i][k]);
+    for (int k = 0; k < 3; ++k) {
+      put(out, srgb8(static_cast<float>(scale * baked.exitance[i][k])));
     }
   }
-  for (const glm::uvec3& t : mesh.triangles) {
+  if (fields.radianceNormal) {
+    for (int k = 0; k < 3; ++k) put(out, baked.radianceNormal[i][k]);
+  }
+  if (fields.farField) {
+    for (int k = 0; k < 3; ++k) put(out, baked.farExitance[i][k]);
+    for (int k = 0; k < 3; ++k) put(out, baked.farExitSlope[i][k]);
+  }
+}
+
+// Triangles as PLY lists: a count of 3, then three int32 indices.
+void appendFaces(std::string& out, const std::vector<glm::uvec3>& triangles) {
+  for (const glm::uvec3& t : triangles) {
     put(out, static_cast<unsigned char>(3));
     for (int k = 0; k < 3; ++k) put(out, static_cast<std::int32_t>(t[k]));
   }
+}
 
+// The whole file at once, through a temporary renamed into place: a reader never sees half.
+void writeAtomically(const std::string& path, const std::string& bytes) {
   AtomicOutput output(path);
   {
     std::ofstream file(output.tempPath(), std::ios::binary);
     if (!file) fail(path, "cannot create output file");
-    file.write(out.data(), static_cast<std::streamsize>(out.size()));
+    file.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
     file.close();
     if (!file) fail(path, "write failed (disk full?)");
   }
   output.commit();
+}
+
+}  // namespace
+
+void writeBakedPly(const std::string& path, const BakedMesh& baked) {
+  checkBakedMesh(path, baked);
+  checkHeaderText(path, baked);
+  const TriangleMesh& mesh = baked.mesh;
+  const std::size_t nv = mesh.positions.size();
+  const BakedFields fields(baked);
+  const double scale = previewScaleFor(baked);
+
+  std::string out = "ply\nformat binary_little_endian 1.0\n";
+  appendComments(out, baked, fields, scale);
+  appendVertexProperties(out, nv, fields);
+  out += "element face " + std::to_string(mesh.triangles.size()) + "\n";
+  out += "property list uchar int vertex_indices\nend_header\n";
+
+  out.reserve(out.size() + nv * fields.vertexBytes() + mesh.triangles.size() * 13);
+  for (std::size_t i = 0; i < nv; ++i) appendVertex(out, baked, fields, scale, i);
+  appendFaces(out, mesh.triangles);
+  writeAtomically(path, out);
 }
 
 namespace {

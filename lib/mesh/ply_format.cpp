@@ -297,86 +297,112 @@ class Reader {
     return value;
   }
 
-  void readElement(const Element& e, PlyMesh& mesh) {
-    const bool isVertex = e.name == "vertex";
-    const bool isFace = e.name == "face";
-    // Where each property goes: 0..5 = x y z nx ny nz, 6 = other scalar, 7 = face indices,
-    // 8 = skipped.
-    std::vector<int> role(e.properties.size(), 8);
-    std::vector<std::vector<float>*> scalars(e.properties.size(), nullptr);
-    static const char* const kVertexNames[] = {"x", "y", "z", "nx", "ny", "nz"};
-    bool hasNormal[3] = {false, false, false};
+  // Where each property of an element goes: 0..5 = x y z nx ny nz, then these.
+  static constexpr int kScalar = 6;   // another vertex scalar, kept by name
+  static constexpr int kIndices = 7;  // the face's vertex index list
+  static constexpr int kSkipped = 8;
+
+  struct Roles {
+    std::vector<int> role;
+    std::vector<std::vector<float>*> scalars;  // kScalar's destination, per property
     bool hasPosition[3] = {false, false, false};
+    bool hasNormal[3] = {false, false, false};
     bool hasIndices = false;
+    bool normals() const { return hasNormal[0] && hasNormal[1] && hasNormal[2]; }
+  };
+
+  Roles assignRoles(const Element& e) const {
+    static const char* const kVertexNames[] = {"x", "y", "z", "nx", "ny", "nz"};
+    Roles r;
+    r.role.assign(e.properties.size(), kSkipped);
+    r.scalars.assign(e.properties.size(), nullptr);
     for (std::size_t i = 0; i < e.properties.size(); ++i) {
       const Property& p = e.properties[i];
-      if (isVertex && !p.isList) {
-        role[i] = 6;
+      if (e.name == "vertex" && !p.isList) {
+        r.role[i] = kScalar;
         for (int k = 0; k < 6; ++k) {
-          if (p.name == kVertexNames[k]) role[i] = k;
+          if (p.name == kVertexNames[k]) r.role[i] = k;
         }
-        if (role[i] < 3) hasPosition[role[i]] = true;
-        if (role[i] >= 3 && role[i] < 6) hasNormal[role[i] - 3] = true;
-      } else if (isFace && p.isList && (p.name == "vertex_indices" || p.name == "vertex_index")) {
+        if (r.role[i] < 3) r.hasPosition[r.role[i]] = true;
+        if (r.role[i] >= 3 && r.role[i] < 6) r.hasNormal[r.role[i] - 3] = true;
+      } else if (e.name == "face" && p.isList &&
+                 (p.name == "vertex_indices" || p.name == "vertex_index")) {
         if (!isInteger(p.type)) error("PLY face indices must be integers");
-        if (hasIndices) error("PLY face element has two index lists");
-        role[i] = 7;
-        hasIndices = true;
+        if (r.hasIndices) error("PLY face element has two index lists");
+        r.role[i] = kIndices;
+        r.hasIndices = true;
       }
     }
-    const bool normals = hasNormal[0] && hasNormal[1] && hasNormal[2];
-    if (isVertex) {
-      if (!(hasPosition[0] && hasPosition[1] && hasPosition[2])) {
-        error("PLY vertex element lacks x, y or z");
+    return r;
+  }
+
+  // Sizes the mesh's vertex arrays; a lone normal component becomes a scalar.
+  void prepareVertices(const Element& e, Roles& r, PlyMesh& mesh) const {
+    if (!(r.hasPosition[0] && r.hasPosition[1] && r.hasPosition[2])) {
+      error("PLY vertex element lacks x, y or z");
+    }
+    if (e.count > std::numeric_limits<std::uint32_t>::max()) error("too many vertices");
+    if (!mesh.positions.empty()) error("PLY file has two vertex elements");
+    const bool normals = r.normals();
+    mesh.positions.resize(e.count);
+    if (normals) mesh.normals.resize(e.count);
+    for (std::size_t i = 0; i < e.properties.size(); ++i) {
+      if (r.role[i] >= 3 && r.role[i] < 6 && !normals) r.role[i] = kScalar;
+      if (r.role[i] == kScalar) {
+        r.scalars[i] = &mesh.vertexScalars[e.properties[i].name];
+        r.scalars[i]->resize(e.count);
       }
-      if (e.count > std::numeric_limits<std::uint32_t>::max()) error("too many vertices");
-      if (!mesh.positions.empty()) error("PLY file has two vertex elements");
-      mesh.positions.resize(e.count);
-      if (normals) mesh.normals.resize(e.count);
-      for (std::size_t i = 0; i < e.properties.size(); ++i) {
-        if (role[i] >= 3 && role[i] < 6 && !normals) role[i] = 6;  // a lone nx: keep as scalar
-        if (role[i] == 6) {
-          scalars[i] = &mesh.vertexScalars[e.properties[i].name];
-          scalars[i]->resize(e.count);
+    }
+  }
+
+  void prepareFaces(const Element& e, const Roles& r, PlyMesh& mesh) const {
+    if (!r.hasIndices) error("PLY face element has no vertex_indices list");
+    if (!mesh.faceSizes.empty()) error("PLY file has two face elements");
+    mesh.faceSizes.reserve(e.count);
+    mesh.faceCorners.reserve(e.count * 3);
+  }
+
+  // List property p of item `item`: its entries are face indices (role kIndices) or skipped.
+  void readList(const Element& e, const Property& p, int role, std::uint64_t item, PlyMesh& mesh) {
+    const Value count = readValue(p.countType, e, item);
+    if (count.integer < 0) error("negative list length in " + e.name);
+    for (std::int64_t k = 0; k < count.integer; ++k) {
+      const Value v = readValue(p.type, e, item);
+      if (role == kIndices) {
+        if (v.integer < 0 || v.integer > std::numeric_limits<std::uint32_t>::max()) {
+          error("face " + std::to_string(item) + " has vertex index " + std::to_string(v.integer) +
+                " out of range");
         }
+        mesh.faceCorners.push_back(static_cast<std::uint32_t>(v.integer));
       }
     }
-    if (isFace) {
-      if (!hasIndices) error("PLY face element has no vertex_indices list");
-      if (!mesh.faceSizes.empty()) error("PLY file has two face elements");
-      mesh.faceSizes.reserve(e.count);
-      mesh.faceCorners.reserve(e.count * 3);
-    }
-    for (std::uint64_t item = 0; item < e.count; ++item) {
-      for (std::size_t i = 0; i < e.properties.size(); ++i) {
-        const Property& p = e.properties[i];
-        if (p.isList) {
-          const Value count = readValue(p.countType, e, item);
-          if (count.integer < 0) error("negative list length in " + e.name);
-          for (std::int64_t k = 0; k < count.integer; ++k) {
-            const Value v = readValue(p.type, e, item);
-            if (role[i] == 7) {
-              if (v.integer < 0 || v.integer > std::numeric_limits<std::uint32_t>::max()) {
-                error("face " + std::to_string(item) + " has vertex index " +
-                      std::to_string(v.integer) + " out of range");
-              }
-              mesh.faceCorners.push_back(static_cast<std::uint32_t>(v.integer));
-            }
-          }
-          if (role[i] == 7) mesh.faceSizes.push_back(static_cast<std::uint32_t>(count.integer));
-          continue;
-        }
-        const Value v = readValue(p.type, e, item);
-        const int r = role[i];
-        if (r < 3) {
-          mesh.positions[item][r] = static_cast<float>(v.real);
-        } else if (r < 6) {
-          mesh.normals[item][r - 3] = static_cast<float>(v.real);
-        } else if (r == 6) {
-          (*scalars[i])[item] = static_cast<float>(v.real);
-        }
+    if (role == kIndices) mesh.faceSizes.push_back(static_cast<std::uint32_t>(count.integer));
+  }
+
+  void readItem(const Element& e, const Roles& r, std::uint64_t item, PlyMesh& mesh) {
+    for (std::size_t i = 0; i < e.properties.size(); ++i) {
+      const Property& p = e.properties[i];
+      if (p.isList) {
+        readList(e, p, r.role[i], item, mesh);
+        continue;
+      }
+      const Value v = readValue(p.type, e, item);
+      const int role = r.role[i];
+      if (role < 3) {
+        mesh.positions[item][role] = static_cast<float>(v.real);
+      } else if (role < 6) {
+        mesh.normals[item][role - 3] = static_cast<float>(v.real);
+      } else if (role == kScalar) {
+        (*r.scalars[i])[item] = static_cast<float>(v.real);
       }
     }
+  }
+
+  void readElement(const Element& e, PlyMesh& mesh) {
+    Roles roles = assignRoles(e);
+    if (e.name == "vertex") prepareVertices(e, roles, mesh);
+    if (e.name == "face") prepareFaces(e, roles, mesh);
+    for (std::uint64_t item = 0; item < e.count; ++item) readItem(e, roles, item, mesh);
   }
 
   std::string path_;

@@ -53,9 +53,9 @@ class EscapeWalker {
   // One walk for channel c entering at point x of triangle `start` (unit face normal n).
   WalkOutcome walk(const glm::vec3& x, const glm::vec3& n, uint32_t start, int c,
                    Pcg32& rng) const {
-    glm::vec3 wo = sampleCosineHemisphere(n, rng);
+    glm::vec3 wo = sampleCosineHemispherePolar(n, rng);
     while (rng.uniformDouble() >= fresnelTransmittance(glm::dot(wo, n), eta_))
-      wo = sampleCosineHemisphere(n, rng);
+      wo = sampleCosineHemispherePolar(n, rng);
     const glm::vec3 inward = refractDirection(-wo, -n, 1.0f / eta_);
     return walkInside(x - scene_.epsilon() * n, inward, start, c, rng);
   }

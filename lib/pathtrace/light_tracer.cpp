@@ -50,15 +50,7 @@ DistantLight::Sample DistantLight::sample(double u1, double u2) const {
     return {s.direction, glm::dvec3(s.radiance) / double(s.pdf)};
   }
   // Uniform in the cone's solid angle: L / pdf = L * Omega = the irradiance, for every sample.
-  const double cosTheta = 1.0 - u1 * (1.0 - cosRadius_);
-  const double sinTheta = std::sqrt(std::max(0.0, 1.0 - cosTheta * cosTheta));
-  const double phi = 2.0 * M_PI * u2;
-  glm::vec3 b1, b2;
-  orthonormalBasis(axis_, b1, b2);
-  const glm::vec3 d =
-      glm::normalize(float(sinTheta * std::cos(phi)) * b1 + float(sinTheta * std::sin(phi)) * b2 +
-                     float(cosTheta) * axis_);
-  return {d, irradiance_};
+  return {sampleUniformCone(axis_, cosRadius_, u1, u2), irradiance_};
 }
 
 namespace {

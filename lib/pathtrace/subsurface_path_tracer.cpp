@@ -158,10 +158,10 @@ class VertexTracer {
       MediumWalkStats stats;
       if (options_.entry == WalkEntry::OneRing && oneRing_.hasSurface(uint32_t(i))) {
         const SurfacePoint entry = oneRing_.sample(uint32_t(i), rng);
-        const glm::vec3 wo = fixedWo ? *fixedWo : sampleCosineHemisphere(entry.normal, rng);
+        const glm::vec3 wo = fixedWo ? *fixedWo : sampleCosineHemispherePolar(entry.normal, rng);
         value = walkFrom(entry.position, kNoStartVertex, entry.normal, wo, rng, stats);
       } else {
-        const glm::vec3 wo = fixedWo ? *fixedWo : sampleCosineHemisphere(normal, rng);
+        const glm::vec3 wo = fixedWo ? *fixedWo : sampleCosineHemispherePolar(normal, rng);
         value = walkFrom(positions_[i], uint32_t(i), normal, wo, rng, stats);
       }
       counts.events += stats.events;
@@ -203,7 +203,8 @@ void VertexTracer::warnOfLongWalks(PathTraceResult& result) const {
     const glm::vec3 normal = glm::normalize(normals_[i]);
     for (std::size_t s = 0; s < kPilotWalks / probes; ++s, ++walks) {
       MediumWalkStats stats;
-      walkFrom(positions_[i], uint32_t(i), normal, sampleCosineHemisphere(normal, rng), rng, stats);
+      walkFrom(positions_[i], uint32_t(i), normal, sampleCosineHemispherePolar(normal, rng), rng,
+               stats);
       events += stats.events;
     }
   }

@@ -16,6 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/relative_rms.h"
 #include "envmap/cubemap_io.h"
 #include "lighting/visibility_noise_model.h"
 #include "mesh/baked_mesh.h"
@@ -247,14 +248,8 @@ TEST_F(BakeTool, InterreflectionBrightensAPit) {
     litPit += lit.baked.irradiance[v].g;
   }
   EXPECT_GT(litPit, 1.15 * darkPit);  // marble: 1.43x measured
-  double num = 0.0, den = 0.0, litSquares = 0.0;
-  for (std::size_t v = 0; v < box.positions.size(); ++v)
-    for (int c = 0; c < 3; ++c) {
-      num += std::pow(double(lit.baked.exitance[v][c]) - dark.baked.exitance[v][c], 2);
-      den += std::pow(double(dark.baked.exitance[v][c]), 2);
-      litSquares += std::pow(double(lit.baked.exitance[v][c]), 2);
-    }
-  const double change = std::sqrt(num / den);
+  // What the bounces changed, against B without them.
+  const double change = relativeRms(lit.baked.exitance, dark.baked.exitance);
   EXPECT_GT(change, 0.02);
   EXPECT_NEAR(missing / change, 1.0, 0.35) << missing << " against " << change;
   // The model error's interreflection term: its weight times the share of the radiance the
@@ -264,7 +259,8 @@ TEST_F(BakeTool, InterreflectionBrightensAPit) {
     return j["estimated_error"]["model"]["interreflection"].get<double>();
   };
   EXPECT_EQ(modelTerm(report0), 0.0);
-  EXPECT_NEAR(modelTerm(report), kInterreflectionWeight * std::sqrt(num / litSquares),
+  EXPECT_NEAR(modelTerm(report),
+              kInterreflectionWeight * relativeRms(dark.baked.exitance, lit.baked.exitance),
               0.02 * modelTerm(report));
   // With bounces the interreflection term is the gather's noise and what the bounces not done
   // would add (interreflection_test measures both): small against the light the bounces added.

@@ -46,6 +46,7 @@
 #include "bake/error_budget.h"
 #include "bench/interior_segment_guard.h"
 #include "core/error.h"
+#include "core/relative_rms.h"
 #include "core/timer.h"
 #include "diffusion/diffusion.h"
 #include "envmap/environment.h"
@@ -91,49 +92,31 @@ double sq(double x) {
   return x * x;
 }
 
-// Normalized RMS of a - b over the evaluated vertices; noise: the reference's SE, same norm.
+// Relative RMS of values against the reference over the evaluated vertices (core/relative_rms.h,
+// pooled); noise: the reference's SE in the same norm.
 struct ErrorPair {
   double raw, noise, corrected, bias;  // bias: sum(values) / sum(reference) - 1
   double shape;  // corrected error after the best global scale (least squares): the error
                  // that is not energy
 };
-ErrorPair relativeRms(const std::vector<glm::vec3>& values, const Reference& ref,
-                      const std::vector<glm::vec3>& refValues,
-                      const std::vector<glm::vec3>& refSe) {
-  double num = 0, den = 0, noise = 0, sum = 0, refSum = 0;
-  for (std::size_t k = 0; k < ref.vertices.size(); ++k) {
+ErrorPair errorPair(const std::vector<glm::vec3>& values, const std::vector<glm::vec3>& refValues,
+                    const std::vector<glm::vec3>& refSe) {
+  const RelativeRmsSums sums = relativeRmsSums(values, refValues, refSe);
+  double sum = 0, refSum = 0, vv = 0, vr = 0;
+  for (std::size_t k = 0; k < refValues.size(); ++k)
     for (int c = 0; c < 3; ++c) {
       sum += values[k][c];
       refSum += refValues[k][c];
-      num += sq(values[k][c] - refValues[k][c]);
-      den += sq(refValues[k][c]);
-      noise += sq(refSe[k][c]);
-    }
-  }
-  double vv = 0, vr = 0;
-  for (std::size_t k = 0; k < ref.vertices.size(); ++k)
-    for (int c = 0; c < 3; ++c) {
       vv += sq(values[k][c]);
       vr += double(values[k][c]) * refValues[k][c];
     }
   const double scale = vv > 0 ? vr / vv : 1.0;
-  double scaled = 0;
-  for (std::size_t k = 0; k < ref.vertices.size(); ++k)
-    for (int c = 0; c < 3; ++c) scaled += sq(scale * values[k][c] - refValues[k][c]);
-  const double raw = std::sqrt(num / den), nz = std::sqrt(noise / den);
-  const double shapeRaw = std::sqrt(scaled / den);
-  return {raw, nz, std::sqrt(std::max(0.0, raw * raw - nz * nz)), sum / refSum - 1.0,
-          std::sqrt(std::max(0.0, shapeRaw * shapeRaw - nz * nz))};
-}
-
-double relativeRmsAll(const std::vector<glm::vec3>& a, const std::vector<glm::vec3>& b) {
-  double num = 0, den = 0;
-  for (std::size_t i = 0; i < a.size(); ++i)
-    for (int c = 0; c < 3; ++c) {
-      num += sq(a[i][c] - b[i][c]);
-      den += sq(b[i][c]);
-    }
-  return std::sqrt(num / den);
+  RelativeRmsSums shapeSums = sums;  // the same reference and noise, the scaled error
+  shapeSums.error = 0.0;
+  for (std::size_t k = 0; k < refValues.size(); ++k)
+    for (int c = 0; c < 3; ++c) shapeSums.error += sq(scale * values[k][c] - refValues[k][c]);
+  return {sums.ratio(), sums.relativeNoise(), sums.noiseRemoved(), sum / refSum - 1.0,
+          shapeSums.noiseRemoved()};
 }
 
 // Half-space totals: a thick box, uniform radiance 1, the top centre vertex. The Monte Carlo
@@ -230,7 +213,7 @@ void predictedAgainstMeasured(const Scene& scene, const Reference& ref, int visi
                             visibilitySamples, outDir + "/" + scene.name + ".ply");
   std::vector<glm::vec3> l;
   for (uint32_t v : ref.vertices) l.push_back(out.baked.radianceNormal[v]);
-  const ErrorPair err = relativeRms(l, ref, ref.radiance, ref.radianceSe);
+  const ErrorPair err = errorPair(l, ref.radiance, ref.radianceSe);
   const double measured = err.corrected;
   const BakeErrorReport& e = out.report.errors;
   char line[256];
@@ -320,9 +303,9 @@ void sceneStudy(const Scene& scene, int walks, int visibilitySamples, WalkEntry 
       lEval.push_back(calibrated ? (b[v] - x) * calibratedExit + x * normalizedExit
                                  : b[v] * normalizedExit);
     }
-    const ErrorPair errL = relativeRms(lEval, ref, ref.radiance, ref.radianceSe);
-    const ErrorPair errB = relativeRms(bEval, ref, ref.exitance, ref.exitanceSe);
-    const double vsExact = exact ? relativeRmsAll(b, *exact) : 0.0;
+    const ErrorPair errL = errorPair(lEval, ref.radiance, ref.radianceSe);
+    const ErrorPair errB = errorPair(bEval, ref.exitance, ref.exitanceSe);
+    const double vsExact = exact ? relativeRms(b, *exact) : 0.0;
     char line[512];
     std::snprintf(
         line, sizeof line,

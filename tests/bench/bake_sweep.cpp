@@ -22,6 +22,7 @@
 #include <glm/common.hpp>
 
 #include "bake/bake.h"
+#include "core/relative_rms.h"
 #include "core/timer.h"
 #include "diffusion/diffusion.h"
 #include "envmap/environment.h"
@@ -32,21 +33,7 @@
 #include "mesh/load_mesh.h"
 #include "mesh/triangle_mesh.h"
 
-namespace {
-
-// sqrt(sum |B - R|^2 / sum |R|^2) over vertices and channels.
-double relativeRms(const std::vector<glm::vec3>& b, const std::vector<glm::vec3>& reference) {
-  double num = 0.0, den = 0.0;
-  for (std::size_t i = 0; i < b.size(); ++i) {
-    for (int c = 0; c < 3; ++c) {
-      num += (double(b[i][c]) - reference[i][c]) * (double(b[i][c]) - reference[i][c]);
-      den += double(reference[i][c]) * reference[i][c];
-    }
-  }
-  return std::sqrt(num / den);
-}
-
-}  // namespace
+using sss::relativeRms;
 
 int main(int argc, char** argv) {
   std::string out = "bake_sweep.csv", visibilityOut, envName = "forest";

@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "core/relative_rms.h"
 #include "diffusion/diffusion.h"
 #include "material/dipole_profile.h"
 #include "material/material.h"
@@ -90,16 +91,6 @@ const std::vector<glm::vec3>& reference(Scene& s) {
     s.referenceName = kDiffusionMethodNames.name(method);
   }
   return s.reference;
-}
-
-double relativeRms(const std::vector<glm::vec3>& a, const std::vector<glm::vec3>& b) {
-  double num = 0, den = 0;
-  for (std::size_t i = 0; i < a.size(); ++i)
-    for (int c = 0; c < 3; ++c) {
-      const double d = a[i][c] - b[i][c];
-      num += d * d, den += double(b[i][c]) * b[i][c];
-    }
-  return std::sqrt(num / den);
 }
 
 void benchDiffusion(benchmark::State& state, std::string mesh, DiffusionMethod method,

@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 #include <vector>
 
+#include "core/relative_rms.h"
 #include "diffusion/diffusion.h"
 #include "material/dipole_profile.h"
 #include "material/material.h"
@@ -63,14 +64,9 @@ int main() {
                                      DiffusionMethod::Hierarchical, DiffusionMethod::Incremental}) {
         if (method == DiffusionMethod::Exact && l.mesh.vertexCount() > 3000) continue;
         const std::vector<glm::vec3> b = run(l, profile, method, 0.01);
-        double num = 0, den = 0;
-        for (std::size_t i = 0; i < b.size(); ++i)
-          for (int c = 0; c < 3; ++c) {
-            const double d = b[i][c] - reference[i][c];
-            num += d * d, den += double(reference[i][c]) * reference[i][c];
-          }
         std::printf("%s,%d,%zu,%.4g,%.4g,%s,%.5g\n", name, level, b.size(), spacing,
-                    spacing / minMfp, kDiffusionMethodNames.name(method), std::sqrt(num / den));
+                    spacing / minMfp, kDiffusionMethodNames.name(method),
+                    relativeRms(b, std::span(reference).first(b.size())));
         std::fflush(stdout);
       }
     }

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "core/relative_rms.h"
 #include "core/timer.h"
 #include "envmap/environment.h"
 #include "irradiance/brute_force.h"
@@ -61,7 +62,7 @@ int main(int argc, char** argv) {
     auto record = [&](const char* method, double parameter, Timing t, const Cubemap& e) {
       std::vector<glm::vec3> looked(probes.size());
       for (std::size_t k = 0; k < probes.size(); ++k) looked[k] = e.sample(probes[k]);
-      const double error = relativeRmsError(looked, exact);
+      const double error = relativeRms(looked, exact);
       std::fprintf(csv, "%s,%s,%g,%d,%.3f,%.3f,%.6g\n", name.c_str(), method, parameter, e.size(),
                    t.wallMs, t.cpuMs, error);
       std::fflush(csv);

@@ -37,6 +37,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "core/relative_rms.h"
 #include "core/timer.h"
 #include "envmap/cubemap_io.h"
 #include "envmap/environment.h"
@@ -103,28 +104,21 @@ Cubemap readDdsCubemap(const std::string& path) {
 Cubemap mirroredInZ(const Cubemap& cube) {
   const int n = cube.size();
   Cubemap out(n);
-  for (int f = 0; f < 6; ++f) {
-    for (int y = 0; y < n; ++y) {
-      for (int x = 0; x < n; ++x) {
-        const glm::vec3 d = out.direction(f, x, y);
-        const CubeCoord c = Cubemap::project(glm::vec3(d.x, d.y, -d.z));
-        const int sx = std::min(n - 1, static_cast<int>(c.s * n));
-        const int sy = std::min(n - 1, static_cast<int>(c.t * n));
-        out.at(f, x, y) = cube.at(c.face, sx, sy);
-      }
-    }
-  }
+  forEachTexel(n, [&](int f, int x, int y) {
+    const glm::vec3 d = out.direction(f, x, y);
+    const CubeCoord c = Cubemap::project(glm::vec3(d.x, d.y, -d.z));
+    const int sx = std::min(n - 1, static_cast<int>(c.s * n));
+    const int sy = std::min(n - 1, static_cast<int>(c.t * n));
+    out.at(f, x, y) = cube.at(c.face, sx, sy);
+  });
   return out;
 }
 
 std::vector<glm::vec3> texelDirections(int n) {
   const Cubemap cube(n);
   std::vector<glm::vec3> dirs(cube.texelCount());
-  for (int f = 0; f < 6; ++f) {
-    for (int y = 0; y < n; ++y) {
-      for (int x = 0; x < n; ++x) dirs[cube.index(f, x, y)] = cube.direction(f, x, y);
-    }
-  }
+  forEachTexel(n,
+               [&](int f, int x, int y) { dirs[cube.index(f, x, y)] = cube.direction(f, x, y); });
   return dirs;
 }
 
@@ -140,8 +134,8 @@ void printErrors(const char* name, const Cubemap& cube, const std::vector<glm::v
   }
   std::vector<glm::vec3> looked(probes.size());
   for (std::size_t i = 0; i < probes.size(); ++i) looked[i] = cube.sample(probes[i]);
-  std::printf("%s,%.6g,%.6g,%.6g,%.6g\n", name, relativeRmsError(texels, reference), worst, lowest,
-              relativeRmsError(looked, probeRef));
+  std::printf("%s,%.6g,%.6g,%.6g,%.6g\n", name, relativeRms(texels, reference), worst, lowest,
+              relativeRms(looked, probeRef));
 }
 
 int error(const std::string& env, const std::string& ours, const std::string& cmft) {
@@ -167,7 +161,7 @@ int orientation(const std::string& env, const std::string& cmft) {
   for (int f = 0; f < 6; ++f) {
     std::vector<glm::vec3> a(ours.data() + f * n * n, ours.data() + (f + 1) * n * n);
     std::vector<glm::vec3> b(theirs.data() + f * n * n, theirs.data() + (f + 1) * n * n);
-    std::printf("face %d: relative RMS %.4f\n", f, relativeRmsError(b, a));
+    std::printf("face %d: relative RMS %.4f\n", f, relativeRms(b, a));
   }
   return 0;
 }

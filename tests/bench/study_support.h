@@ -16,6 +16,7 @@
 
 #include "bake/bake.h"
 #include "bake/bake_settings.h"
+#include "core/relative_rms.h"
 #include "envmap/cubemap.h"
 #include "mesh/load_mesh.h"
 #include "mesh/triangle_mesh.h"
@@ -27,11 +28,10 @@ namespace sss::study {
 inline Cubemap sunEnvironment(const glm::vec3& towardsSun, double radiusDeg, int faceSize) {
   Cubemap env(faceSize, glm::vec3(0.0f));
   const float cosRadius = float(std::cos(radiusDeg * M_PI / 180.0));
-  for (int f = 0; f < 6; ++f)
-    for (int y = 0; y < faceSize; ++y)
-      for (int x = 0; x < faceSize; ++x)
-        if (glm::dot(env.direction(f, x, y), towardsSun) >= cosRadius)
-          env.at(f, x, y) = glm::vec3(1000.0f);
+  forEachTexel(faceSize, [&](int f, int x, int y) {
+    if (glm::dot(env.direction(f, x, y), towardsSun) >= cosRadius)
+      env.at(f, x, y) = glm::vec3(1000.0f);
+  });
   return env;
 }
 
@@ -84,32 +84,18 @@ inline BakeOutput bakeAtDefaults(const TriangleMesh& mesh, const Material& mater
   return out;
 }
 
-// Relative RMS over vertices and channels of a - ref, the reference's noise (se) removed:
-// sqrt(max(0, sum (a - ref)^2 - sum se^2) / sum ref^2); over the vertices `only` marks, if given.
+// Relative RMS of a against ref, the reference's noise (se) removed (core/relative_rms.h,
+// relativeRmsNoiseRemoved); over the vertices `only` marks, if given.
 inline double relativeRmsAgainst(const std::vector<glm::vec3>& a, const std::vector<glm::vec3>& ref,
                                  const std::vector<glm::vec3>& se,
                                  const std::vector<char>* only = nullptr) {
-  double num = 0.0, den = 0.0, noise = 0.0;
-  for (std::size_t v = 0; v < a.size(); ++v)
-    for (int c = 0; c < 3; ++c) {
-      if (only && !(*only)[v]) continue;
-      num += (double(a[v][c]) - ref[v][c]) * (double(a[v][c]) - ref[v][c]);
-      den += double(ref[v][c]) * ref[v][c];
-      noise += double(se[v][c]) * se[v][c];
-    }
-  return den > 0.0 ? std::sqrt(std::max(0.0, num - noise) / den) : 0.0;
+  return only ? relativeRmsNoiseRemoved(a, ref, se, *only) : relativeRmsNoiseRemoved(a, ref, se);
 }
 
 // The reference's own noise in relativeRmsAgainst's norm, sqrt(sum se^2 / sum ref^2): what that
 // metric subtracts, so that an error well below it is not resolved (model_error_fit.py).
 inline double relativeNoise(const std::vector<glm::vec3>& ref, const std::vector<glm::vec3>& se) {
-  double noise = 0.0, den = 0.0;
-  for (std::size_t v = 0; v < ref.size(); ++v)
-    for (int c = 0; c < 3; ++c) {
-      noise += double(se[v][c]) * se[v][c];
-      den += double(ref[v][c]) * ref[v][c];
-    }
-  return den > 0.0 ? std::sqrt(noise / den) : 0.0;
+  return relativeRmsSums(ref, ref, se).relativeNoise();
 }
 
 // The spread between two bakes of different seeds in relativeRmsAgainst's norm,
@@ -117,13 +103,11 @@ inline double relativeNoise(const std::vector<glm::vec3>& ref, const std::vector
 // error estimates).
 inline double seedSpread(const std::vector<glm::vec3>& a, const std::vector<glm::vec3>& b,
                          const std::vector<glm::vec3>& ref) {
-  double num = 0.0, den = 0.0;
+  RelativeRmsSums sums;
   for (std::size_t v = 0; v < ref.size(); ++v)
-    for (int c = 0; c < 3; ++c) {
-      num += (double(a[v][c]) - b[v][c]) * (double(a[v][c]) - b[v][c]);
-      den += double(ref[v][c]) * ref[v][c];
-    }
-  return den > 0.0 ? std::sqrt(num / 2.0 / den) : 0.0;
+    sums.add(glm::dvec3(a[v]) - glm::dvec3(b[v]), glm::dvec3(ref[v]));
+  sums.error /= 2.0;
+  return sums.ratio();
 }
 
 // The references' seed, apart from the bake's (1): the bake's traced stages (far field, unscattered

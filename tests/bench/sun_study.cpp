@@ -54,6 +54,7 @@
 #include "bake/bake_settings.h"
 #include "bake/error_budget.h"
 #include "core/error.h"
+#include "core/relative_rms.h"
 #include "core/timer.h"
 #include "diffusion/diffusion.h"
 #include "lighting/visibility.h"
@@ -139,20 +140,18 @@ Metrics compare(const std::vector<glm::vec3>& bake, const std::vector<glm::vec3>
     bandVar[b] += a * a * glm::dvec3(refSe[v]) * glm::dvec3(refSe[v]);
     bandArea[b] += a;
   }
-  double num = 0, den = 0, noise = 0;
+  RelativeRmsSums bands;  // pooled over bands, every band alike
   for (int b = 0; b < kBands; ++b) {
     if (!(bandArea[b] > 0.0)) continue;
     m.bandBake[b] /= bandArea[b];
     m.bandRef[b] /= bandArea[b];
-    for (int c = 0; c < 3; ++c) {
-      num += (m.bandBake[b][c] - m.bandRef[b][c]) * (m.bandBake[b][c] - m.bandRef[b][c]);
-      den += m.bandRef[b][c] * m.bandRef[b][c];
-      noise += bandVar[b][c] / (bandArea[b] * bandArea[b]);
-    }
+    bands.add(m.bandBake[b] - m.bandRef[b], m.bandRef[b]);
+    const glm::dvec3 variance = bandVar[b] / (bandArea[b] * bandArea[b]);
+    bands.noise += variance.r + variance.g + variance.b;
   }
-  if (den > 0.0) {
-    m.bandRmsRaw = std::sqrt(num / den);
-    m.bandRms = std::sqrt(std::max(0.0, num - noise) / den);
+  if (bands.reference > 0.0) {
+    m.bandRmsRaw = bands.ratio();
+    m.bandRms = bands.noiseRemoved();
   }
   const double ub = unlitBake.x + unlitBake.y + unlitBake.z;
   const double ur = unlitRef.x + unlitRef.y + unlitRef.z;

@@ -49,14 +49,10 @@ TEST(Cubemap, SolidAnglesSumToFourPi) {
     Cubemap cube(n);
     double sum = 0.0;
     const std::vector<float> face = cube.faceSolidAngles();
-    for (int f = 0; f < 6; ++f) {
-      for (int y = 0; y < n; ++y) {
-        for (int x = 0; x < n; ++x) {
-          sum += cube.solidAngle(f, x, y);
-          EXPECT_NEAR(face[y * n + x], cube.solidAngle(f, x, y), 1e-7);
-        }
-      }
-    }
+    forEachTexel(n, [&](int f, int x, int y) {
+      sum += cube.solidAngle(f, x, y);
+      EXPECT_NEAR(face[y * n + x], cube.solidAngle(f, x, y), 1e-7);
+    });
     EXPECT_NEAR(sum, 4.0 * M_PI, 1e-5) << "n = " << n;
   }
   // One texel per face: a sixth of the sphere.
@@ -68,11 +64,8 @@ TEST(Cubemap, BilinearSampleIsSeamlessAndExactForLinearFunctions) {
   // every face edge (corner texels included).
   const int n = 16;
   Cubemap cube(n);
-  for (int f = 0; f < 6; ++f) {
-    for (int y = 0; y < n; ++y) {
-      for (int x = 0; x < n; ++x) cube.at(f, x, y) = 0.5f * cube.direction(f, x, y) + 0.5f;
-    }
-  }
+  forEachTexel(
+      n, [&](int f, int x, int y) { cube.at(f, x, y) = 0.5f * cube.direction(f, x, y) + 0.5f; });
   for (int f = 0; f < 6; ++f)
     expectNear(cube.sample(cube.direction(f, 5, 7)), cube.at(f, 5, 7), 1e-6f);
   float worst = 0.0f;
@@ -87,19 +80,13 @@ TEST(Cubemap, BilinearSampleIsSeamlessAndExactForLinearFunctions) {
 TEST(Cubemap, ResizeKeepsFlux) {
   const int n = 32;
   Cubemap cube(n);
-  for (int f = 0; f < 6; ++f) {
-    for (int y = 0; y < n; ++y) {
-      for (int x = 0; x < n; ++x) cube.at(f, x, y) = glm::vec3(f + 1, x % 3, (x * y) % 5);
-    }
-  }
+  forEachTexel(
+      n, [&](int f, int x, int y) { cube.at(f, x, y) = glm::vec3(f + 1, x % 3, (x * y) % 5); });
   auto flux = [](const Cubemap& c) {
     glm::dvec3 sum(0.0);
-    for (int f = 0; f < 6; ++f) {
-      for (int y = 0; y < c.size(); ++y) {
-        for (int x = 0; x < c.size(); ++x)
-          sum += glm::dvec3(c.at(f, x, y)) * double(c.solidAngle(f, x, y));
-      }
-    }
+    forEachTexel(c.size(), [&](int f, int x, int y) {
+      sum += glm::dvec3(c.at(f, x, y)) * double(c.solidAngle(f, x, y));
+    });
     return sum;
   };
   const glm::dvec3 before = flux(cube), after = flux(cube.resized(8));

@@ -82,14 +82,10 @@ TEST(Environment, DirectionColouredEquirectLandsOnTheRightFacesAndTexels) {
   }
   // Every texel holds the colour of its own direction.
   float worst = 0.0f;
-  for (int f = 0; f < 6; ++f) {
-    for (int y = 0; y < 32; ++y) {
-      for (int x = 0; x < 32; ++x) {
-        worst = std::max(worst,
-                         glm::length(cube.at(f, x, y) - directionColour(cube.direction(f, x, y))));
-      }
-    }
-  }
+  forEachTexel(32, [&](int f, int x, int y) {
+    worst =
+        std::max(worst, glm::length(cube.at(f, x, y) - directionColour(cube.direction(f, x, y))));
+  });
   EXPECT_LT(worst, 0.03f);
 }
 
@@ -119,23 +115,15 @@ TEST(Environment, EquirectToCubemapKeepsFlux) {
   const Cubemap cube = cubemapFromImage(image, EnvironmentLayout::Equirect, 0);
   EXPECT_EQ(cube.size(), 64);
   glm::dvec3 cubeFlux(0.0);
-  for (int f = 0; f < 6; ++f) {
-    for (int y = 0; y < cube.size(); ++y) {
-      for (int x = 0; x < cube.size(); ++x) {
-        cubeFlux += glm::dvec3(cube.at(f, x, y)) * double(cube.solidAngle(f, x, y));
-      }
-    }
-  }
+  forEachTexel(cube.size(), [&](int f, int x, int y) {
+    cubeFlux += glm::dvec3(cube.at(f, x, y)) * double(cube.solidAngle(f, x, y));
+  });
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(cubeFlux[k], flux[k], 0.01 * flux[k]);
 }
 
 Cubemap numberedCubemap(int n) {
   Cubemap cube(n);
-  for (int f = 0; f < 6; ++f) {
-    for (int y = 0; y < n; ++y) {
-      for (int x = 0; x < n; ++x) cube.at(f, x, y) = glm::vec3(f, x, y);
-    }
-  }
+  forEachTexel(n, [&](int f, int x, int y) { cube.at(f, x, y) = glm::vec3(f, x, y); });
   return cube;
 }
 
@@ -161,11 +149,7 @@ TEST(Environment, CrossesAreContinuous) {
   const int n = 16;
   Cubemap geometry(n);
   Cubemap dirs(n);
-  for (int f = 0; f < 6; ++f) {
-    for (int y = 0; y < n; ++y) {
-      for (int x = 0; x < n; ++x) dirs.at(f, x, y) = geometry.direction(f, x, y);
-    }
-  }
+  forEachTexel(n, [&](int f, int x, int y) { dirs.at(f, x, y) = geometry.direction(f, x, y); });
   const ImageRgb cross = cubemapToCross(dirs);
   const float maxStep = 2.5f / n;  // neighbouring texels are < 2 / n radians apart
   auto check = [&](const ImageRgb& img) {

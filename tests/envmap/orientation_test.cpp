@@ -70,14 +70,10 @@ ImageRgb spotImage(int width, int px, int py) {
 // Where the bright texels are: their flux-weighted mean direction.
 glm::vec3 brightDirection(const Cubemap& cube) {
   glm::vec3 sum(0.0f);
-  for (int f = 0; f < 6; ++f) {
-    for (int y = 0; y < cube.size(); ++y) {
-      for (int x = 0; x < cube.size(); ++x) {
-        const float value = cube.at(f, x, y).x;
-        if (value > 1.0f) sum += value * cube.solidAngle(f, x, y) * cube.direction(f, x, y);
-      }
-    }
-  }
+  forEachTexel(cube.size(), [&](int f, int x, int y) {
+    const float value = cube.at(f, x, y).x;
+    if (value > 1.0f) sum += value * cube.solidAngle(f, x, y) * cube.direction(f, x, y);
+  });
   return glm::normalize(sum);
 }
 

@@ -53,18 +53,14 @@ TEST(Sky, SunIsTheBrightestTexelAndCarriesItsFlux) {
   int bf = 0, bx = 0, by = 0;
   float best = -1.0f;
   double sunFlux = 0.0, skyFlux = 0.0;
-  for (int f = 0; f < 6; ++f) {
-    for (int y = 0; y < 32; ++y) {
-      for (int x = 0; x < 32; ++x) {
-        const float lum = luminance(sky.at(f, x, y));
-        ASSERT_TRUE(std::isfinite(lum));
-        ASSERT_GE(lum, 0.0f);
-        if (lum > best) best = lum, bf = f, bx = x, by = y;
-        (glm::dot(sky.direction(f, x, y), sun) > 0.99f ? sunFlux : skyFlux) +=
-            lum * sky.solidAngle(f, x, y);
-      }
-    }
-  }
+  forEachTexel(32, [&](int f, int x, int y) {
+    const float lum = luminance(sky.at(f, x, y));
+    ASSERT_TRUE(std::isfinite(lum));
+    ASSERT_GE(lum, 0.0f);
+    if (lum > best) best = lum, bf = f, bx = x, by = y;
+    (glm::dot(sky.direction(f, x, y), sun) > 0.99f ? sunFlux : skyFlux) +=
+        lum * sky.solidAngle(f, x, y);
+  });
   EXPECT_GT(glm::dot(sky.direction(bf, bx, by), sun), 0.99f);
   // The sun gives 20 x the atmosphere's transmittance (0.6-0.8 at 40 degrees), the sky dome a
   // few units: a clear day.
@@ -78,15 +74,11 @@ TEST(Sky, SunIsTheBrightestTexelAndCarriesItsFlux) {
   params.sunAngularRadiusDeg = 10.0f;
   const Cubemap big = makeSky(params, 64);
   double bigFlux = 0.0;
-  for (int f = 0; f < 6; ++f) {
-    for (int y = 0; y < 64; ++y) {
-      for (int x = 0; x < 64; ++x) {
-        if (glm::dot(big.direction(f, x, y), sun) > std::cos(0.25)) {
-          bigFlux += luminance(big.at(f, x, y)) * big.solidAngle(f, x, y);
-        }
-      }
+  forEachTexel(64, [&](int f, int x, int y) {
+    if (glm::dot(big.direction(f, x, y), sun) > std::cos(0.25)) {
+      bigFlux += luminance(big.at(f, x, y)) * big.solidAngle(f, x, y);
     }
-  }
+  });
   EXPECT_GT(bigFlux, sunFlux);  // the disc plus the bright sky around it
   EXPECT_LT(bigFlux, sunFlux * 1.5);
 }

@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "core/luminance.h"
 #include "core/random.h"
+#include "core/relative_rms.h"
 #include "irradiance/brute_force.h"
 #include "irradiance/irradiance.h"
 #include "optics/fresnel.h"
@@ -51,16 +52,12 @@ std::vector<glm::dvec3> naiveSum(const Cubemap& radiance, const std::vector<glm:
                                  float eta) {
   std::vector<glm::dvec3> out(normals.size(), glm::dvec3(0.0));
   for (std::size_t i = 0; i < normals.size(); ++i) {
-    for (int f = 0; f < 6; ++f) {
-      for (int y = 0; y < radiance.size(); ++y) {
-        for (int x = 0; x < radiance.size(); ++x) {
-          const float mu = glm::dot(normals[i], radiance.direction(f, x, y));
-          if (mu <= 0.0f) continue;
-          out[i] += glm::dvec3(radiance.at(f, x, y)) * double(radiance.solidAngle(f, x, y)) *
-                    double(mu * fresnelTransmittance(mu, eta));
-        }
-      }
-    }
+    forEachTexel(radiance.size(), [&](int f, int x, int y) {
+      const float mu = glm::dot(normals[i], radiance.direction(f, x, y));
+      if (mu <= 0.0f) return;
+      out[i] += glm::dvec3(radiance.at(f, x, y)) * double(radiance.solidAngle(f, x, y)) *
+                double(mu * fresnelTransmittance(mu, eta));
+    });
   }
   return out;
 }
@@ -93,7 +90,7 @@ TEST(Irradiance, BruteForceEqualsTheDirectSum) {
     EXPECT_LT(brute.stats().clusters, env.texelCount());
     EXPECT_LE(brute.stats().estimatedError, 0.01);
     const std::vector<glm::vec3> dense = fibonacciSphere(3000);
-    EXPECT_LT(relativeRmsError(brute.at(dense), irradianceAtNormals(env, dense, eta)), 0.015);
+    EXPECT_LT(relativeRms(brute.at(dense), irradianceAtNormals(env, dense, eta)), 0.015);
   }
 }
 
@@ -103,14 +100,10 @@ TEST(Irradiance, EtaOneIsPlainIrradiance) {
   const std::vector<glm::vec3> e = irradianceAtNormals(env, normals, 1.0f);
   std::vector<glm::dvec3> plain(normals.size(), glm::dvec3(0.0));
   for (std::size_t i = 0; i < normals.size(); ++i) {
-    for (int f = 0; f < 6; ++f) {
-      for (int y = 0; y < 16; ++y) {
-        for (int x = 0; x < 16; ++x) {
-          plain[i] += glm::dvec3(env.at(f, x, y)) * double(env.solidAngle(f, x, y)) *
-                      std::max(0.0, double(glm::dot(normals[i], env.direction(f, x, y))));
-        }
-      }
-    }
+    forEachTexel(16, [&](int f, int x, int y) {
+      plain[i] += glm::dvec3(env.at(f, x, y)) * double(env.solidAngle(f, x, y)) *
+                  std::max(0.0, double(glm::dot(normals[i], env.direction(f, x, y))));
+    });
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(e[i][k], plain[i][k], 1e-5 * plain[i][k]);
   }
   // A denser medium lets less in at grazing angles: E_t < E everywhere.
@@ -248,7 +241,7 @@ TEST(EquirectIrradiance, SmallSunReportedErrorHoldsAndThreadsAgree) {
       irradianceAtNormals(RadianceGrid::fromEquirect(image, 1), normals, 1.0f);
   std::vector<glm::vec3> looked(normals.size());
   for (std::size_t i = 0; i < normals.size(); ++i) looked[i] = one.irradiance.sample(normals[i]);
-  const double actual = relativeRmsError(looked, exact);
+  const double actual = relativeRms(looked, exact);
   EXPECT_LE(actual, o.tolerance);
   EXPECT_LE(actual, 1.5 * one.estimatedError) << "reported " << one.estimatedError;
   for (std::size_t i = 0; i < one.irradiance.texelCount(); ++i) {

@@ -107,11 +107,9 @@ TEST(SphericalHarmonics, ProjectionReproducesABandLimitedFunction) {
     return 1.0f + 0.5f * w.x - 0.3f * w.z + 0.2f * w.x * w.y;
   };
   Cubemap cube(48);
-  for (int f = 0; f < 6; ++f) {
-    for (int y = 0; y < 48; ++y) {
-      for (int x = 0; x < 48; ++x) cube.at(f, x, y) = glm::vec3(radiance(cube.direction(f, x, y)));
-    }
-  }
+  forEachTexel(48, [&](int f, int x, int y) {
+    cube.at(f, x, y) = glm::vec3(radiance(cube.direction(f, x, y)));
+  });
   const SphericalHarmonics sh = SphericalHarmonics::project(cube, 4);
   for (const glm::vec3& d : fibonacciSphere(50)) EXPECT_NEAR(sh.evaluate(d).x, radiance(d), 2e-3);
   // The same from an equirect image.

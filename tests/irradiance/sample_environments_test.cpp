@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
+#include "core/relative_rms.h"
 #include "envmap/environment.h"
 #include "envmap/image.h"
 #include "irradiance/brute_force.h"
@@ -36,14 +37,10 @@ TEST(SampleEnvironments, ShOrderTwoWithinRamamoorthiHanrahanError) {
     const SphericalHarmonics sh =
         SphericalHarmonics::project(radiance, 2).convolved(TransmittedCosineKernel(1.0f));
     double flux = 0.0;
-    for (int f = 0; f < 6; ++f) {
-      for (int y = 0; y < radiance.size(); ++y) {
-        for (int x = 0; x < radiance.size(); ++x) {
-          flux += glm::dot(radiance.at(f, x, y), glm::vec3(0.2126f, 0.7152f, 0.0722f)) *
-                  radiance.solidAngle(f, x, y);
-        }
-      }
-    }
+    forEachTexel(radiance.size(), [&](int f, int x, int y) {
+      flux += glm::dot(radiance.at(f, x, y), glm::vec3(0.2126f, 0.7152f, 0.0722f)) *
+              radiance.solidAngle(f, x, y);
+    });
     double sumError = 0.0, maxError = 0.0, maxE = 0.0;
     for (std::size_t i = 0; i < normals.size(); ++i) {
       const double e = glm::dot(exact[i], glm::vec3(0.2126f, 0.7152f, 0.0722f));
@@ -76,8 +73,7 @@ TEST(SampleEnvironments, BruteMeetsToleranceAndAutoExplainsItsChoice) {
   const std::vector<glm::vec3> normals = fibonacciSphere(2000);
   std::vector<glm::vec3> looked(normals.size());
   for (std::size_t i = 0; i < normals.size(); ++i) looked[i] = r.irradiance.sample(normals[i]);
-  EXPECT_LT(relativeRmsError(looked, irradianceAtNormals(radiance, normals, 1.0f)),
-            1.5 * o.tolerance);
+  EXPECT_LT(relativeRms(looked, irradianceAtNormals(radiance, normals, 1.0f)), 1.5 * o.tolerance);
 }
 
 // The exact sum over every texel of an equirect image, each with its solid angle, at `normals`,
@@ -88,7 +84,7 @@ double errorAgainstEveryTexel(const ImageRgb& image, const Cubemap& cube,
       irradianceAtNormals(RadianceGrid::fromEquirect(image, 1), normals, 1.0f);
   std::vector<glm::vec3> looked(normals.size());
   for (std::size_t i = 0; i < normals.size(); ++i) looked[i] = cube.sample(normals[i]);
-  return relativeRmsError(looked, exact);
+  return relativeRms(looked, exact);
 }
 
 // Straight from the equirect rows (no radiance cubemap): the error auto reports (against the sum

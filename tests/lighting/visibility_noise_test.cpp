@@ -10,6 +10,7 @@
 #include <glm/geometric.hpp>
 
 #include "bake/bake.h"
+#include "core/relative_rms.h"
 #include "diffusion/diffusion.h"
 #include "floor_and_wall.h"
 #include "lighting/visibility.h"
@@ -24,26 +25,14 @@ namespace {
 // A sky gradient plus a small bright blob (a sun): both shadow edges and texel sampling noise.
 Cubemap sunAndSky(int size) {
   Cubemap env(size);
-  for (int f = 0; f < 6; ++f)
-    for (int y = 0; y < size; ++y)
-      for (int x = 0; x < size; ++x)
-        env.at(f, x, y) = glm::vec3(0.4f, 0.6f, 1.0f) * (1.2f + env.direction(f, x, y).y);
+  forEachTexel(size, [&](int f, int x, int y) {
+    env.at(f, x, y) = glm::vec3(0.4f, 0.6f, 1.0f) * (1.2f + env.direction(f, x, y).y);
+  });
   const int c = size / 2;
   for (int y = c; y < c + 2; ++y)
     for (int x = c - 3; x < c - 1; ++x)
       env.at(static_cast<int>(CubeFace::PosY), x, y) = glm::vec3(300.0f, 250.0f, 200.0f);
   return env;
-}
-
-// sqrt(sum |B - R|^2 / sum |R|^2) over vertices and channels, as the benchmarks measure it.
-double relativeRms(const std::vector<glm::vec3>& b, const std::vector<glm::vec3>& reference) {
-  double num = 0.0, den = 0.0;
-  for (std::size_t i = 0; i < b.size(); ++i) {
-    const glm::dvec3 d = glm::dvec3(b[i]) - glm::dvec3(reference[i]);
-    num += d.x * d.x + d.y * d.y + d.z * d.z;
-    den += glm::dot(glm::dvec3(reference[i]), glm::dvec3(reference[i]));
-  }
-  return std::sqrt(num / den);
 }
 
 // Scaled to 50 mm: with ketchup's ~1 mm mean free path each B averages only a few vertices.

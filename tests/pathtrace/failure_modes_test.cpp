@@ -29,10 +29,9 @@ namespace {
 // Radiance 1 from directions with z > 0, 0 below: light from one side of a slab.
 Cubemap upperHemisphere() {
   Cubemap c(16);
-  for (int f = 0; f < 6; ++f)
-    for (int y = 0; y < c.size(); ++y)
-      for (int x = 0; x < c.size(); ++x)
-        c.at(f, x, y) = glm::vec3(c.direction(f, x, y).z > 0.0f ? 1.0f : 0.0f);
+  forEachTexel(c.size(), [&](int f, int x, int y) {
+    c.at(f, x, y) = glm::vec3(c.direction(f, x, y).z > 0.0f ? 1.0f : 0.0f);
+  });
   return c;
 }
 

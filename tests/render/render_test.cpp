@@ -68,9 +68,8 @@ glm::vec3 pixel(const RenderedImage& image, int x, int y) {
 // A smooth environment that tells directions apart: 0.5 + 0.5 d.
 Cubemap directionColouredCubemap(int size) {
   Cubemap env(size);
-  for (int f = 0; f < 6; ++f)
-    for (int y = 0; y < size; ++y)
-      for (int x = 0; x < size; ++x) env.at(f, x, y) = 0.5f + 0.5f * env.direction(f, x, y);
+  forEachTexel(
+      size, [&](int f, int x, int y) { env.at(f, x, y) = 0.5f + 0.5f * env.direction(f, x, y); });
   return env;
 }
 

@@ -11,6 +11,7 @@
 #include <cstdint>
 
 #include "core/random.h"
+#include "core/sampling.h"
 #include "optics/fresnel.h"
 
 namespace sss::test {
@@ -48,14 +49,7 @@ inline SlabFractions planeParallelSlab(double d, double sigmaS, double sigmaA, d
       }
       z = zNext;
       w *= albedo;
-      double cosTheta;
-      const double u = rng.uniformDouble();
-      if (std::abs(g) < 1e-4) {
-        cosTheta = 1.0 - 2.0 * u;
-      } else {
-        const double t = (1.0 - g * g) / (1.0 - g + 2.0 * g * u);
-        cosTheta = (1.0 + g * g - t * t) / (2.0 * g);
-      }
+      const double cosTheta = sampleHenyeyGreensteinCosine(g, rng.uniformDouble());
       const double sinTheta = std::sqrt(std::max(0.0, 1.0 - cosTheta * cosTheta));
       const double phi = 2.0 * M_PI * rng.uniformDouble();
       mu = mu * cosTheta + std::sqrt(std::max(0.0, 1.0 - mu * mu)) * sinTheta * std::cos(phi);

@@ -11,10 +11,9 @@ namespace sss {
 
 inline Cubemap smallSun(const glm::vec3& sun) {
   Cubemap env(64, glm::vec3(0.0f));
-  for (int f = 0; f < 6; ++f)
-    for (int y = 0; y < 64; ++y)
-      for (int x = 0; x < 64; ++x)
-        if (glm::dot(env.direction(f, x, y), sun) > 0.9995f) env.at(f, x, y) = glm::vec3(1e3f);
+  forEachTexel(64, [&](int f, int x, int y) {
+    if (glm::dot(env.direction(f, x, y), sun) > 0.9995f) env.at(f, x, y) = glm::vec3(1e3f);
+  });
   return env;
 }
 

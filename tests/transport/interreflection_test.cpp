@@ -10,6 +10,7 @@
 #include <span>
 #include <vector>
 
+#include "core/relative_rms.h"
 #include "envmap/cubemap.h"
 #include "lighting/visibility.h"
 #include "material/diffusion_profile.h"
@@ -23,17 +24,6 @@
 
 namespace sss {
 namespace {
-
-// |after - before| / |before| over vertices and channels: what the bounces changed in B.
-double relativeRmsChange(std::span<const glm::vec3> after, std::span<const glm::vec3> before) {
-  double num = 0.0, den = 0.0;
-  for (std::size_t v = 0; v < before.size(); ++v) {
-    const glm::dvec3 d = glm::dvec3(after[v]) - glm::dvec3(before[v]);
-    num += glm::dot(d, d);
-    den += glm::dot(glm::dvec3(before[v]), glm::dvec3(before[v]));
-  }
-  return std::sqrt(num / den);
-}
 
 TEST(Interreflection, WhiteFurnaceSendsRadianceOneFromEveryVertex) {
   const TriangleMesh mesh = boxWithPit();
@@ -100,7 +90,7 @@ TEST(Interreflection, PilotEstimateOfTheMissingLightMatchesTheBounces) {
                                   options);
   const BounceResult bounced = iterateInterreflection(all, direct, local(direct), local, 0, 1e-5);
   const std::vector<glm::vec3> b0 = local(direct);
-  const double actual = relativeRmsChange(bounced.exitance, b0);
+  const double actual = relativeRms(bounced.exitance, b0);
   ASSERT_GT(actual, 0.02);  // the pit matters
   // A pilot of every 4th vertex, as the bake's of ~1,000 on a larger mesh.
   options.vertices.clear();
@@ -156,7 +146,7 @@ TEST(Interreflection, PilotEstimateFollowsTheTransportsSpreading) {
   // The first bounce alone: what the spreading changes (the later ones, a series of the mean
   // gain, are the local transport's test's).
   const BounceResult one = iterateInterreflection(all, direct, b0, diffusion, 1, 1e-5);
-  const double actual = relativeRmsChange(one.exitance, b0);
+  const double actual = relativeRms(one.exitance, b0);
   ASSERT_GT(actual, 0.02);
   options.vertices.clear();
   for (uint32_t v = 1; v < n; v += 4) options.vertices.push_back(v);
@@ -315,7 +305,7 @@ TEST(Interreflection, RemainingBouncesAreEstimatedFromOneMoreGather) {
   EXPECT_LT(converged.remaining, 1e-6);
   for (int bounces : {1, 2, 3}) {
     const BounceResult r = iterateInterreflection(gather, direct, b0, smoothing, bounces, 0.0);
-    const double actual = relativeRmsChange(converged.exitance, r.exitance);
+    const double actual = relativeRms(converged.exitance, r.exitance);
     ASSERT_GT(actual, 1e-4) << bounces;
     EXPECT_NEAR(r.remaining / actual, 1.0, 0.3) << bounces << ": " << r.remaining << " " << actual;
   }

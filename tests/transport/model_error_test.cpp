@@ -37,10 +37,9 @@ std::vector<glm::vec3> apexOnly() {
 // Black but for a small sun around +z.
 Cubemap sunOverhead() {
   Cubemap env(64, glm::vec3(0.0f));
-  for (int f = 0; f < 6; ++f)
-    for (int y = 0; y < 64; ++y)
-      for (int x = 0; x < 64; ++x)
-        if (env.direction(f, x, y).z > std::cos(0.05f)) env.at(f, x, y) = glm::vec3(100.0f);
+  forEachTexel(64, [&](int f, int x, int y) {
+    if (env.direction(f, x, y).z > std::cos(0.05f)) env.at(f, x, y) = glm::vec3(100.0f);
+  });
   return env;
 }
 

@@ -8,24 +8,13 @@
 #include <vector>
 
 #include "core/random.h"
+#include "core/relative_rms.h"
 #include "mesh/primitives.h"
 #include "mesh/triangle_mesh.h"
 #include "transport/surface_average.h"
 
 namespace sss {
 namespace {
-
-// Relative RMS of a - b over vertices and channels, area-weighted.
-double relativeRms(const std::vector<glm::vec3>& a, const std::vector<glm::vec3>& b,
-                   const std::vector<float>& areas) {
-  double diff = 0.0, norm = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i)
-    for (int c = 0; c < 3; ++c) {
-      diff += areas[i] * double(a[i][c] - b[i][c]) * (a[i][c] - b[i][c]);
-      norm += areas[i] * double(b[i][c]) * b[i][c];
-    }
-  return std::sqrt(diff / norm);
-}
 
 // A smooth field plus per-vertex noise (as the far field's per-batch tallies are), on a sphere of
 // 10K vertices with a kernel of 1.2 mm (~330 vertices within 3 sigma): the clusters give the

@@ -44,11 +44,10 @@ UnscatteredLight traceOn(const TriangleMesh& mesh, const Cubemap& env, const Mat
 // The irradiance a surface facing `axis` receives from the environment.
 double irradianceTowards(const Cubemap& env, const glm::vec3& axis) {
   double e = 0.0;
-  for (int f = 0; f < 6; ++f)
-    for (int y = 0; y < env.size(); ++y)
-      for (int x = 0; x < env.size(); ++x)
-        e += double(env.at(f, x, y).x) * env.solidAngle(f, x, y) *
-             std::max(0.0f, glm::dot(env.direction(f, x, y), axis));
+  forEachTexel(env.size(), [&](int f, int x, int y) {
+    e += double(env.at(f, x, y).x) * env.solidAngle(f, x, y) *
+         std::max(0.0f, glm::dot(env.direction(f, x, y), axis));
+  });
   return e;
 }
 

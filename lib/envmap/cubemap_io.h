@@ -8,7 +8,7 @@
 #include <string>
 
 #include "envmap/cubemap.h"
-#include "envmap/image.h"
+#include "image/image.h"
 
 namespace sss {
 

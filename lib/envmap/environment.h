@@ -7,7 +7,7 @@
 
 #include "core/enum_names.h"
 #include "envmap/cubemap.h"
-#include "envmap/image.h"
+#include "image/image.h"
 #include "envmap/orientation.h"
 
 namespace sss {

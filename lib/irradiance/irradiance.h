@@ -9,7 +9,7 @@
 
 #include "core/enum_names.h"
 #include "envmap/cubemap.h"
-#include "envmap/image.h"
+#include "image/image.h"
 #include "irradiance/spherical_harmonics.h"
 
 namespace sss {

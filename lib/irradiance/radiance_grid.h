@@ -17,7 +17,7 @@
 #include <glm/vec3.hpp>
 
 #include "envmap/cubemap.h"
-#include "envmap/image.h"
+#include "image/image.h"
 
 namespace sss {
 

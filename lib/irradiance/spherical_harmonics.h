@@ -15,7 +15,7 @@
 
 #include "core/enum_names.h"
 #include "envmap/cubemap.h"
-#include "envmap/image.h"
+#include "image/image.h"
 #include "irradiance/transmitted_cosine.h"
 
 namespace sss {

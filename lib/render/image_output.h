@@ -13,7 +13,7 @@ bool isLinearImagePath(const std::string& path);
 // Throws Error naming the file when it has no extension to choose the image format from.
 void checkRenderedImagePath(const std::string& path);
 
-// Writes the image (RGB, top row first) through OpenImageIO; throws Error naming the file.
+// Writes the image (RGB, top row first) through lib/image; throws Error naming the file.
 // `software` is recorded in the file's metadata where the format allows.
 void writeRenderedImage(const std::string& path, const RenderedImage& image,
                         const std::string& software = "sss-render");

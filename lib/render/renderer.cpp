@@ -15,7 +15,7 @@
 #include "core/error.h"
 #include "core/timer.h"
 #include "envmap/cubemap.h"
-#include "envmap/image.h"
+#include "image/image.h"
 #include "render/gl.h"
 
 namespace sss {

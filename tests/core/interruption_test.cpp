@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "child_process.h"
-#include "envmap/image.h"
+#include "image/image.h"
 #include "mesh/baked_ply.h"
 #include "mesh/primitives.h"
 #include "support/tool_test.h"

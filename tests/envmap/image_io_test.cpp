@@ -12,7 +12,7 @@
 
 #include "core/error.h"
 #include "envmap/cubemap_io.h"
-#include "envmap/image.h"
+#include "image/image.h"
 #include "support/tool_test.h"
 
 namespace sss {

@@ -6,7 +6,7 @@
 
 #include "core/error.h"
 #include "envmap/environment.h"
-#include "envmap/image.h"  // NonFiniteTexelsError
+#include "image/image.h"  // NonFiniteTexelsError
 #include "mesh/baked_glb.h"
 #include "mesh/baked_ply.h"
 #include "mesh/load_mesh.h"

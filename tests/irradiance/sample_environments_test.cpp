@@ -13,7 +13,7 @@
 
 #include "core/relative_rms.h"
 #include "envmap/environment.h"
-#include "envmap/image.h"
+#include "image/image.h"
 #include "irradiance/brute_force.h"
 #include "irradiance/irradiance.h"
 

@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "envmap/cubemap_io.h"
-#include "envmap/image.h"
+#include "image/image.h"
 #include "support/tool_test.h"
 
 namespace sss {

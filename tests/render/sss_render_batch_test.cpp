@@ -10,7 +10,7 @@
 #include <glm/geometric.hpp>
 
 #include "envmap/equirect.h"
-#include "envmap/image.h"
+#include "image/image.h"
 #include "envmap/orientation.h"
 #include "mesh/baked_ply.h"
 #include "mesh/primitives.h"

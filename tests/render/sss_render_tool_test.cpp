@@ -12,7 +12,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "envmap/image.h"
+#include "image/image.h"
 #include "material/dipole_profile.h"
 #include "material/halfspace_albedo.h"
 #include "mesh/baked_glb.h"

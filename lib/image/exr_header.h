@@ -1,10 +1,10 @@
-// A walk over an OpenEXR file's headers before OpenImageIO opens it. While it opens a file,
+// A walk over an OpenEXR file's headers before OpenEXR opens it. While it opens a file,
 // OpenEXR allocates what the headers declare before comparing it with the file: an attribute's
 // value (the fuzzer's 553-byte file declared a 1.7 GB attribute), the chunk offset table (8 bytes
 // per chunk of the data window) and blocks of decoded scanlines or tiles. So
 // each attribute is followed as OpenEXR reads it, and each part's data window is checked against
-// kMaxImagePixels (envmap/image.h), its offset table against the file size and its block size
-// against kMaxExrChunkBytes, all before OpenImageIO sees the file.
+// kMaxImagePixels (image/image.h), its offset table against the file size and its block size
+// against kMaxExrChunkBytes, all before OpenEXR (or OpenImageIO) reads the file.
 #pragma once
 
 #include <cstdint>

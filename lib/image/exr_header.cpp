@@ -1,4 +1,4 @@
-#include "envmap/exr_header.h"
+#include "image/exr_header.h"
 
 #include <algorithm>
 #include <cstring>
@@ -6,7 +6,7 @@
 #include <string_view>
 
 #include "core/error.h"
-#include "envmap/image_limits.h"
+#include "image/image_limits.h"
 
 namespace sss {
 namespace {

@@ -212,6 +212,26 @@ int equirectBlock(const ImageRgb& image, const IrradianceOptions& o) {
   return RadianceGrid::equirectBlockSize(image, wanted);
 }
 
+// At tolerance 0 a map narrower than this is summed as this wide, each texel split into s x s
+// sub-texels of its radiance, each with its exact first moment. A texel the horizon of n cuts
+// loses the part of it below the horizon that its moment cancels, O(texel angle^2) of E in all
+// (on a uniform map 2.5e-4 of the closed form at 128 x 64, 6e-5 at 256 x 128, 1e-5 at 512 x 256;
+// the SH projection's texel-centre rule errs alike): 512 keeps the exact sum within 1e-5 of
+// pi L.
+constexpr int kExactSumWidth = 512;
+
+// The image with each texel repeated s x s times.
+ImageRgb splitTexels(const ImageRgb& image, int s) {
+  ImageRgb fine;
+  fine.width = image.width * s;
+  fine.height = image.height * s;
+  fine.pixels.resize(static_cast<std::size_t>(fine.width) * fine.height);
+  for (int y = 0; y < fine.height; ++y) {
+    for (int x = 0; x < fine.width; ++x) fine.at(x, y) = image.at(x / s, y / s);
+  }
+  return fine;
+}
+
 }  // namespace
 
 IrradianceResult computeIrradiance(const Cubemap& radiance, const IrradianceOptions& o) {
@@ -228,12 +248,18 @@ IrradianceResult computeIrradiance(const Cubemap& radiance, const IrradianceOpti
   return computeFromSource(radiance, {project, project}, std::move(probes), o, std::move(result));
 }
 
-IrradianceResult computeIrradianceFromEquirect(const ImageRgb& image, const IrradianceOptions& o) {
-  checkOptions(image.width <= 0 || image.height <= 0, o);
+IrradianceResult computeIrradianceFromEquirect(const ImageRgb& original,
+                                               const IrradianceOptions& o) {
+  checkOptions(original.width <= 0 || original.height <= 0, o);
   IrradianceResult result;
   Stopwatch watch;
+  std::optional<ImageRgb> split;
+  if (o.tolerance <= 0.0 && original.width < kExactSumWidth) {
+    split = splitTexels(original, (kExactSumWidth + original.width - 1) / original.width);
+  }
+  const ImageRgb& image = split ? *split : original;
   const RadianceGrid grid = RadianceGrid::fromEquirect(image, equirectBlock(image, o), o.threads);
-  result.sourceTexels = grid.sourceTexels();
+  result.sourceTexels = static_cast<std::size_t>(original.width) * original.height;
   result.timings.gridMs = watch.milliseconds();
   watch.restart();
   Probes probes;

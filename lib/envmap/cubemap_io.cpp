@@ -21,8 +21,9 @@ Cubemap readCubemap(const std::string& path, const ImageReadOptions& options) {
 
 void writeCubemap(const std::string& path, const Cubemap& cubemap) {
   if (cubemap.empty()) fail(path, "refusing to write an empty cubemap");
-  // The EXR writer (image/exr_file.h) adds, for textureformat "CubeFace Environment", OpenEXR's standard
-  // envmap attribute (ENVMAP_CUBE): OpenEXR's cube layout stacks the faces vertically in our order.
+  // The EXR writer (image/exr_file.h) adds, for textureformat "CubeFace Environment", OpenEXR's
+  // standard envmap attribute (ENVMAP_CUBE): OpenEXR's cube layout stacks the faces vertically in
+  // our order.
   writeImage(
       path, cubemapToStack(cubemap),
       {{kCubemapLayoutAttribute, kCubemapLayoutTag}, {"textureformat", "CubeFace Environment"}});

@@ -87,7 +87,8 @@ void writeImagePixels(const std::string& path, const PixelsToWrite& pixels) {
   const ImageBackend backend = writerFor(path);
   const bool needsLinear = backend == ImageBackend::OpenExr || backend == ImageBackend::RadianceHdr;
   if (backend != ImageBackend::OpenImageIO && needsLinear != (pixels.linear != nullptr)) {
-    fail(path, needsLinear ? "this format holds linear float pixels" : "this format holds 8-bit pixels");
+    fail(path,
+         needsLinear ? "this format holds linear float pixels" : "this format holds 8-bit pixels");
   }
   switch (backend) {
     case ImageBackend::OpenExr:

@@ -62,12 +62,16 @@ const OiioModule& module(const std::string& path) {
 
 }  // namespace
 
-DecodedImage readWithOiio(const std::string& path) { return module(path).read(path); }
+DecodedImage readWithOiio(const std::string& path) {
+  return module(path).read(path);
+}
 
 void writeWithOiio(const std::string& path, const PixelsToWrite& pixels) {
   module(path).write(path, pixels);
 }
 
-bool oiioLoaded() { return gLoaded; }
+bool oiioLoaded() {
+  return gLoaded;
+}
 
 }  // namespace sss

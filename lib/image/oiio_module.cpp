@@ -50,7 +50,8 @@ DecodedImage read(const std::string& path) {
   }
   in->close();
   if (nch < 3) {
-    for (std::size_t i = 0; i < image.pixels.size(); ++i) image.pixels[i] = glm::vec3(grey[i * nch]);
+    for (std::size_t i = 0; i < image.pixels.size(); ++i)
+      image.pixels[i] = glm::vec3(grey[i * nch]);
   }
   return decoded;
 }
@@ -64,8 +65,8 @@ void write(const std::string& path, const PixelsToWrite& pixels) {
   for (const auto& [name, value] : pixels.attributes) spec.attribute(name, value);
   if (!linear) spec.attribute("oiio:ColorSpace", "sRGB");
   if (!out->open(path, spec)) fail(path, "cannot write (" + out->geterror() + ")");
-  const void* data = linear ? static_cast<const void*>(pixels.linear)
-                            : static_cast<const void*>(pixels.srgb8);
+  const void* data =
+      linear ? static_cast<const void*>(pixels.linear) : static_cast<const void*>(pixels.srgb8);
   if (!out->write_image(type, data) || !out->close()) {
     fail(path, "cannot write (" + out->geterror() + ")");
   }

@@ -90,8 +90,8 @@ bool readLayout(PngStruct& png, std::FILE* file, PngLayout& layout) {
   if (bitDepth == 16) png_set_swap(p);  // native little-endian uint16
   png_set_interlace_handling(p);
   double gamma = 0.0;
-  layout.linear = bitDepth == 16 && png_get_gAMA(p, info, &gamma) && gamma > 0.99 &&
-                  gamma < 1.01 && !png_get_valid(p, info, PNG_INFO_sRGB);
+  layout.linear = bitDepth == 16 && png_get_gAMA(p, info, &gamma) && gamma > 0.99 && gamma < 1.01 &&
+                  !png_get_valid(p, info, PNG_INFO_sRGB);
   png_read_update_info(p, info);
   layout.channels = png_get_channels(p, info);
   layout.bytesPerSample = bitDepth == 16 ? 2 : 1;
@@ -179,8 +179,10 @@ void writePng(const std::string& path, const PixelsToWrite& pixels) {
   for (std::size_t i = 0; i <= pixels.attributes.size(); ++i) {
     const bool last = i == pixels.attributes.size();
     texts[i].compression = PNG_TEXT_COMPRESSION_NONE;
-    texts[i].key = const_cast<char*>(last ? colorSpaceKey.c_str() : pixels.attributes[i].first.c_str());
-    texts[i].text = const_cast<char*>(last ? colorSpace.c_str() : pixels.attributes[i].second.c_str());
+    texts[i].key =
+        const_cast<char*>(last ? colorSpaceKey.c_str() : pixels.attributes[i].first.c_str());
+    texts[i].text =
+        const_cast<char*>(last ? colorSpace.c_str() : pixels.attributes[i].second.c_str());
   }
   std::vector<png_bytep> rows(pixels.height);
   for (int y = 0; y < pixels.height; ++y) {

@@ -29,8 +29,9 @@ constexpr int kMinRunLengthWidth = 8, kMaxRunLengthWidth = 32767;
 
 struct Header {
   long long width = 0, height = 0;
-  bool standardOrientation = false;  // "-Y H +X W": rows top to bottom, columns left to right
-  bool rgbe = true;                  // FORMAT=32-bit_rle_rgbe (or none given)
+  // "-Y H +X W" is rows top to bottom, columns left to right; "+Y" stores the bottom row first,
+  // "-X" each row right to left. "+X W -Y H" and the like (columns stored first) are rotated.
+  bool bottomUp = false, rightToLeft = false, rotated = false;
 };
 
 // The header lines and the resolution line; `pos` is left at the first scanline byte.
@@ -45,7 +46,11 @@ Header readHeader(const std::string& path, const std::string& bytes, std::size_t
   };
   line();  // "#?RADIANCE", "#?RGBE", ...
   for (std::string text = line(); !text.empty(); text = line()) {
-    if (text.rfind("FORMAT=", 0) == 0) header.rgbe = text == "FORMAT=32-bit_rle_rgbe";
+    if (text.rfind("FORMAT=", 0) == 0 && text != "FORMAT=32-bit_rle_rgbe") {
+      // XYZE too: OpenImageIO 2.4 refuses it as well.
+      fail(path, "Radiance HDR pixel format '" + text.substr(7, 40) +
+                     "' is not supported (only 32-bit_rle_rgbe)");
+    }
   }
   const std::string resolution = line();
   std::istringstream fields(resolution);
@@ -60,14 +65,21 @@ Header readHeader(const std::string& path, const std::string& bytes, std::size_t
   };
   number(height, header.height);
   number(width, header.width);
-  header.standardOrientation = yAxis == "-Y" && xAxis == "+X";
+  const auto isAxis = [](const std::string& a, char axis) {
+    return a.size() == 2 && (a[0] == '-' || a[0] == '+') && a[1] == axis;
+  };
+  header.rotated = isAxis(yAxis, 'X') && isAxis(xAxis, 'Y');
+  if (!header.rotated && !(isAxis(yAxis, 'Y') && isAxis(xAxis, 'X'))) {
+    fail(path, "Radiance HDR resolution line '" + resolution.substr(0, 40) + "' is not valid");
+  }
+  header.bottomUp = yAxis == "+Y";
+  header.rightToLeft = xAxis == "-X";
   return header;
 }
 
 // One scanline of `width` RGBE pixels from bytes[pos...] into out[4 width]; false if it runs
 // past the end of the file or a run past the end of the scanline.
-bool readScanline(const std::string& bytes, std::size_t& pos, long long width,
-                  std::uint8_t* out) {
+bool readScanline(const std::string& bytes, std::size_t& pos, long long width, std::uint8_t* out) {
   const auto* b = reinterpret_cast<const std::uint8_t*>(bytes.data());
   const std::size_t size = bytes.size();
   const bool runLength = width >= kMinRunLengthWidth && width <= kMaxRunLengthWidth &&
@@ -167,8 +179,8 @@ std::optional<DecodedImage> readRgbe(const std::string& path) {
   if (bytes.rfind("#?", 0) != 0) fail(path, "not a Radiance HDR file");
   std::size_t pos = 0;
   const Header header = readHeader(path, bytes, pos);
-  // Rotated or mirrored pictures and XYZE pixels: OpenImageIO's reader (image_format.h).
-  if (!header.standardOrientation || !header.rgbe) return std::nullopt;
+  // Rotated pictures: OpenImageIO's reader, as before (image_format.h).
+  if (header.rotated) return std::nullopt;
   checkDeclaredImageSize(path, "hdr", header.width, header.height, 3, true, bytes.size());
   DecodedImage decoded;
   ImageRgb& image = decoded.image;
@@ -181,7 +193,10 @@ std::optional<DecodedImage> readRgbe(const std::string& path) {
       fail(path, "Radiance HDR scanline " + std::to_string(y) + " of " +
                      std::to_string(image.height) + " is truncated or corrupt");
     }
-    for (int x = 0; x < image.width; ++x) image.at(x, y) = rgbeToFloat(&row[4 * x]);
+    const int top = header.bottomUp ? image.height - 1 - y : y;
+    for (int x = 0; x < image.width; ++x) {
+      image.at(header.rightToLeft ? image.width - 1 - x : x, top) = rgbeToFloat(&row[4 * x]);
+    }
   }
   return decoded;
 }
@@ -194,7 +209,8 @@ void writeRgbe(const std::string& path, const PixelsToWrite& pixels) {
   const bool runLength = w >= kMinRunLengthWidth && w <= kMaxRunLengthWidth;
   std::vector<std::uint8_t> row(4 * static_cast<std::size_t>(w));
   for (int y = 0; y < pixels.height; ++y) {
-    for (int x = 0; x < w; ++x) floatToRgbe(linear[static_cast<std::size_t>(y) * w + x], &row[4 * x]);
+    for (int x = 0; x < w; ++x)
+      floatToRgbe(linear[static_cast<std::size_t>(y) * w + x], &row[4 * x]);
     if (!runLength) {
       out.append(reinterpret_cast<const char*>(row.data()), row.size());
       continue;

@@ -8,9 +8,11 @@
 
 namespace sss {
 
-// A "-Y H +X W" RGBE picture, flat or run-length encoded; nullopt for what it leaves to
-// OpenImageIO (other orientations, XYZE pixels). Throws Error naming the file for a bad header,
-// a declared size over the limits (image_limits.h) or a truncated or corrupt scanline.
+// An RGBE picture, flat or run-length encoded, in any of the four unrotated orientations ("-Y H
+// +X W" the usual one; "+Y" bottom row first, "-X" rows right to left); nullopt for a rotated
+// one ("+X W -Y H", ...), which OpenImageIO reads. Throws Error naming the file for a bad header,
+// a pixel format other than RGBE, a declared size over the limits (image_limits.h) or a
+// truncated or corrupt scanline.
 std::optional<DecodedImage> readRgbe(const std::string& path);
 
 // Run-length encoded RGBE (Walter's rgbe.c encoding) of the linear pixels.

@@ -9,10 +9,10 @@
 # written by irrmap_compare dds), we read the EXR (DWAB-compressed float) itself.
 # Writes tests/bench/results/irradiance/vs_cmft.csv (per map: our in-process wall and CPU time
 # from the tool's JSON report, also on the same pixels as an uncompressed EXR ("raw", the
-# equivalent of cmft's uncompressed DDS), the whole process for both, the OIIO start-up floor =
-# a whole `sss-irrmap --help`, the in-process time of sss-irrmap on a 64x32 map (OIIO's first
-# read and write: its format catalogue), and the error of both against the exact sum over every
-# texel) and batch.csv (the eight maps in one process, irrmap_compare batch).
+# equivalent of cmft's uncompressed DDS), the whole process for both, the start-up floor = a whole
+# `sss-irrmap --help`, the in-process time of sss-irrmap on a 64x32 map (a first read and write),
+# and the error of both against the exact sum over every texel) and batch.csv (the eight maps in
+# one process, irrmap_compare batch).
 set -eu
 root=$(cd "$(dirname "$0")/../.." && pwd)
 build=${1:?usage: irrmap_vs_cmft.sh BUILD_DIR [CMFT_BINARY] [RUNS] [TOLERANCE]}
@@ -49,13 +49,13 @@ def timed(cmd):
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
     return 1e3 * wall, 1e3 * cpu
-keys = ("in", "in_cpu", "whole", "whole_cpu", "raw_in", "raw_in_cpu", "raw_whole", "cmft", "cmft_cpu", "floor", "floor_cpu", "tiny_in", "tiny_in_cpu")
+keys = ("in", "in_cpu", "whole", "whole_cpu", "raw_in", "raw_in_cpu", "raw_whole", "cmft", "cmft_cpu", "startup_floor", "startup_floor_cpu", "tiny_in", "tiny_in_cpu")
 samples = {m: {k: [] for k in keys} for m in maps}
 for r in range(runs):
     for m in maps:
         s = samples[m]
         w, c = timed([irrmap, "--help"])
-        s["floor"].append(w); s["floor_cpu"].append(c)
+        s["startup_floor"].append(w); s["startup_floor_cpu"].append(c)
         timed([irrmap, f"{work}/tiny.exr", "-o", f"{work}/tiny_e.exr", "--size", "32", "--json", f"{work}/tiny.json", "-q"])
         report = json.load(open(f"{work}/tiny.json"))
         s["tiny_in"].append(report["timings_ms"]["total"]); s["tiny_in_cpu"].append(report["timings_ms"]["cpu"])
@@ -82,7 +82,7 @@ for m in maps:
                    + [report["method"], "%.6g" % report["estimated_error"]]))
 PY
 
-header="map,ours_in_process_ms,ours_in_process_cpu_ms,ours_whole_ms,ours_whole_cpu_ms,ours_raw_in_process_ms,ours_raw_in_process_cpu_ms,ours_raw_whole_ms,cmft_whole_ms,cmft_whole_cpu_ms,oiio_floor_ms,oiio_floor_cpu_ms,tiny_in_process_ms,tiny_in_process_cpu_ms,ours_method,ours_estimated_error,ratio_in_process_to_cmft,ratio_raw_in_process_to_cmft,ratio_cpu_in_process_to_cmft_cpu,ours_rms,ours_worst_texel,ours_probe_rms,cmft_rms,cmft_worst_texel,cmft_min_texel,cmft_probe_rms"
+header="map,ours_in_process_ms,ours_in_process_cpu_ms,ours_whole_ms,ours_whole_cpu_ms,ours_raw_in_process_ms,ours_raw_in_process_cpu_ms,ours_raw_whole_ms,cmft_whole_ms,cmft_whole_cpu_ms,startup_floor_ms,startup_floor_cpu_ms,tiny_in_process_ms,tiny_in_process_cpu_ms,ours_method,ours_estimated_error,ratio_in_process_to_cmft,ratio_raw_in_process_to_cmft,ratio_cpu_in_process_to_cmft_cpu,ratio_whole_to_cmft,ours_rms,ours_worst_texel,ours_probe_rms,cmft_rms,cmft_worst_texel,cmft_min_texel,cmft_probe_rms"
 echo "$header" > "$out/vs_cmft.csv"
 while IFS=, read -r m rest; do
   line="$m,$rest"
@@ -90,7 +90,7 @@ while IFS=, read -r m rest; do
     errors=$("$compare" error "$root/data/cache/env/$m.exr" "$work/${m}_ours.exr" "$work/${m}_cmft.dds" 2>/dev/null)
     ours=$(echo "$errors" | awk -F, '$1 == "sss-irrmap" { print $2 "," $3 "," $5 }')
     theirs=$(echo "$errors" | awk -F, '$1 == "cmft" { print $2 "," $3 "," $4 "," $5 }')
-    ratio=$(echo "$rest" | awk -F, '{ printf "%.3f,%.3f,%.3f", $1 / $8, $5 / $8, $2 / $9 }')
+    ratio=$(echo "$rest" | awk -F, '{ printf "%.3f,%.3f,%.3f,%.3f", $1 / $8, $5 / $8, $2 / $9, $3 / $8 }')
     line="$line,$ratio,$ours,$theirs"
   fi
   echo "$line" >> "$out/vs_cmft.csv"

@@ -37,11 +37,26 @@ void readEnvironment(const std::string& path) {
   }
 }
 
+// readImage as the tools call it, refused NaN/Inf texels read again with sanitize. The image
+// targets feed lib/image's own readers (image_format.h picks them by content, the extension
+// aside); "environment" goes on to the layouts and the cubemap.
+void readImageFile(const std::string& path) {
+  try {
+    readImage(path);
+  } catch (const NonFiniteTexelsError&) {
+    readImage(path, {true, true});
+  }
+}
+
+bool isImageTarget(std::string_view target) {
+  return target == "exr" || target == "hdr" || target == "png";
+}
+
 }  // namespace
 
 const std::vector<std::string>& targetNames() {
-  static const std::vector<std::string> names = {"ply",         "obj",       "off",      "stl",
-                                                 "environment", "baked_ply", "baked_glb"};
+  static const std::vector<std::string> names = {
+      "ply", "obj", "off", "stl", "environment", "baked_ply", "baked_glb", "exr", "hdr", "png"};
   return names;
 }
 
@@ -58,6 +73,8 @@ void readInput(std::string_view target, std::string_view bytes, const std::strin
   }
   if (target == "environment") {
     readEnvironment(path);
+  } else if (isImageTarget(target)) {
+    readImageFile(path);
   } else if (target == "baked_ply") {
     readBakedPly(path);
   } else if (target == "baked_glb") {

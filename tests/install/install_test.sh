@@ -2,8 +2,8 @@
 # `cmake --install` into a scratch prefix, then, from a folder outside the source and build trees
 # and with the installed tools only: each tool's --version and sss-bake's --help, a quick bake of
 # the sample bunny under the procedural sky and a 128x128 render of it in forest.exr. Checks the
-# outputs (the PLY's vertex count, the PNG's signature and size), that no installed tool has a
-# build or source path in its RPATH, and that the man pages and the documentation are installed.
+# outputs (the PLY's vertex count, the PNG's signature and size, a TIFF through the OpenImageIO
+# module), that no installed tool has a build or source path in its RPATH or links OpenImageIO, and that the man pages and the documentation are installed.
 # Quick settings (~1 s for the bake): no shadow rays, 5 % tolerance, the half-space energy without
 # the far field or the unscattered light (their random walks and light tracing are most of a bake
 # at these sizes).
@@ -34,6 +34,8 @@ for tool in "${tools[@]}"; do
   dynamic=$(readelf -d "$bin/$tool") || fail "readelf -d $tool failed"
   rpath=$(grep -E 'R(UN)?PATH' <<<"$dynamic" || true)
   [[ $rpath != *"$build"* && $rpath != *"$src"* ]] || fail "$tool's RPATH names a tree: $rpath"
+  # OpenImageIO is loaded when a format needs it (lib/image/image_format.h), never at start-up.
+  ! grep -q 'NEEDED.*OpenImageIO' <<<"$dynamic" || fail "$tool links OpenImageIO"
 done
 help=$("$bin/sss-bake" --help) || fail "sss-bake --help failed"
 grep -q '^Usage:' <<<"$help" || fail "sss-bake --help printed no usage"
@@ -42,6 +44,12 @@ grep -q '^Usage:' <<<"$help" || fail "sss-bake --help printed no usage"
   --energy halfspace --far-field off --unscattered off -q -o bunny.ply || fail "the bake failed"
 "$bin/sss-render" bunny.ply -e "$env" --env-size 32 --size 128x128 -q -o bunny.png ||
   fail "the render failed"
+
+# A format only OpenImageIO writes, through the module installed beside the tools
+# (<libdir>/sss-tools/sss_oiio.so, found from the executable's folder): TIFF's byte-order mark.
+"$bin/sss-render" bunny.ply -e "$env" --env-size 32 --size 64x64 -q -o bunny.tif ||
+  fail "the TIFF render failed (OpenImageIO's module not found?)"
+[[ $(head -c 2 bunny.tif) == II || $(head -c 2 bunny.tif) == MM ]] || fail "bunny.tif is no TIFF"
 
 # The baked PLY has the input's vertices, each with its exitance, and their data.
 vertices=$(grep -a -m1 '^element vertex ' "$mesh" | tr -d '\r')

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <png.h>
+#include <zlib.h>
 
 #include "core/error.h"
 #include "image/image_limits.h"
@@ -134,6 +135,8 @@ bool writeRows(PngStruct& png, std::FILE* file, const PixelsToWrite& pixels,
   png_structp p = png.png();
   png_init_io(p, file);
   png_set_compression_level(p, pixels.fastPng ? 1 : 6);
+  // zlib's default strategy, not libpng's Z_FILTERED for filtered rows, as OpenImageIO set it.
+  png_set_compression_strategy(p, Z_DEFAULT_STRATEGY);
   if (pixels.fastPng) png_set_filter(p, PNG_FILTER_TYPE_BASE, PNG_FILTER_NONE);
   png_set_IHDR(p, png.info(), pixels.width, pixels.height, 8, PNG_COLOR_TYPE_RGB,
                PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);

@@ -14,7 +14,8 @@ DecodedImage readPng(const std::string& path);
 
 // 8-bit sRGB RGB with the chunks OpenImageIO 2.4 wrote for the same call, so the bytes match its
 // files: sRGB with gAMA and cHRM, a zero oFFs, the attributes then "oiio:ColorSpace" = "sRGB" as
-// tEXt; zlib level 6 and libpng's adaptive filters, or level 1 and no filters for fastPng.
+// tEXt; zlib level 6, its default strategy and libpng's adaptive filters, or level 1 and no
+// filters for fastPng.
 void writePng(const std::string& path, const PixelsToWrite& pixels);
 
 }  // namespace sss

@@ -1,4 +1,4 @@
-// libFuzzer target: readImage and loadEnvironment on EXR, HDR and PFM bytes (OpenImageIO reads
+// libFuzzer target: readImage and loadEnvironment on EXR, HDR and PFM bytes (lib/image reads
 // files).
 #include "fuzz_main.h"
 

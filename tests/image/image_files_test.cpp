@@ -94,7 +94,9 @@ TEST_F(ImageFiles, ExrAndPngBytesAreOpenImageIosButForTheTimeOfWriting) {
 }
 
 TEST_F(ImageFiles, OurFormatsNeverLoadOpenImageIo) {
-  // In a child process: this one may have loaded it for another test.
+  // In a child process: this one may have loaded it for another test. "threadsafe" re-executes
+  // the test binary: forking a process that OpenImageIO's threads run in can deadlock.
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
   EXPECT_EXIT(
       {
         writeImage(path("a.exr"), gradient(9, 4));

@@ -14,7 +14,7 @@ set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 seconds=${1:-60}
 build=$(realpath -m "${2:-$root/build-checked}")
-read -r -a targets <<<"${SSS_FUZZ_TARGETS:-ply obj off stl environment baked_ply baked_glb}"
+read -r -a targets <<<"${SSS_FUZZ_TARGETS:-ply obj off stl environment baked_ply baked_glb gltf glb}"
 jobs=$(nproc)
 cd "$root"
 
@@ -33,6 +33,7 @@ fuzz() {
   mkdir -p "$work/corpus/$t" "$work/artifacts/$t"
   [[ -f tests/fuzz/dict/$t.dict ]] && dict=(-dict="tests/fuzz/dict/$t.dict")
   [[ $t == baked_ply ]] && dict=(-dict=tests/fuzz/dict/ply.dict)
+  [[ $t == glb ]] && dict=(-dict=tests/fuzz/dict/gltf.dict)
   local status=0
   "$build/tests/fuzz/${t}_fuzz" "$work/corpus/$t" "tests/fuzz/corpus/$t" "${dict[@]}" \
     -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=1024 \

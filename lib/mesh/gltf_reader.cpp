@@ -178,10 +178,11 @@ void checkSceneSize(const Document& doc, const std::vector<Instance>& instances)
     doc.fail("the scene places " + std::to_string(vertices) + " vertices and " +
              std::to_string(corners) + " corners, beyond 32-bit indices");
   }
-  // Per vertex: the positions, normals and coordinates read, the welded copies and the sort;
-  // per corner: the index, the face lists and the corner's coordinates.
+  // Per vertex: the positions and normals placed, the weld's keys, order and sums, the welded
+  // copies (about 130 bytes); per corner: the indices, texture coordinates, face lists and the
+  // cleanup's triangles (about 40 bytes).
   checkMemoryNeed(doc.path(), "reading " + std::to_string(vertices) + " vertices",
-                  vertices * 96 + corners * 40);
+                  vertices * 160 + corners * 48);
 }
 
 // Accumulates the primitives' vertices and triangles.

@@ -23,6 +23,9 @@ bash tests/sanitizers/build.sh "$build" $(printf '%s_fuzz ' "${targets[@]}")
 source tests/sanitizers/env.sh
 # Over-allocation is a finding (the readers' size checks come first), not a std::bad_alloc.
 export ASAN_OPTIONS="detect_leaks=1:allocator_may_return_null=0:strict_string_checks=1"
+# What a reader may allocate once its memory check (core/memory.h) has passed: the glTF reader
+# checks a scene's placed copies against it, under libFuzzer's -malloc_limit_mb below.
+export SSS_MEMORY_LIMIT_MB=900
 work="$build/fuzz"
 mkdir -p "$work"
 : >"$work/summary.txt"

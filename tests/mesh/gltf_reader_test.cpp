@@ -320,6 +320,30 @@ TEST(MeshGltf, TheTestsAssetsAreValidGltf) {
   test::expectValidGltf(dir.path("t.gltf"));
 }
 
+// The cleanup turns an inside-out closed mesh: each corner's texture coordinates follow its
+// vertex, not its place in the triangle.
+TEST(MeshGltf, TextureCoordinatesFollowTheirVertexWhenTheCleanupTurnsATriangle) {
+  ScratchDir dir;
+  GltfBuilder b;
+  std::vector<unsigned> inverted = test::tetrahedronIndices();
+  for (std::size_t t = 0; t < inverted.size(); t += 3) std::swap(inverted[t + 1], inverted[t + 2]);
+  GltfBuilder::Primitive prim;
+  prim.attributes = {{"POSITION", b.positions(test::tetrahedronPositions())},
+                     {"TEXCOORD_0", b.texcoords({{0, 0}, {1, 0}, {2, 0}, {3, 0}})}};
+  prim.indices = b.indices(inverted);
+  b.scene({b.node({{"mesh", b.mesh({prim})}})});
+  MeshReport report;
+  MeshParts parts;
+  const TriangleMesh m = loadBytes(dir, "inside_out.glb", b.glb(), &report, &parts);
+  EXPECT_TRUE(report.orientationFlipped);
+  ASSERT_EQ(parts.cornerTexcoords.size(), 12u);
+  for (std::size_t t = 0; t < 4; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(parts.cornerTexcoords[3 * t + k].x, float(m.triangles[t][k])) << t << " " << k;
+    }
+  }
+}
+
 TEST(MeshGltf, OtherFormatsHaveNoPartsAndNoUnit) {
   ScratchDir dir;
   writeFile(dir.path("t.off"), "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");

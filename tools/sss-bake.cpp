@@ -103,8 +103,8 @@ sss::Material materialFrom(const MaterialOptions& m) {
 void addUnitOptions(CLI::App& app, sss::BakeSettings& s) {
   auto* group = app.add_option_group(
       "units",
-      "Exactly one: --mm-per-unit, --unit or --size-mm (translucency depends on size); a glTF "
-      "mesh is in metres unless one is given");
+      "One of --mm-per-unit, --unit or --size-mm (translucency depends on size); required but "
+      "for glTF meshes, which are in metres");
   group->add_option("--mm-per-unit", s.mmPerUnit, "Millimetres per mesh unit")
       ->check(cli::checkedBy<double>([](double v) { sss::checkMmPerUnit(v, ""); }));
   cli::addParsedOption(*group, "--unit", s.mmPerUnit, sss::parseUnit, "Mesh unit: mm, cm or m");
@@ -288,9 +288,8 @@ int main(int argc, char** argv) {
   app.footer(
       "Examples:\n"
       "  sss-bake bunny.ply -e forest.exr -m marble --size-mm 150 -o bunny_baked.ply\n"
-      "  sss-bake dragon.obj --sky=elevation=30 -m skin1 --unit m -o dragon.glb --json d.json\n"
-      "  sss-bake a.ply b.obj -e studio.exr -m skin1 --unit mm -o baked/  # one process\n"
-      "  sss-bake bust.glb -e studio.exr -m marble --material-map Base=marble -o baked.glb");
+      "  sss-bake statue.glb --sky=elevation=30 -m marble -o statue_baked.glb --json s.json\n"
+      "  sss-bake a.ply b.obj -e studio.exr -m skin1 --unit mm -o baked/  # one process");
 
   return sss::runTool("sss-bake", app, argc, argv, [&]() -> int {
     checkUnitsGiven(meshes, s);

@@ -16,6 +16,7 @@
 #include "core/batch.h"
 #include "core/cli.h"
 #include "core/error.h"
+#include "core/file_extension.h"
 #include "core/paths.h"
 #include "core/timer.h"
 #include "core/tool.h"
@@ -101,13 +102,27 @@ sss::Material materialFrom(const MaterialOptions& m) {
 
 void addUnitOptions(CLI::App& app, sss::BakeSettings& s) {
   auto* group = app.add_option_group(
-      "units", "Exactly one: --mm-per-unit, --unit or --size-mm (translucency depends on size)");
+      "units",
+      "One of --mm-per-unit, --unit or --size-mm (translucency depends on size); required but "
+      "for glTF meshes, which are in metres");
   group->add_option("--mm-per-unit", s.mmPerUnit, "Millimetres per mesh unit")
       ->check(cli::checkedBy<double>([](double v) { sss::checkMmPerUnit(v, ""); }));
   cli::addParsedOption(*group, "--unit", s.mmPerUnit, sss::parseUnit, "Mesh unit: mm, cm or m");
   group->add_option("--size-mm", s.sizeMm, "Scale the longest bounding-box side to this many mm")
       ->check(cli::checkedBy<double>(sss::checkSizeMm));
-  group->require_option(1);
+  group->require_option(0, 1);
+}
+
+// Without a unit option every mesh must fix its own unit: glTF's metres.
+void checkUnitsGiven(const std::vector<std::string>& meshes, const sss::BakeSettings& s) {
+  if (s.mmPerUnit > 0.0 || s.sizeMm > 0.0) return;
+  for (const std::string& mesh : meshes) {
+    const std::string ext = sss::lowerExtension(mesh);
+    if (ext != "gltf" && ext != "glb") {
+      throw sss::UsageError("a unit is required: one of --mm-per-unit,--unit,--size-mm (" +
+                            sss::escapeControl(mesh) + " does not fix one; glTF files are metres)");
+    }
+  }
 }
 
 // --samples auto|N: auto is 0.
@@ -246,7 +261,8 @@ int main(int argc, char** argv) {
   std::string output, jsonPath, sky;
   std::vector<std::string> meshes;
   app.add_option("mesh", meshes,
-                 "Input mesh (PLY, OBJ, OFF, STL, OM); several with -o DIR/ (one process)")
+                 "Input mesh (PLY, OBJ, OFF, STL, OM, glTF 2.0 .gltf/.glb); several with -o DIR/ "
+                 "(one process)")
       ->required();
   auto* environment = app.add_option_group("environment", "Exactly one: -e ENV or --sky");
   environment->add_option("-e,--env", s.environment,
@@ -265,14 +281,18 @@ int main(int argc, char** argv) {
   addMaterialOptions(app, material);
   addUnitOptions(app, s);
   addBakeOptions(app, s);
+  cli::addParsedOption(app, "--material-map", s.materialMap, sss::parseMaterialMap,
+                       "glTF material names to presets, name=preset,... or a JSON file "
+                       "({\"name\": \"preset\"}); parts not named take -m's material");
   app.add_option("--json", jsonPath, "Write a JSON report (a folder DIR/ with several meshes)");
   app.footer(
       "Examples:\n"
       "  sss-bake bunny.ply -e forest.exr -m marble --size-mm 150 -o bunny_baked.ply\n"
-      "  sss-bake dragon.obj --sky=elevation=30 -m skin1 --unit m -o dragon.glb --json d.json\n"
+      "  sss-bake statue.glb --sky=elevation=30 -m marble -o statue_baked.glb --json s.json\n"
       "  sss-bake a.ply b.obj -e studio.exr -m skin1 --unit mm -o baked/  # one process");
 
   return sss::runTool("sss-bake", app, argc, argv, [&]() -> int {
+    checkUnitsGiven(meshes, s);
     if (sss::isBatch(meshes, output)) {
       if (skyOption->count() > 0) s.environment = sky.empty() ? "sky" : "sky:" + sky;
       s.material = materialFrom(material);

@@ -452,6 +452,15 @@ PreparedMesh prepareMeshStage(const BakeSettings& s) {
       {.path = s.meshPath, .mmPerUnit = s.mmPerUnit, .sizeMm = s.sizeMm, .quiet = s.run.quiet});
 }
 
+// The settings with the material the mesh's parts bake with (material_map.h): -m's unless the
+// material map gives every part another.
+BakeSettings settingsForParts(const BakeSettings& s, const PreparedMesh& mesh) {
+  BakeSettings out = s;
+  out.material = materialForParts(s.meshPath, s.materialMap, mesh.parts, s.material);
+  if (out.material.name != s.material.name) validateBakeSettings(out);
+  return out;
+}
+
 // Stages 2-12 (bake.h) on a prepared mesh and a loaded environment.
 BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvironment& env,
                         const Stopwatch& clock) {
@@ -519,15 +528,17 @@ BakeOutput bake(const BakeSettings& s) {
   const Stopwatch clock;
   validateBakeSettings(s);
   PreparedMesh mesh = prepareMeshStage(s);
-  const BakeEnvironment env = loadBakeEnvironment(s);
-  return bakePrepared(s, std::move(mesh), env, clock);
+  const BakeSettings settings = settingsForParts(s, mesh);
+  const BakeEnvironment env = loadBakeEnvironment(settings);
+  return bakePrepared(settings, std::move(mesh), env, clock);
 }
 
 BakeOutput bake(const BakeSettings& s, const BakeEnvironment& env) {
   const Stopwatch clock;
   validateBakeSettings(s);
   PreparedMesh mesh = prepareMeshStage(s);
-  return bakePrepared(s, std::move(mesh), env, clock);
+  const BakeSettings settings = settingsForParts(s, mesh);
+  return bakePrepared(settings, std::move(mesh), env, clock);
 }
 
 }  // namespace sss

@@ -38,22 +38,39 @@ Json materialJson(const Material& m) {
 
 Json toJson(const MeshStageReport& r) {
   const MeshReport& m = r.load;
-  return {{"file", r.file},
-          {"format", m.format},
-          {"vertices", r.vertices},
-          {"triangles", r.triangles},
-          {"file_vertices", m.fileVertices},
-          {"file_faces", m.fileFaces},
-          {"dropped_degenerate", m.droppedDegenerate},
-          {"dropped_duplicate", m.droppedDuplicate},
-          {"dropped_unreferenced", m.droppedUnreferenced},
-          {"non_manifold_edges", m.nonManifoldEdges},
-          {"non_manifold_vertices", m.nonManifoldVertices},
-          {"boundary_edges", m.boundaryEdges},
-          {"components", m.components},
-          {"normals_computed", m.normalsComputed},
-          {"orientation_flipped", m.orientationFlipped},
-          {"surface_area_mm2", r.surfaceAreaMm2}};
+  Json j = {{"file", r.file},
+            {"format", m.format},
+            {"vertices", r.vertices},
+            {"triangles", r.triangles},
+            {"file_vertices", m.fileVertices},
+            {"file_faces", m.fileFaces},
+            {"dropped_degenerate", m.droppedDegenerate},
+            {"dropped_duplicate", m.droppedDuplicate},
+            {"dropped_unreferenced", m.droppedUnreferenced},
+            {"non_manifold_edges", m.nonManifoldEdges},
+            {"non_manifold_vertices", m.nonManifoldVertices},
+            {"boundary_edges", m.boundaryEdges},
+            {"components", m.components},
+            {"normals_computed", m.normalsComputed},
+            {"orientation_flipped", m.orientationFlipped},
+            {"surface_area_mm2", r.surfaceAreaMm2}};
+  if (r.parts.empty()) return j;
+  // A glTF's parts, in the order its scene places them.
+  Json parts = Json::array();
+  for (const MeshPart& p : r.parts) {
+    parts.push_back({{"node", p.node},
+                     {"node_index", p.nodeIndex},
+                     {"mesh", p.mesh},
+                     {"mesh_index", p.meshIndex},
+                     {"primitive", p.primitive},
+                     {"material", p.material},
+                     {"triangles", p.triangles},
+                     {"texcoords", p.hasTexcoords}});
+  }
+  j["parts"] = parts;
+  j["welded_vertices"] = r.weldedVertices;
+  j["texcoords"] = r.texcoords;
+  return j;
 }
 
 Json toJson(const EnergyStageReport& r) {
@@ -201,6 +218,7 @@ Json toJson(const BakeReport& r) {
   Json j;
   j["mesh"] = toJson(r.mesh);
   j["units"] = {{"mm_per_unit", r.mesh.mmPerUnit}, {"longest_side_mm", r.mesh.longestSideMm}};
+  if (r.mesh.unitFromFile) j["units"]["from_file"] = true;
   j["environment"] = {{"source", r.environment.source},
                       {"face_size", r.environment.faceSize},
                       {"convention", r.environment.convention},

@@ -62,7 +62,7 @@ void validateBakeSettings(const BakeSettings& s) {
   }
   if (s.sizeMm > 0.0) {
     checkSizeMm(s.sizeMm);
-  } else {
+  } else if (s.mmPerUnit != 0.0) {  // 0: the file's own unit (prepare_mesh.h)
     checkMmPerUnit(s.mmPerUnit, "millimetres per mesh unit");
   }
   checkVisibilitySamples(s.samples);

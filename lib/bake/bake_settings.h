@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <string>
 
+#include "bake/material_map.h"
 #include "core/enum_names.h"
 #include "core/run_context.h"
 #include "envmap/orientation.h"
@@ -61,7 +62,11 @@ struct BakeSettings {
   std::string environment;  // an environment file, or "sky" / "sky:<spec>" (loadEnvironment)
   EnvironmentOrientation orientation;  // --env-convention, --env-rotate (envmap/orientation.h)
   Material material;
-  double mmPerUnit = 0.0;  // millimetres per mesh unit (> 0), unless sizeMm > 0
+  // glTF material names -> materials (--material-map); parts it does not name take `material`.
+  MaterialMap materialMap;
+  // Millimetres per mesh unit (> 0), unless sizeMm > 0; 0: the unit the file fixes (glTF's
+  // metres), an error for formats without one.
+  double mmPerUnit = 0.0;
   double sizeMm = 0.0;     // > 0: scale so that the longest bounding-box side is this long
   VisibilityMode visibility = VisibilityMode::Rays;
   int samples = 0;  // visibility rays per vertex (>= 2); 0: auto (chooseVisibilitySamples)

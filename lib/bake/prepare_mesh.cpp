@@ -35,7 +35,10 @@ PreparedMesh prepareMesh(const MeshPreparation& in) {
   // Refused up front when the header gives the counts (PLY, OFF, binary STL), else once loaded.
   const DeclaredMeshCounts declared = declaredMeshCounts(in.path);
   if (declared.known) checkBakeMemory(in.path, declared.vertices, declared.faces);
-  out.mesh = loadMesh(in.path, &report.load);
+  out.mesh = loadMesh(in.path, &report.load, &out.parts);
+  report.parts = out.parts.parts;
+  report.weldedVertices = out.parts.weldedVertices;
+  report.texcoords = !out.parts.cornerTexcoords.empty();
   if (!declared.known) checkBakeMemory(in.path, out.mesh.vertexCount(), out.mesh.triangleCount());
   if (!in.quiet) {
     for (const std::string& w : report.load.warnings) warn(in.path + ": " + w);
@@ -43,6 +46,15 @@ PreparedMesh prepareMesh(const MeshPreparation& in) {
 
   const double longest = boundsOf(out.mesh.positions).longestSide();
   report.mmPerUnit = in.mmPerUnit;
+  if (in.sizeMm <= 0.0 && in.mmPerUnit <= 0.0) {
+    if (!(out.parts.mmPerUnit > 0.0)) {
+      fail(in.path,
+           "no unit: give --mm-per-unit, --unit or --size-mm (only glTF files fix "
+           "theirs, metres)");
+    }
+    report.mmPerUnit = out.parts.mmPerUnit;
+    report.unitFromFile = true;
+  }
   if (in.sizeMm > 0.0) {
     if (!(longest > 0.0)) fail(in.path, "the mesh has no extent to scale to a size");
     report.mmPerUnit = in.sizeMm / longest;

@@ -13,7 +13,7 @@ namespace sss {
 
 struct MeshPreparation {
   std::string path;
-  double mmPerUnit = 0.0;  // used when sizeMm is 0
+  double mmPerUnit = 0.0;  // used when sizeMm is 0; 0: the unit the file fixes (glTF: metres)
   double sizeMm = 0.0;     // > 0: the longest bounding-box side becomes this long
   bool quiet = false;      // no progress, and no warnings about the mesh (cleanup, size)
 };
@@ -25,6 +25,12 @@ struct MeshStageReport {
   double surfaceAreaMm2 = 0.0;
   double mmPerUnit = 0.0;
   double longestSideMm = 0.0;
+  bool unitFromFile = false;  // mmPerUnit is the file's own unit (glTF: metres)
+  // A glTF's parts (mesh/mesh_parts.h: node, mesh, primitive, material, triangles), the vertices
+  // welded across them and whether TEXCOORD_0 was read; empty for other formats.
+  std::vector<MeshPart> parts;
+  std::size_t weldedVertices = 0;
+  bool texcoords = false;
   double seconds = 0.0;
 };
 
@@ -32,6 +38,7 @@ struct PreparedMesh {
   TriangleMesh mesh;            // in the file's units
   TriangleMesh meshMm;          // the same in mm
   std::vector<float> areasMm2;  // per vertex: a third of its triangles' areas (Li & Guo's M)
+  MeshParts parts;              // a glTF's parts, materials and texture coordinates (else empty)
   MeshStageReport report;
 };
 

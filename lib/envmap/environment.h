@@ -62,8 +62,8 @@ void checkFaceSize(int faceSize);
 
 struct EnvironmentOptions {
   ImageReadOptions read;
-  int faceSize = 0;  // 0: chosen from the source resolution
-  int threads = 0;   // <= 0: all cores
+  int faceSize = 0;                      // 0: chosen from the source resolution
+  int threads = 0;                       // <= 0: all cores
   EnvironmentOrientation orientation{};  // --env-convention, --env-rotate
 };
 // Reads an environment file (equirect, cross or our stack) into a radiance cubemap; the special

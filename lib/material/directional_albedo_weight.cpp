@@ -43,5 +43,4 @@ glm::vec3 calibratedExitRadiance(const DirectionalAlbedoWeight& weight, float mu
   return weight.at(mu) * static_cast<float>(fresnelTransmittance(mu, eta) * exitRadianceScale(eta));
 }
 
-
 }  // namespace sss

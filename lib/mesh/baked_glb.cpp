@@ -4,8 +4,6 @@
 #include <bit>
 #include <cstdint>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <limits>
 #include <optional>
 
@@ -15,6 +13,7 @@
 #include "core/atomic_output.h"
 #include "core/error.h"
 #include "core/tool.h"
+#include "mesh/glb_chunks.h"
 #include "optics/exit_lobe.h"
 #include "optics/fresnel.h"
 
@@ -27,9 +26,6 @@ static_assert(std::endian::native == std::endian::little,
 using Json = nlohmann::ordered_json;
 
 constexpr int kFormatVersion = 1;
-constexpr std::uint32_t kGlbMagic = 0x46546C67;   // "glTF"
-constexpr std::uint32_t kChunkJson = 0x4E4F534A;  // "JSON"
-constexpr std::uint32_t kChunkBin = 0x004E4942;   // "BIN\0"
 constexpr int kFloat = 5126, kUnsignedInt = 5125, kUnsignedShort = 5123, kUnsignedByte = 5121;
 constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963, kTriangles = 4;
 
@@ -232,55 +228,6 @@ void writeBakedGlb(const std::string& path, const BakedMesh& baked, const std::s
 
 namespace {
 
-// The GLB's chunks, their lengths checked against the file.
-struct GlbChunks {
-  std::string json;
-  std::string bin;
-};
-
-GlbChunks readChunks(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) fail(path, "cannot open");
-  std::error_code ec;
-  const std::uintmax_t size = std::filesystem::file_size(path, ec);
-  if (ec) fail(path, "cannot read its size");
-  char header[20];
-  if (size < 20 || !file.read(header, 20)) {
-    fail(path, "not a GLB: " + std::to_string(size) + " bytes, under a header and one chunk");
-  }
-  if (getU32(header) != kGlbMagic) fail(path, "not a GLB: no 'glTF' magic");
-  if (getU32(header + 4) != 2) {
-    fail(path, "GLB version " + std::to_string(getU32(header + 4)) + ", not 2");
-  }
-  if (getU32(header + 8) != size) {
-    fail(path, "GLB header declares " + std::to_string(getU32(header + 8)) +
-                   " bytes, the file has " + std::to_string(size) + " (truncated?)");
-  }
-  const std::uint64_t jsonLength = getU32(header + 12);
-  if (getU32(header + 16) != kChunkJson) fail(path, "the first GLB chunk is not JSON");
-  if (jsonLength % 4 != 0 || 20 + jsonLength > size) {
-    fail(path, "JSON chunk of " + std::to_string(jsonLength) + " bytes does not fit the file");
-  }
-  GlbChunks chunks;
-  chunks.json.resize(jsonLength);
-  if (!file.read(chunks.json.data(), static_cast<std::streamsize>(jsonLength))) {
-    fail(path, "cannot read the JSON chunk");
-  }
-  if (20 + jsonLength == size) return chunks;  // no BIN chunk
-  char binHeader[8];
-  if (size - 20 - jsonLength < 8 || !file.read(binHeader, 8)) fail(path, "truncated BIN chunk");
-  const std::uint64_t binLength = getU32(binHeader);
-  if (getU32(binHeader + 4) != kChunkBin) fail(path, "the second GLB chunk is not BIN");
-  if (binLength % 4 != 0 || 28 + jsonLength + binLength > size) {
-    fail(path, "BIN chunk of " + std::to_string(binLength) + " bytes does not fit the file");
-  }
-  chunks.bin.resize(binLength);
-  if (!file.read(chunks.bin.data(), static_cast<std::streamsize>(binLength))) {
-    fail(path, "cannot read the BIN chunk");
-  }
-  return chunks;
-}
-
 // A non-negative integer member (required unless `fallback` is given).
 std::uint64_t index(const std::string& path, const Json& object, const char* key,
                     std::optional<std::uint64_t> fallback = std::nullopt) {
@@ -407,7 +354,7 @@ void readSssExtras(const std::string& path, const Json& sss, BakedPlyContents& c
 }  // namespace
 
 BakedPlyContents readBakedGlb(const std::string& path) {
-  const GlbChunks chunks = readChunks(path);
+  const GlbChunks chunks = readGlbChunks(path);
   BakedPlyContents contents;
   BakedMesh& baked = contents.baked;
   RawMesh raw;

@@ -17,7 +17,9 @@ void checkBakedMeshPath(const std::string& path);
 void writeBakedMesh(const std::string& path, const BakedMesh& baked,
                     const std::string& reportJson = "");
 
-// Reads a baked GLB (.glb) or PLY; any other mesh file loads as readBakedPly does (nothing baked).
+// Reads a baked GLB (a .glb that sss-bake wrote: asset.extras.sss) or PLY; any other mesh file,
+// a glTF scene included, loads as readBakedPly does (nothing baked; a glTF's unit, metres, is
+// recorded).
 BakedPlyContents readBakedMesh(const std::string& path);
 
 }  // namespace sss

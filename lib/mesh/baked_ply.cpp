@@ -354,7 +354,12 @@ std::vector<glm::vec3> readChannels(const std::string& path, const ply::PlyMesh&
 BakedPlyContents readBakedPly(const std::string& path) {
   BakedPlyContents result;
   if (lowerExtension(path) != "ply") {
-    result.baked.mesh = loadMesh(path, &result.report);
+    MeshParts parts;
+    result.baked.mesh = loadMesh(path, &result.report, &parts);
+    if (parts.mmPerUnit > 0.0) {  // glTF: metres
+      result.hasUnits = true;
+      result.baked.mmPerUnit = parts.mmPerUnit;
+    }
     return result;
   }
   ply::PlyMesh ply = ply::readPly(path);

@@ -11,6 +11,7 @@
 #include "core/bounds.h"
 #include "core/error.h"
 #include "core/file_extension.h"
+#include "mesh/gltf_reader.h"
 #include "mesh/openmesh_reader.h"
 #include "mesh/ply_format.h"
 
@@ -158,7 +159,9 @@ double medianEdgeLength(const TriangleMesh& mesh) {
 }
 
 // Triangulates (fans) and drops degenerate triangles; an out-of-range index is an error.
-std::vector<glm::uvec3> triangulate(const std::string& path, const RawMesh& raw, MeshReport& r) {
+// faceOf (optional) receives each triangle's face.
+std::vector<glm::uvec3> triangulate(const std::string& path, const RawMesh& raw, MeshReport& r,
+                                    std::vector<unsigned>* faceOf) {
   const std::size_t nv = raw.positions.size();
   std::vector<glm::uvec3> tris;
   tris.reserve(raw.faceSizes.size());
@@ -187,6 +190,7 @@ std::vector<glm::uvec3> triangulate(const std::string& path, const RawMesh& raw,
         ++r.droppedDegenerate;
       } else {
         tris.push_back(t);
+        if (faceOf) faceOf->push_back(static_cast<unsigned>(f));
       }
     }
   }
@@ -194,7 +198,9 @@ std::vector<glm::uvec3> triangulate(const std::string& path, const RawMesh& raw,
 }
 
 // Duplicates: the same vertex set as an earlier triangle (either winding); the first stays.
-void dropDuplicateTriangles(std::vector<glm::uvec3>& tris, MeshReport& r) {
+// faceOf (optional) follows the triangles.
+void dropDuplicateTriangles(std::vector<glm::uvec3>& tris, MeshReport& r,
+                            std::vector<unsigned>* faceOf) {
   std::vector<std::pair<std::array<unsigned, 3>, std::size_t>> keys(tris.size());
   for (std::size_t t = 0; t < tris.size(); ++t) {
     std::array<unsigned, 3> k = {tris[t].x, tris[t].y, tris[t].z};
@@ -208,10 +214,13 @@ void dropDuplicateTriangles(std::vector<glm::uvec3>& tris, MeshReport& r) {
   }
   std::size_t kept = 0;
   for (std::size_t t = 0; t < tris.size(); ++t) {
-    if (!duplicate[t]) tris[kept++] = tris[t];
+    if (duplicate[t]) continue;
+    if (faceOf) (*faceOf)[kept] = (*faceOf)[t];
+    tris[kept++] = tris[t];
   }
   r.droppedDuplicate = tris.size() - kept;
   tris.resize(kept);
+  if (faceOf) faceOf->resize(kept);
 }
 
 // Removes unreferenced vertices, keeping the order of the rest: mesh gets the positions and
@@ -338,7 +347,7 @@ void checkFloatPrecision(const std::string& path, const TriangleMesh& mesh) {
 }
 
 TriangleMesh cleanMesh(const std::string& path, RawMesh raw, MeshReport* report,
-                       std::vector<unsigned>* vertexOrigin) {
+                       std::vector<unsigned>* vertexOrigin, std::vector<unsigned>* faceOrigin) {
   MeshReport local;
   MeshReport& r = report ? *report : local;
   r.fileVertices = raw.positions.size();
@@ -346,8 +355,9 @@ TriangleMesh cleanMesh(const std::string& path, RawMesh raw, MeshReport* report,
   checkRawMesh(path, raw);
 
   TriangleMesh mesh;
-  mesh.triangles = triangulate(path, raw, r);
-  dropDuplicateTriangles(mesh.triangles, r);
+  if (faceOrigin) faceOrigin->clear();
+  mesh.triangles = triangulate(path, raw, r, faceOrigin);
+  dropDuplicateTriangles(mesh.triangles, r, faceOrigin);
   if (mesh.triangles.empty()) {
     fail(path, "all " + plural(r.fileFaces, "face") + " are degenerate or duplicate");
   }
@@ -369,20 +379,58 @@ TriangleMesh cleanMesh(const std::string& path, RawMesh raw, MeshReport* report,
   return mesh;
 }
 
-TriangleMesh loadMesh(const std::string& path, MeshReport* report) {
+namespace {
+
+// A glTF scene through the cleanup, its parts' data following the triangles: each triangle's
+// part, and its corners' texture coordinates found by the raw vertex each corner came from (the
+// cleanup may have turned a triangle).
+TriangleMesh loadGltf(const std::string& path, MeshReport& r, MeshParts* parts) {
+  GltfMesh g = readGltf(path);
+  r.format = lowerExtension(path);
+  r.warnings = std::move(g.warnings);
+  const std::vector<unsigned> rawCorners = g.raw.faceCorners;
+  std::vector<unsigned> vertexOrigin, faceOrigin;
+  TriangleMesh mesh = cleanMesh(path, std::move(g.raw), &r, &vertexOrigin, &faceOrigin);
+  if (!parts) return mesh;
+  parts->mmPerUnit = 1000.0;  // glTF 2.0, section 3.3.1: metres
+  parts->weldedVertices = g.weldedVertices;
+  parts->parts = std::move(g.parts);
+  parts->trianglePart.resize(mesh.triangles.size());
+  if (!g.cornerTexcoords.empty()) parts->cornerTexcoords.resize(3 * mesh.triangles.size());
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const unsigned face = faceOrigin[t];
+    parts->trianglePart[t] = g.facePart[face];
+    if (g.cornerTexcoords.empty()) continue;
+    for (int k = 0; k < 3; ++k) {
+      const unsigned rawVertex = vertexOrigin[mesh.triangles[t][k]];
+      int j = 0;
+      while (j < 2 && rawCorners[3 * face + j] != rawVertex) ++j;
+      parts->cornerTexcoords[3 * t + k] = g.cornerTexcoords[3 * face + j];
+    }
+  }
+  return mesh;
+}
+
+}  // namespace
+
+TriangleMesh loadMesh(const std::string& path, MeshReport* report, MeshParts* parts) {
   MeshReport local;
   MeshReport& r = report ? *report : local;
   r = MeshReport();
+  if (parts) *parts = MeshParts();
   const std::string ext = lowerExtension(path);
   RawMesh raw;
-  if (ext == "ply") {
+  if (ext == "gltf" || ext == "glb") {
+    return loadGltf(path, r, parts);
+  } else if (ext == "ply") {
     ply::PlyMesh ply = ply::readPly(path);
     raw = ply::takeMesh(ply, r);
   } else if (ext == "obj" || ext == "off" || ext == "stl" || ext == "om") {
     r.format = ext;
     raw = readWithOpenMesh(path, ext);
   } else {
-    fail(path, "unknown mesh format '" + ext + "' (expected .ply, .obj, .off, .stl or .om)");
+    fail(path,
+         "unknown mesh format '" + ext + "' (expected .ply, .obj, .off, .stl, .om, .gltf or .glb)");
   }
   return cleanMesh(path, std::move(raw), &r);
 }

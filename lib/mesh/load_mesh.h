@@ -1,5 +1,6 @@
 // Loading and validating triangle meshes from PLY (ascii, binary little and big endian), OBJ,
-// OFF, STL (ascii and binary) and OM.
+// OFF, STL (ascii and binary), OM and glTF 2.0 (.gltf, .glb: gltf_reader.h, a scene's meshes
+// placed by its nodes, welded into one mesh).
 //
 // Mesh readers are lenient where a bake must not be: OpenMesh 9 accepts a truncated ASCII PLY as
 // a smaller mesh, can hang or allocate without bound on a lying header, and silently splits
@@ -28,14 +29,18 @@
 #include <string>
 #include <vector>
 
+#include "mesh/mesh_parts.h"
 #include "mesh/raw_mesh.h"
 #include "mesh/triangle_mesh.h"
 
 namespace sss {
 
 // Loads, validates and cleans a mesh; the format comes from the extension (case-insensitive).
-// `report` (optional) receives counts and warnings; warnings are not printed here.
-TriangleMesh loadMesh(const std::string& path, MeshReport* report = nullptr);
+// `report` (optional) receives counts and warnings; warnings are not printed here. `parts`
+// (optional) receives what a glTF holds beyond the mesh (its unit, parts, materials, texture
+// coordinates), following the cleanup; other formats leave it empty.
+TriangleMesh loadMesh(const std::string& path, MeshReport* report = nullptr,
+                      MeshParts* parts = nullptr);
 
 // Geometry that float arithmetic cannot carry: positions are floats (a 24-bit significand, so a
 // coordinate x is stored to within |x| 2^-24), and the ray tracer (lib/raytrace) offsets its rays
@@ -69,8 +74,10 @@ void checkFloatPrecision(const std::string& path, const TriangleMesh& mesh);
 
 // The validation and cleanup step of loadMesh on in-memory data. `path` only names the source
 // in errors. `vertexOrigin` (optional) receives, for each output vertex, its index in
-// raw.positions, so that other per-vertex data can follow.
+// raw.positions, so that other per-vertex data can follow; `faceOrigin` (optional), for each
+// output triangle, the index of the raw face it came from (its corners may have been turned).
 TriangleMesh cleanMesh(const std::string& path, RawMesh raw, MeshReport* report,
-                       std::vector<unsigned>* vertexOrigin = nullptr);
+                       std::vector<unsigned>* vertexOrigin = nullptr,
+                       std::vector<unsigned>* faceOrigin = nullptr);
 
 }  // namespace sss

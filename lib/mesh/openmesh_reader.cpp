@@ -258,7 +258,8 @@ void checkOffFaceSizes(const std::string& path, const std::string& data, const O
     // texture floats with ST (we ask for no colours: no alpha, no float colours), and no face
     // colours (a binary COFF's face counts need this check too: found by tests/fuzz).
     const bool texcoords = prefix.find("ST") != std::string::npos;
-    at += 12 + counts.vertices * (12 + (normals ? 12 : 0) + (colours ? 12 : 0) + (texcoords ? 8 : 0));
+    at +=
+        12 + counts.vertices * (12 + (normals ? 12 : 0) + (colours ? 12 : 0) + (texcoords ? 8 : 0));
     for (std::uint64_t f = 0; f < counts.faces; ++f) {
       if (at + 4 > data.size()) truncated(f);
       std::uint32_t n;

@@ -56,7 +56,8 @@ bool isImageTarget(std::string_view target) {
 
 const std::vector<std::string>& targetNames() {
   static const std::vector<std::string> names = {
-      "ply", "obj", "off", "stl", "environment", "baked_ply", "baked_glb", "exr", "hdr", "png"};
+      "ply", "obj", "off", "stl", "environment", "baked_ply", "baked_glb", "gltf", "glb", "exr",
+      "hdr", "png"};
   return names;
 }
 
@@ -79,9 +80,11 @@ void readInput(std::string_view target, std::string_view bytes, const std::strin
     readBakedPly(path);
   } else if (target == "baked_glb") {
     readBakedGlb(path);
-  } else if (target == "ply" || target == "obj" || target == "off" || target == "stl") {
+  } else if (target == "ply" || target == "obj" || target == "off" || target == "stl" ||
+             target == "gltf" || target == "glb") {
     MeshReport report;
-    loadMesh(path, &report);
+    MeshParts parts;
+    loadMesh(path, &report, &parts);
   } else {
     throw std::logic_error("unknown fuzz target '" + std::string(target) + "'");
   }

@@ -11,8 +11,9 @@
 
 namespace sss::fuzz {
 
-// The targets: "ply", "obj", "off", "stl", "environment", "baked_ply", "baked_glb", and the
-// image readers of lib/image: "exr", "hdr", "png".
+// The targets: "ply", "obj", "off", "stl", "environment", "baked_ply", "baked_glb", "gltf" (a
+// .gltf with data: URIs), "glb" (a glTF scene in a GLB, through loadMesh).
+// The image readers of lib/image: "exr", "hdr", "png".
 const std::vector<std::string>& targetNames();
 
 // Writes `bytes` to `dir`/input.<ext> and reads it as the target's tools do. Bad input must end

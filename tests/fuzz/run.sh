@@ -14,7 +14,7 @@ set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 seconds=${1:-60}
 build=$(realpath -m "${2:-$root/build-checked}")
-read -r -a targets <<<"${SSS_FUZZ_TARGETS:-ply obj off stl environment baked_ply baked_glb exr hdr png}"
+read -r -a targets <<<"${SSS_FUZZ_TARGETS:-ply obj off stl environment baked_ply baked_glb gltf glb exr hdr png}"
 jobs=$(nproc)
 cd "$root"
 
@@ -23,6 +23,9 @@ bash tests/sanitizers/build.sh "$build" $(printf '%s_fuzz ' "${targets[@]}")
 source tests/sanitizers/env.sh
 # Over-allocation is a finding (the readers' size checks come first), not a std::bad_alloc.
 export ASAN_OPTIONS="detect_leaks=1:allocator_may_return_null=0:strict_string_checks=1"
+# What a reader may allocate once its memory check (core/memory.h) has passed: the glTF reader
+# checks a scene's placed copies against it, under libFuzzer's -malloc_limit_mb below.
+export SSS_MEMORY_LIMIT_MB=900
 work="$build/fuzz"
 mkdir -p "$work"
 : >"$work/summary.txt"
@@ -34,6 +37,7 @@ fuzz() {
   [[ -f tests/fuzz/dict/$t.dict ]] && dict=(-dict="tests/fuzz/dict/$t.dict")
   [[ $t == baked_ply ]] && dict=(-dict=tests/fuzz/dict/ply.dict)
   [[ $t == exr || $t == hdr ]] && dict=(-dict=tests/fuzz/dict/environment.dict)
+  [[ $t == glb ]] && dict=(-dict=tests/fuzz/dict/gltf.dict)
   local status=0
   "$build/tests/fuzz/${t}_fuzz" "$work/corpus/$t" "tests/fuzz/corpus/$t" "${dict[@]}" \
     -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=1024 \

@@ -5,8 +5,8 @@
 
 #include <cstring>
 #include <fstream>
-#include <vector>
 #include <string>
+#include <vector>
 
 #include "core/error.h"
 #include "mesh/load_mesh.h"

@@ -21,7 +21,8 @@ bash tests/sanitizers/build.sh "$build"
 driver=$(ls /usr/lib/*/dri/swrast_dri.so 2>/dev/null | head -1 || true)
 # workflow_test drives the tools through Snakemake (the orchestration: rules, reruns, the
 # contact sheet); every tool it calls is run under the sanitizers by the tools' own tests, and
-# under ASan it alone takes 149 of the suite's 581 s (measured). It runs in the Release suite. So
+# under ASan it alone takes 149 of the suite's 581 s (measured). It runs in the Release suite, as
+# does slurm_test (the same workflow through a one-node Slurm: daemons and scheduling). So
 # do the tests that only check how each tool refuses a command line (exit status and message,
 # before any input is parsed): each run is a fresh process (OIIO's ~260 libraries to bind), and
 # the code they reach is parsing, which the other tool tests run under the sanitizers too.
@@ -59,7 +60,7 @@ policy+='|BakeTool\.EnergyModelFollowsTheObjectSize|FarField\.UniformLightKeepsB
 policy+='|BakeTool\.AutoSamplesFollowTheTolerance'
 # And install_test (tests/install): it checks what `cmake --install` lays out and runs the
 # installed tools once on quick settings, code that the tools' own tests run under the sanitizers.
-left_out="^(workflow_test|install_test|$command_line_only|$statistical|$policy)\$"
+left_out="^(workflow_test|slurm_test|install_test|$command_line_only|$statistical|$policy)\$"
 ctest --test-dir "$build" --output-on-failure --no-tests=error -j "$(nproc)" -E "$left_out" \
   -LE '^opengl$'
 LD_PRELOAD="$driver" ctest --test-dir "$build" --output-on-failure --no-tests=error \

@@ -67,4 +67,25 @@ open(sys.argv[1], "wb").write(data[:second] + b"comment changed\n" + data[second
 PY
 n=$(planned)
 [[ $n == 5 ]] || fail "a changed mesh plans $n jobs, expected 5 (its bake and render, gather, sheet, all)"
+
+# Batches (plans only; slurm_test compares a batched run's outputs with batch=1's): with the
+# teapot and the dragon added under forest in marble at the bunny's size, the three share a bake
+# job and a render job; batch=2 splits them into two jobs of each, batch=1 gives one per row.
+cp "$work/manifest.csv" "$work/batches.csv"
+for mesh in teapot dragon_res4; do
+  echo "$src/data/cache/meshes/$mesh.ply,size:120,marble,$src/data/cache/env/forest.exr,0"
+done >>"$work/batches.csv"
+# The bake and the render jobs a dry run with batch=$1 plans.
+jobs_of() {
+  snakemake -s "$src/tools/workflow/Snakefile" -d "$work/batches" -n --quiet \
+    --config manifest="$work/batches.csv" out="$work/batches/out" bin="$bin" batch="$1" 2>&1 |
+    awk '$1 == "total" {exit} $1 ~ /^bake_[0-9]+$/ {b += $2} $1 ~ /^render_[0-9]+$/ {r += $2}
+         END {print b + 0, r + 0}'
+}
+for batch in 16 2 1; do
+  expected=$((batch == 16 ? 3 : batch == 2 ? 4 : 5)) # the 3 rows in 1, 2 or 3 jobs; 2 rows alone
+  n=$(jobs_of "$batch")
+  [[ $n == "$expected $expected" ]] ||
+    fail "batch=$batch plans '$n' bake and render jobs for 5 rows, expected $expected of each"
+done
 echo "workflow_test: ok"

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Command 2: fetch the sample data (cached), then run the test suites that SSS_TEST_SUITES names
-# (default: all three; each build is only redone when needed):
+# Command 2: install the missing Debian packages the tests need (tools/install-deps.sh --tests),
+# fetch the sample data (cached), then run the test suites that SSS_TEST_SUITES names (default: all
+# three; each build is only redone when needed):
 #   release   build Release into build/ (SSS_BUILD_DIR overrides) and run every test through ctest
 #   sanitize  the same suite under ASan + UBSan in the checked build <build>-checked/ (clang;
 #             tests/sanitizers/run.sh)
@@ -24,6 +25,7 @@ for suite in $suites; do
   esac
 done
 
+bash tools/install-deps.sh --tests
 bash data/fetch.sh
 for suite in $suites; do
   start=$SECONDS

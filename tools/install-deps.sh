@@ -19,7 +19,7 @@ test_packages=(
   assimp-utils             # tests/mesh: a second glTF reader for the baked GLB
   clang libclang-rt-14-dev # tests/fuzz, tests/sanitizers: libFuzzer (clang's runtime), ASan, UBSan
   snakemake openimageio-tools # tests/workflow: the Snakemake workflow and its contact sheet
-  dpkg-dev                 # tests/install: cpack's Debian package (dpkg-shlibdeps)
+  dpkg-dev file            # tests/install: cpack -G DEB (dpkg-shlibdeps and file)
   gnuplot-nox              # the benchmarks' charts, Table 1's chart (tools/paper-figures.sh)
 )
 case ${1:-} in

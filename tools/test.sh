@@ -32,7 +32,9 @@ for suite in $suites; do
   echo "test: suite $suite"
   case $suite in
     release)
-      cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DSSS_BUILD_TESTS=ON
+      # Both on: command 1 (tools/setup.sh) leaves them off in the same build folder.
+      cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DSSS_BUILD_TESTS=ON \
+        -DSSS_BUILD_BENCHMARKS=ON
       cmake --build "$build" -j "$jobs"
       ctest --test-dir "$build" --output-on-failure --no-tests=error -j "$jobs"
       ;;

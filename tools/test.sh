@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Command 2: fetch the sample data (cached), then run the test suites that SSS_TEST_SUITES names
-# (default: all three; each build is only redone when needed):
+# Command 2: install the missing Debian packages the tests need (tools/install-deps.sh --tests),
+# fetch the sample data (cached), then run the test suites that SSS_TEST_SUITES names (default: all
+# three; each build is only redone when needed):
 #   release   build Release into build/ (SSS_BUILD_DIR overrides) and run every test through ctest
 #   sanitize  the same suite under ASan + UBSan in the checked build <build>-checked/ (clang;
 #             tests/sanitizers/run.sh)
@@ -24,13 +25,16 @@ for suite in $suites; do
   esac
 done
 
+bash tools/install-deps.sh --tests
 bash data/fetch.sh
 for suite in $suites; do
   start=$SECONDS
   echo "test: suite $suite"
   case $suite in
     release)
-      cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DSSS_BUILD_TESTS=ON
+      # Both on: command 1 (tools/setup.sh) leaves them off in the same build folder.
+      cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DSSS_BUILD_TESTS=ON \
+        -DSSS_BUILD_BENCHMARKS=ON
       cmake --build "$build" -j "$jobs"
       ctest --test-dir "$build" --output-on-failure --no-tests=error -j "$jobs"
       # ctest names a skipped test only; the test's own line says why (slurm_test without

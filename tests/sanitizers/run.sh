@@ -58,9 +58,10 @@ statistical+='|Visibility\.TheRatioEstimatorIsUnbiasedAndQuieterBesideAWall'
 policy='BakeTool\.SameOutputForOneAndTwoThreads|FarField\.SameResultForAnyThreadCount'
 policy+='|BakeTool\.EnergyModelFollowsTheObjectSize|FarField\.UniformLightKeepsBEqualToEP'
 policy+='|BakeTool\.AutoSamplesFollowTheTolerance'
-# And install_test (tests/install): it checks what `cmake --install` lays out and runs the
-# installed tools once on quick settings, code that the tools' own tests run under the sanitizers.
-left_out="^(workflow_test|slurm_test|install_test|$command_line_only|$statistical|$policy)\$"
+# And install_test and deb_test (tests/install): they check what `cmake --install` and `cpack`
+# lay out and run the installed tools once on quick settings, code that the tools' own tests run
+# under the sanitizers.
+left_out="^(workflow_test|slurm_test|install_test|deb_test|$command_line_only|$statistical|$policy)\$"
 ctest --test-dir "$build" --output-on-failure --no-tests=error -j "$(nproc)" -E "$left_out" \
   -LE '^opengl$'
 LD_PRELOAD="$driver" ctest --test-dir "$build" --output-on-failure --no-tests=error \

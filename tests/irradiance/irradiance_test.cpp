@@ -53,7 +53,7 @@ TEST(Irradiance, UniformEnvironmentGivesPiL) {
 // 2.5e-4 off by the direct sum and 1.2e-4 by SH).
 TEST(Irradiance, ExactSumOfAUniformEquirectIsTheClosedForm) {
   const glm::vec3 l(0.5f, 1.0f, 2.0f);
-  for (const auto [w, h] : {std::pair{64, 32}, std::pair{128, 64}, std::pair{512, 256}}) {
+  for (const auto& [w, h] : {std::pair{64, 32}, std::pair{128, 64}, std::pair{512, 256}}) {
     ImageRgb image;
     image.width = w;
     image.height = h;

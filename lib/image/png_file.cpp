@@ -31,6 +31,12 @@ struct PngErrors {
 
 void onWarning(png_structp, png_const_charp) {}  // libpng's warnings are about benign chunks
 
+// libpng's default reader says only "Read Error" when the file ends early.
+void readOrFail(png_structp png, png_bytep data, png_size_t size) {
+  auto* file = static_cast<std::FILE*>(png_get_io_ptr(png));
+  if (std::fread(data, 1, size, file) != size) png_error(png, "the file ends early (truncated?)");
+}
+
 struct FileCloser {
   void operator()(std::FILE* f) const { std::fclose(f); }
 };
@@ -78,9 +84,15 @@ bool readLayout(PngStruct& png, std::FILE* file, PngLayout& layout) {
   if (setjmp(png.errors().jump)) return false;
   png_structp p = png.png();
   png_infop info = png.info();
-  png_init_io(p, file);
+  png_set_read_fn(p, file, readOrFail);
   // Our limits, not libpng's default 1,000,000 x 1,000,000, say what is too large.
   png_set_user_limits(p, 0x7fffffff, 0x7fffffff);
+  // libpng reads a metadata chunk (text, ICC profile) whole, at the length it declares, even past
+  // its own "chunk data is too large" warning: skip every ancillary chunk but the two that say
+  // how to read the samples (libpng manual, "Unknown-chunk handling").
+  static const png_byte wanted[] = "gAMA\0sRGB";
+  png_set_keep_unknown_chunks(p, PNG_HANDLE_CHUNK_NEVER, nullptr, -1);
+  png_set_keep_unknown_chunks(p, PNG_HANDLE_CHUNK_AS_DEFAULT, wanted, 2);
   png_read_info(p, info);
   int bitDepth = 0, colorType = 0;
   png_get_IHDR(p, info, &layout.width, &layout.height, &bitDepth, &colorType, nullptr, nullptr,

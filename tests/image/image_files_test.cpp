@@ -220,6 +220,12 @@ TEST_F(ImageFiles, HostilePngFiles) {
                 ": header declares 16384x16384 pixels, which take at least 4096 "
                 "bytes, but the file has " +
                 std::to_string(small.size()) + " (truncated?)");
+  // A text chunk after the header that declares 1.19 GB in a file of a few hundred bytes: skipped
+  // unread, not allocated (the fuzzer found it under its 1 GiB malloc limit).
+  const std::string chunk = std::string("\x47\x0d\x2e\x75", 4) + "tEXt" + "key";
+  writeBytes("chunk.png", small.substr(0, 33) + chunk + small.substr(33));
+  EXPECT_EQ(readError(path("chunk.png")),
+            path("chunk.png") + ": cannot read image (PNG: the file ends early (truncated?))");
 }
 
 TEST_F(ImageFiles, HostileExrFiles) {

@@ -5,7 +5,7 @@
 #   release   build Release into build/ (SSS_BUILD_DIR overrides) and run every test through ctest
 #   sanitize  the same suite under ASan + UBSan in the checked build <build>-checked/ (clang;
 #             tests/sanitizers/run.sh)
-#   fuzz      every reader's fuzz target for SSS_FUZZ_SECONDS (default 20) each, in the same checked
+#   fuzz      every reader's fuzz target for SSS_FUZZ_SECONDS (default 15) each, in the same checked
 #             build (tests/fuzz/run.sh)
 # Exits non-zero when a step or a test fails, or when there is no test at all.
 #   SSS_TEST_SUITES=release bash tools/test.sh   # the Release suite only
@@ -42,7 +42,7 @@ for suite in $suites; do
       grep -h ": SKIP: " "$build/Testing/Temporary/LastTest.log" || true
       ;;
     sanitize) bash tests/sanitizers/run.sh "$build-checked" ;;
-    fuzz) bash tests/fuzz/run.sh "${SSS_FUZZ_SECONDS:-20}" "$build-checked" ;;
+    fuzz) bash tests/fuzz/run.sh "${SSS_FUZZ_SECONDS:-15}" "$build-checked" ;;
   esac
   echo "test: suite $suite passed in $((SECONDS - start)) s"
 done

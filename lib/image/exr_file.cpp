@@ -70,6 +70,16 @@ std::string captureDate() {
   return text;
 }
 
+// OpenImageIO's names of the compressions that carry float pixels exactly.
+Imf::Compression exrCompression(const std::string& path, const std::string& name) {
+  if (name == "none") return Imf::NO_COMPRESSION;
+  if (name == "zip") return Imf::ZIP_COMPRESSION;
+  if (name == "zips") return Imf::ZIPS_COMPRESSION;
+  if (name == "piz") return Imf::PIZ_COMPRESSION;
+  if (name == "rle") return Imf::RLE_COMPRESSION;
+  fail(path, "cannot write (unknown EXR compression '" + name + "': none, zip, zips, piz, rle)");
+}
+
 }  // namespace
 
 std::optional<DecodedImage> readExr(const std::string& path) {
@@ -90,6 +100,10 @@ void writeExr(const std::string& path, const PixelsToWrite& pixels) {
     header.compression() = Imf::ZIP_COMPRESSION;
     header.insert("capDate", Imf::StringAttribute(captureDate()));
     for (const auto& [name, value] : pixels.attributes) {
+      if (name == "compression") {  // OpenImageIO's name for the header's own field
+        header.compression() = exrCompression(path, value);
+        continue;
+      }
       header.insert(name, Imf::StringAttribute(value));
       if (name == "textureformat" && value == "CubeFace Environment") {
         header.insert("envmap", Imf::EnvmapAttribute(Imf::ENVMAP_CUBE));
@@ -108,6 +122,8 @@ void writeExr(const std::string& path, const PixelsToWrite& pixels) {
     }
     file.setFrameBuffer(frame);
     file.writePixels(pixels.height);
+  } catch (const Error&) {
+    throw;
   } catch (const std::exception& e) {
     fail(path, std::string("cannot write (") + e.what() + ")");
   }

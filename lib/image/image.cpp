@@ -80,6 +80,27 @@ ImageRgb readImage(const std::string& path, const ImageReadOptions& options) {
   return std::move(decoded.image);
 }
 
+namespace {
+
+void writeWith(ImageBackend backend, const std::string& path, const PixelsToWrite& pixels) {
+  switch (backend) {
+    case ImageBackend::OpenExr:
+      writeExr(path, pixels);
+      break;
+    case ImageBackend::Png:
+      writePng(path, pixels);
+      break;
+    case ImageBackend::RadianceHdr:
+      writeRgbe(path, pixels);
+      break;
+    case ImageBackend::OpenImageIO:
+      writeWithOiio(path, pixels);
+      break;
+  }
+}
+
+}  // namespace
+
 void writeImagePixels(const std::string& path, const PixelsToWrite& pixels) {
   if (pixels.width <= 0 || pixels.height <= 0) fail(path, "refusing to write an empty image");
   AtomicOutput output(path);
@@ -90,19 +111,13 @@ void writeImagePixels(const std::string& path, const PixelsToWrite& pixels) {
     fail(path,
          needsLinear ? "this format holds linear float pixels" : "this format holds 8-bit pixels");
   }
-  switch (backend) {
-    case ImageBackend::OpenExr:
-      writeExr(temp, pixels);
-      break;
-    case ImageBackend::Png:
-      writePng(temp, pixels);
-      break;
-    case ImageBackend::RadianceHdr:
-      writeRgbe(temp, pixels);
-      break;
-    case ImageBackend::OpenImageIO:
-      writeWithOiio(temp, pixels);
-      break;
+  try {
+    writeWith(backend, temp, pixels);
+  } catch (const Error& e) {
+    // The writers name the file they wrote, the temporary one; the user knows the other.
+    const std::string message = e.what(), prefix = escapeControl(temp) + ": ";
+    if (message.rfind(prefix, 0) != 0) throw;
+    fail(path, message.substr(prefix.size()));
   }
   output.commit();
 }

@@ -31,6 +31,16 @@ class ImageFiles : public ::testing::Test {
     }
     return "";
   }
+  // writeImage's error message, or "" when it writes.
+  static std::string writeError(const std::string& file, const ImageRgb& image,
+                                const ImageAttributes& attributes) {
+    try {
+      writeImage(file, image, attributes);
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "";
+  }
   void writeBytes(const std::string& name, const std::string& bytes) const {
     std::ofstream(path(name), std::ios::binary) << bytes;
   }
@@ -91,6 +101,19 @@ TEST_F(ImageFiles, ExrAndPngBytesAreOpenImageIosButForTheTimeOfWriting) {
   writeImage(path("ours.png"), image, software);
   writeWithOpenImageIo(path("oiio.png"), image, software, false);
   EXPECT_EQ(bytesOf("ours.png"), bytesOf("oiio.png"));
+  // "compression" sets the header's own field, as OpenImageIO does (irrmap_compare writes the
+  // uncompressed EXRs of tests/bench/irrmap_vs_cmft.sh so).
+  for (const char* compression : {"none", "piz"}) {
+    SCOPED_TRACE(compression);
+    writeImage(path("ours.exr"), image, {{"compression", compression}});
+    writeWithOpenImageIo(path("oiio.exr"), image, {{"compression", compression}}, true);
+    EXPECT_EQ(withoutCapDate(bytesOf("ours.exr")), withoutCapDate(bytesOf("oiio.exr")));
+    EXPECT_EQ(readImage(path("ours.exr")).pixels, image.pixels);
+  }
+  EXPECT_EQ(writeError(path("b44.exr"), image, {{"compression", "b44"}}),
+            path("b44.exr") +
+                ": cannot write (unknown EXR compression 'b44': none, zip, zips, piz, rle)");
+  EXPECT_FALSE(std::filesystem::exists(path("b44.exr")));
 }
 
 TEST_F(ImageFiles, OurFormatsNeverLoadOpenImageIo) {

@@ -22,6 +22,7 @@
 #include "core/tool.h"
 #include "envmap/environment.h"
 #include "envmap/orientation_options.h"
+#include "image/image.h"
 #include "material/material.h"
 #include "mesh/baked_mesh.h"
 #include "mesh/units.h"
@@ -188,13 +189,44 @@ void addBakeOptions(CLI::App& app, sss::BakeSettings& s) {
         if (size != 0) sss::checkFaceSize(size);
       }))
       ->capture_default_str();
+  app.add_option("--texture", s.texture.size,
+                 "Bake a SIZE x SIZE UV lightmap (TEXCOORD_0) into -o NAME.exr (radiance along the "
+                 "normal) and NAME_exitance.exr, the mesh refined to the texels")
+      ->check(cli::checkedBy<int>(
+          [](int size) { sss::checkTextureSettings({.size = size == 0 ? 16 : size}); }));
+  app.add_option("--texture-padding", s.texture.padding,
+                 "Texels of gutter filled around each UV chart (--texture)")
+      ->check(
+          cli::checkedBy<int>([](int padding) { sss::checkTextureSettings({.padding = padding}); }))
+      ->capture_default_str();
   cli::addOrientationOptions(app, s.orientation);
   cli::addThreadsOption(app, s.run.threads);
   cli::addQuietFlag(app, s.run.quiet);
 }
 
-// Writes the baked mesh and, beside it, the report: the report's temporary file is created
-// first, so both appear or neither does. A GLB embeds the report (without the write time).
+// --texture's second map, beside -o's: "light.exr" -> "light_exitance.exr".
+std::string exitanceMapPath(const std::string& output) {
+  return output.substr(0, output.size() - 4) + "_exitance.exr";
+}
+
+// The lightmaps (linear float EXR, row 0 at v = 0): the radiance along the normal at `output`,
+// B beside it; both appear or neither does.
+void writeLightmaps(const std::string& output, const sss::Lightmap& map) {
+  const char* quantities[] = {"radiance along the normal", "exitance B (radiance x sr)"};
+  const std::string paths[] = {output, exitanceMapPath(output)};
+  std::vector<std::unique_ptr<sss::AtomicOutput>> files;
+  for (int i = 0; i < 2; ++i) {
+    files.push_back(std::make_unique<sss::AtomicOutput>(paths[i]));
+    sss::ImageRgb image{.width = map.size, .height = map.size, .pixels = map.images[i]};
+    sss::writeImage(files.back()->tempPath(), image,
+                    {{"sss:quantity", quantities[i]}, {"sss:units", "the environment's radiance"}});
+  }
+  for (auto& file : files) file->commit();
+}
+
+// Writes the baked mesh (or with --texture its lightmaps) and, beside it, the report: the
+// report's temporary file is created first, so both appear or neither does. A GLB embeds the
+// report (without the write time).
 void writeOutputs(const std::string& output, const std::string& jsonPath,
                   const sss::BakeOutput& result, const sss::Stopwatch& toolClock) {
   std::unique_ptr<sss::AtomicOutput> jsonOutput;
@@ -207,7 +239,12 @@ void writeOutputs(const std::string& output, const std::string& jsonPath,
   const sss::Stopwatch writeClock;
   sss::Json report = sss::toJson(result.report);
   report["output"] = output;
-  sss::writeBakedMesh(output, result.baked, report.dump());
+  if (result.lightmap.size > 0) {
+    report["texture"]["exitance_output"] = exitanceMapPath(output);
+    writeLightmaps(output, result.lightmap);
+  } else {
+    sss::writeBakedMesh(output, result.baked, report.dump());
+  }
   if (!jsonOutput) return;
   report["stages"]["write_s"] = writeClock.seconds();
   report["stages"]["tool_total_s"] = toolClock.seconds();
@@ -288,27 +325,40 @@ int main(int argc, char** argv) {
   app.footer(
       "Examples:\n"
       "  sss-bake bunny.ply -e forest.exr -m marble --size-mm 150 -o bunny_baked.ply\n"
-      "  sss-bake statue.glb --sky=elevation=30 -m marble -o statue_baked.glb --json s.json\n"
-      "  sss-bake a.ply b.obj -e studio.exr -m skin1 --unit mm -o baked/  # one process");
+      "  sss-bake a.ply b.obj -e studio.exr -m skin1 --unit mm -o baked/  # one process\n"
+      "  sss-bake asset.glb -e forest.exr -m marble --texture 512 -o asset_light.exr");
 
   return sss::runTool("sss-bake", app, argc, argv, [&]() -> int {
     checkUnitsGiven(meshes, s);
     if (sss::isBatch(meshes, output)) {
+      if (s.texture.size > 0) throw sss::UsageError("--texture bakes one mesh at a time");
       if (skyOption->count() > 0) s.environment = sky.empty() ? "sky" : "sky:" + sky;
       s.material = materialFrom(material);
       return bakeBatch(meshes, output, jsonPath, s);
     }
     s.meshPath = meshes.front();
-    sss::checkBakedMeshPath(output);
-    sss::checkOutputsAreNotInputs({{"-o", output}, {"--json", jsonPath}},
-                                  {{"the mesh", s.meshPath}, {"the environment", s.environment}});
+    if (s.texture.size > 0) {
+      if (sss::lowerExtension(output) != "exr") {
+        throw sss::UsageError(sss::escapeControl(output) +
+                              ": with --texture the output is the lightmap, NAME.exr");
+      }
+    } else {
+      sss::checkBakedMeshPath(output);
+    }
+    const std::string exitanceMap = s.texture.size > 0 ? exitanceMapPath(output) : "";
+    sss::checkOutputsAreNotInputs(
+        {{"-o", output}, {"--json", jsonPath}, {"the exitance map", exitanceMap}},
+        {{"the mesh", s.meshPath}, {"the environment", s.environment}});
     if (skyOption->count() > 0) s.environment = sky.empty() ? "sky" : "sky:" + sky;
     s.material = materialFrom(material);
     const sss::Stopwatch clock;
     const sss::BakeOutput result = sss::bake(s);
     writeOutputs(output, jsonPath, result, clock);
-    sss::info("wrote " + output + " (" + std::to_string(result.baked.mesh.vertexCount()) +
-                  " vertices) in " + std::to_string(clock.seconds()) + " s",
+    const std::string what =
+        s.texture.size > 0 ? std::to_string(s.texture.size) + "^2 texels, " +
+                                 std::to_string(result.report.lightmap.coveredTexels) + " covered"
+                           : std::to_string(result.baked.mesh.vertexCount()) + " vertices";
+    sss::info("wrote " + output + " (" + what + ") in " + std::to_string(clock.seconds()) + " s",
               s.run.quiet);
     return 0;
   });

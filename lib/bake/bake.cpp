@@ -505,6 +505,19 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
   return out;
 }
 
+// Stages 2-12, with the texture's 1b and 13 around them when settings ask for a lightmap.
+BakeOutput bakeMesh(const BakeSettings& s, PreparedMesh mesh, const BakeEnvironment& env,
+                    const Stopwatch& clock) {
+  if (s.texture.size == 0) return bakePrepared(s, std::move(mesh), env, clock);
+  TextureMesh texture = refineForTexture(std::move(mesh), s.texture, s.run.quiet);
+  BakeOutput out = bakePrepared(s, std::move(texture.mesh), env, clock);
+  BakedLightmap lightmap = bakeLightmap(texture, out.baked, s.texture, s.run.quiet);
+  out.lightmap = std::move(lightmap.map);
+  out.report.lightmap = lightmap.report;
+  out.report.totalSeconds = clock.seconds();
+  return out;
+}
+
 }  // namespace
 
 BakeEnvironment loadBakeEnvironment(const BakeSettings& s) {
@@ -530,7 +543,7 @@ BakeOutput bake(const BakeSettings& s) {
   PreparedMesh mesh = prepareMeshStage(s);
   const BakeSettings settings = settingsForParts(s, mesh);
   const BakeEnvironment env = loadBakeEnvironment(settings);
-  return bakePrepared(settings, std::move(mesh), env, clock);
+  return bakeMesh(settings, std::move(mesh), env, clock);
 }
 
 BakeOutput bake(const BakeSettings& s, const BakeEnvironment& env) {
@@ -538,7 +551,7 @@ BakeOutput bake(const BakeSettings& s, const BakeEnvironment& env) {
   validateBakeSettings(s);
   PreparedMesh mesh = prepareMeshStage(s);
   const BakeSettings settings = settingsForParts(s, mesh);
-  return bakePrepared(settings, std::move(mesh), env, clock);
+  return bakeMesh(settings, std::move(mesh), env, clock);
 }
 
 }  // namespace sss

@@ -4,6 +4,7 @@
 // writeBakedMesh. bake() runs these stages in this order; each takes a typed input and returns
 // its own result and report (bake_report.h), and none changes an earlier one's result:
 //   1. prepareMesh             load, validate and clean the mesh; scale it to mm (prepare_mesh.h)
+//   1b. refineForTexture       with --texture: the mesh refined to the texels (texture_stage.h)
 //      loadBakeEnvironment     the environment as a radiance cubemap (below; lib/envmap)
 //   2. planEnergy              the energy model (escape walks) and the profile (plan_energy.h)
 //   3. lightVertices           E per vertex: the irradiance cubemap or visibility rays
@@ -19,6 +20,8 @@
 //  10. estimateModelError      the model's own error (transport/model_error.h)
 //  11. errorReport             the predicted errors, split as ErrorBudget (error_budget.h) does
 //  12. assembleBakedMesh       the baked mesh in the file's units, E and B with the bounces' light
+//  13. bakeLightmap            with --texture: the refined vertices' radiance along the normal
+//                              and B in the UV lightmap, padded, seams compared (texture_stage.h)
 // Every setting is validated (validateBakeSettings) before the first expensive stage; the run's
 // seed, threads and quietness (core/run_context.h) go to every stage whole.
 #pragma once
@@ -31,7 +34,8 @@
 namespace sss {
 
 struct BakeOutput {
-  BakedMesh baked;  // positions in the mesh's own units, mmPerUnit recorded
+  BakedMesh baked;    // positions in the mesh's own units, mmPerUnit recorded
+  Lightmap lightmap;  // with --texture (size > 0): radiance along the normal, then B
   BakeReport report;
 };
 

@@ -7,6 +7,7 @@
 #include "bake/light_vertices.h"
 #include "bake/plan_energy.h"
 #include "bake/prepare_mesh.h"
+#include "bake/texture_stage.h"
 #include "bake/transport.h"
 #include "material/material.h"
 #include "transport/far_field.h"
@@ -72,6 +73,7 @@ struct BakeReport {
   InterreflectionReport interreflection;
   UnscatteredLightReport unscattered;
   BakeErrorReport errors;
+  LightmapReport lightmap;  // size 0: no texture
   int threads = 0;
   double totalSeconds = 0.0;
 };

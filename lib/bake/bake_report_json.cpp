@@ -214,6 +214,26 @@ Json toJson(const BakeErrorReport& r) {
           {"tolerance", r.tolerance}};
 }
 
+Json toJson(const LightmapReport& r) {
+  const double texels = double(r.size) * r.size;
+  return {{"size", r.size},
+          {"padding_texels", r.padding},
+          {"original_vertices", r.originalVertices},
+          {"original_triangles", r.originalTriangles},
+          {"refined_vertices", r.refinedVertices},
+          {"refined_triangles", r.refinedTriangles},
+          {"covered_texels", r.coveredTexels},
+          {"covered_fraction", double(r.coveredTexels) / texels},
+          {"padded_texels", r.paddedTexels},
+          {"overlapping_texels", r.overlappingTexels},
+          {"seams",
+           {{"edges", r.seams.edges},
+            {"relative_rms", r.seams.relativeRms},
+            {"worst_relative", r.seams.worstRelative}}},
+          {"refine_s", r.refineSeconds},
+          {"fill_s", r.fillSeconds}};
+}
+
 Json toJson(const BakeReport& r) {
   Json j;
   j["mesh"] = toJson(r.mesh);
@@ -245,6 +265,7 @@ Json toJson(const BakeReport& r) {
   }
   j["unscattered"] = toJson(r.unscattered);
   j["estimated_error"] = toJson(r.errors);
+  if (r.lightmap.size > 0) j["texture"] = toJson(r.lightmap);
   j["threads"] = r.threads;
   j["stages"] = {{"load_mesh_s", r.mesh.seconds},
                  {"load_environment_s", r.environment.seconds},

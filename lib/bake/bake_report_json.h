@@ -15,6 +15,7 @@ Json toJson(const EnergyStageReport& report);  // the "energy" object
 Json toJson(const LightingReport& report);     // "visibility"
 Json toJson(const TransportReport& report);    // "exitance"
 Json toJson(const BakeErrorReport& report);    // "estimated_error"
+Json toJson(const LightmapReport& report);     // "texture"
 // The whole report; the tool adds "output" and its own stage times.
 Json toJson(const BakeReport& report);
 

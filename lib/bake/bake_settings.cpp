@@ -55,6 +55,19 @@ void checkSizeMm(double sizeMm) {
   }
 }
 
+void checkTextureSettings(const TextureSettings& s) {
+  if (s.size != 0 && (s.size < 16 || s.size > 8192)) {
+    throw Error("--texture " + std::to_string(s.size) + ": texels a side must be in [16, 8192]");
+  }
+  if (s.padding < 0 || s.padding > 64) {
+    throw Error("--texture-padding " + std::to_string(s.padding) + ": must be in [0, 64] texels");
+  }
+  if (!(s.edgeTexels >= 0.25 && s.edgeTexels <= 16.0)) {
+    throw Error("texture refinement: edge length " + std::to_string(s.edgeTexels) +
+                " texels must be in [0.25, 16]");
+  }
+}
+
 void validateBakeSettings(const BakeSettings& s) {
   validateMaterial(s.material, "material");
   if (s.profile != ProfileChoice::Auto) {
@@ -70,6 +83,7 @@ void validateBakeSettings(const BakeSettings& s) {
   checkBounces(s.bounces);
   if (s.interreflectionRays < 1) fail("", "interreflection needs at least 1 ray per vertex");
   checkTolerance(s.tolerance);
+  checkTextureSettings(s.texture);
 }
 
 }  // namespace sss

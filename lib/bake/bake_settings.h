@@ -7,6 +7,7 @@
 #include <string>
 
 #include "bake/material_map.h"
+#include "bake/texture_settings.h"
 #include "core/enum_names.h"
 #include "core/run_context.h"
 #include "envmap/orientation.h"
@@ -67,7 +68,7 @@ struct BakeSettings {
   // Millimetres per mesh unit (> 0), unless sizeMm > 0; 0: the unit the file fixes (glTF's
   // metres), an error for formats without one.
   double mmPerUnit = 0.0;
-  double sizeMm = 0.0;     // > 0: scale so that the longest bounding-box side is this long
+  double sizeMm = 0.0;  // > 0: scale so that the longest bounding-box side is this long
   VisibilityMode visibility = VisibilityMode::Rays;
   int samples = 0;  // visibility rays per vertex (>= 2); 0: auto (chooseVisibilitySamples)
   RunContext run{.seed = 1, .threads = 0, .quiet = false};  // --seed, --threads, --quiet
@@ -85,6 +86,7 @@ struct BakeSettings {
   int bounces = 0;
   int interreflectionRays = 64;  // cosine rays per vertex for the gather (>= 1)
   int environmentFaceSize = 0;   // 0: from the source resolution
+  TextureSettings texture;       // --texture: a UV lightmap beside the per-vertex values
 };
 
 // Everything that needs no file, so that a typo costs nothing: the material, the units, the

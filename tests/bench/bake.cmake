@@ -5,3 +5,7 @@ sss_add_benchmark(bake_bench SOURCES ${CMAKE_CURRENT_LIST_DIR}/bake_bench.cpp
                   LIBS sss_bake sss_mesh sss_envmap nlohmann_json::nlohmann_json)
 sss_add_benchmark(bake_sweep SOURCES ${CMAKE_CURRENT_LIST_DIR}/bake_sweep.cpp
                   LIBS sss_bake sss_mesh sss_envmap sss_material)
+# The texture bake (--texture) on a low-poly UV sphere against a dense per-vertex bake:
+# tests/bench/results/texture/sphere.csv.
+sss_add_benchmark(texture_study SOURCES ${CMAKE_CURRENT_LIST_DIR}/texture_study.cpp
+                  LIBS sss_bake sss_lightmap sss_mesh nlohmann_json::nlohmann_json)

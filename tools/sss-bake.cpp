@@ -25,6 +25,7 @@
 #include "image/image.h"
 #include "material/material.h"
 #include "mesh/baked_mesh.h"
+#include "mesh/lightmapped_glb.h"
 #include "mesh/units.h"
 
 namespace {
@@ -190,8 +191,9 @@ void addBakeOptions(CLI::App& app, sss::BakeSettings& s) {
       }))
       ->capture_default_str();
   app.add_option("--texture", s.texture.size,
-                 "Bake a SIZE x SIZE UV lightmap (TEXCOORD_0) into -o NAME.exr (radiance along the "
-                 "normal) and NAME_exitance.exr, the mesh refined to the texels")
+                 "Bake a SIZE x SIZE UV lightmap (TEXCOORD_0), the mesh refined to the texels: "
+                 "-o NAME.exr writes it (radiance along the normal) and NAME_exitance.exr, "
+                 "-o NAME.glb the asset with the lightmap as its emission")
       ->check(cli::checkedBy<int>(
           [](int size) { sss::checkTextureSettings({.size = size == 0 ? 16 : size}); }));
   app.add_option("--texture-padding", s.texture.padding,
@@ -239,7 +241,10 @@ void writeOutputs(const std::string& output, const std::string& jsonPath,
   const sss::Stopwatch writeClock;
   sss::Json report = sss::toJson(result.report);
   report["output"] = output;
-  if (result.lightmap.size > 0) {
+  if (result.lightmap.size > 0 && sss::lowerExtension(output) == "glb") {
+    sss::writeLightmappedGlb(output, sss::lightmappedAsset(result.lightmapSource, result.lightmap,
+                                                           result.baked, report.dump()));
+  } else if (result.lightmap.size > 0) {
     report["texture"]["exitance_output"] = exitanceMapPath(output);
     writeLightmaps(output, result.lightmap);
   } else {
@@ -338,14 +343,16 @@ int main(int argc, char** argv) {
     }
     s.meshPath = meshes.front();
     if (s.texture.size > 0) {
-      if (sss::lowerExtension(output) != "exr") {
+      if (sss::lowerExtension(output) != "exr" && sss::lowerExtension(output) != "glb") {
         throw sss::UsageError(sss::escapeControl(output) +
-                              ": with --texture the output is the lightmap, NAME.exr");
+                              ": with --texture the output is the lightmap, NAME.exr, or the "
+                              "asset with the lightmap as its emission, NAME.glb");
       }
     } else {
       sss::checkBakedMeshPath(output);
     }
-    const std::string exitanceMap = s.texture.size > 0 ? exitanceMapPath(output) : "";
+    const std::string exitanceMap =
+        s.texture.size > 0 && sss::lowerExtension(output) == "exr" ? exitanceMapPath(output) : "";
     sss::checkOutputsAreNotInputs(
         {{"-o", output}, {"--json", jsonPath}, {"the exitance map", exitanceMap}},
         {{"the mesh", s.meshPath}, {"the environment", s.environment}});

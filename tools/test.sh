@@ -26,7 +26,7 @@ for suite in $suites; do
 done
 
 bash tools/install-deps.sh --tests
-bash data/fetch.sh
+bash data/fetch.sh --tests
 for suite in $suites; do
   start=$SECONDS
   echo "test: suite $suite"

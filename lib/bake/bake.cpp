@@ -513,6 +513,7 @@ BakeOutput bakeMesh(const BakeSettings& s, PreparedMesh mesh, const BakeEnvironm
   BakeOutput out = bakePrepared(s, std::move(texture.mesh), env, clock);
   BakedLightmap lightmap = bakeLightmap(texture, out.baked, s.texture, s.run.quiet);
   out.lightmap = std::move(lightmap.map);
+  out.lightmapSource = std::move(texture.source);
   out.report.lightmap = lightmap.report;
   out.report.totalSeconds = clock.seconds();
   return out;

@@ -22,20 +22,24 @@
 //  12. assembleBakedMesh       the baked mesh in the file's units, E and B with the bounces' light
 //  13. bakeLightmap            with --texture: the refined vertices' radiance along the normal
 //                              and B in the UV lightmap, padded, seams compared (texture_stage.h)
+// and, when the tool writes a GLB, lightmappedAsset (texture_stage.h) puts the lightmap on the
+// source mesh as its emission.
 // Every setting is validated (validateBakeSettings) before the first expensive stage; the run's
 // seed, threads and quietness (core/run_context.h) go to every stage whole.
 #pragma once
 
 #include "bake/bake_report.h"
 #include "bake/bake_settings.h"
+#include "bake/texture_stage.h"
 #include "envmap/cubemap.h"
 #include "mesh/baked_ply.h"
 
 namespace sss {
 
 struct BakeOutput {
-  BakedMesh baked;    // positions in the mesh's own units, mmPerUnit recorded
-  Lightmap lightmap;  // with --texture (size > 0): radiance along the normal, then B
+  BakedMesh baked;               // positions in the mesh's own units, mmPerUnit recorded
+  Lightmap lightmap;             // with --texture (size > 0): radiance along the normal, then B
+  TextureSource lightmapSource;  // with --texture: the mesh the lightmap is drawn on
   BakeReport report;
 };
 

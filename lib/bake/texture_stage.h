@@ -12,6 +12,7 @@
 #include "lightmap/lightmap.h"
 #include "lightmap/uv_refinement.h"
 #include "mesh/baked_ply.h"
+#include "mesh/lightmapped_glb.h"
 
 namespace sss {
 
@@ -24,9 +25,17 @@ struct LightmapReport {
   double refineSeconds = 0.0, fillSeconds = 0.0;
 };
 
+// The mesh as read (file units), with its parts and texture coordinates: what a lightmapped GLB
+// draws the lightmap on.
+struct TextureSource {
+  TriangleMesh mesh;
+  MeshParts parts;
+};
+
 struct TextureMesh {
   PreparedMesh mesh;  // refined: what stages 2-12 bake (moved there)
-  std::string file;   // the mesh's
+  TextureSource source;
+  std::string file;  // the mesh's
   UvRefinement refinement;
   LightmapReport report;
 };
@@ -43,5 +52,18 @@ struct BakedLightmap {
 // Stage 13: the lightmap of the refined bake.
 BakedLightmap bakeLightmap(const TextureMesh& texture, const BakedMesh& baked,
                            const TextureSettings& settings, bool quiet);
+
+}  // namespace sss
+
+namespace sss {
+
+// For -o NAME.glb (mesh/lightmapped_glb.h): the source mesh with the lightmap as its emission
+// under a clear coat weighted to follow the material's Fresnel reflectance. The emission is the
+// radiance along the normal over the coat's transmittance at normal incidence (the coat darkens
+// it by that much there), stored as 8-bit sRGB over its largest value, which becomes
+// emissiveStrength. asset.extras.sss holds the source's unit, the material,
+// how the emission was made and `reportJson` (the bake's report, JSON text, or empty).
+LightmappedAsset lightmappedAsset(const TextureSource& source, const Lightmap& map,
+                                  const BakedMesh& baked, const std::string& reportJson);
 
 }  // namespace sss

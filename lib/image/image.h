@@ -43,4 +43,8 @@ void writeImage(const std::string& path, const ImageRgb& image,
 // file.
 void writeImagePixels(const std::string& path, const PixelsToWrite& pixels);
 
+// An 8-bit sRGB PNG (pixels.srgb8) encoded in memory, as writeImagePixels writes it to a .png: a
+// texture to embed in another file. Errors name `name`.
+std::string encodePng(const std::string& name, const PixelsToWrite& pixels);
+
 }  // namespace sss

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <png.h>
@@ -139,13 +140,19 @@ DecodedImage toRgb(const PngLayout& layout, const std::vector<unsigned char>& sa
   return decoded;
 }
 
+// libpng's write callbacks: the encoded bytes appended to a string.
+void appendBytes(png_structp png, png_bytep data, png_size_t size) {
+  static_cast<std::string*>(png_get_io_ptr(png))->append(reinterpret_cast<const char*>(data), size);
+}
+void flushNothing(png_structp) {}
+
 // The chunks in OpenImageIO 2.4's order, then the rows; false (message in png.errors()) when
 // libpng fails.
-bool writeRows(PngStruct& png, std::FILE* file, const PixelsToWrite& pixels,
+bool writeRows(PngStruct& png, std::string& out, const PixelsToWrite& pixels,
                std::vector<png_text>& texts, png_bytep* rows) {
   if (setjmp(png.errors().jump)) return false;
   png_structp p = png.png();
-  png_init_io(p, file);
+  png_set_write_fn(p, &out, appendBytes, flushNothing);
   png_set_compression_level(p, pixels.fastPng ? 1 : 6);
   // zlib's default strategy, not libpng's Z_FILTERED for filtered rows, as OpenImageIO set it.
   png_set_compression_strategy(p, Z_DEFAULT_STRATEGY);
@@ -184,11 +191,9 @@ DecodedImage readPng(const std::string& path) {
   return toRgb(layout, samples);
 }
 
-void writePng(const std::string& path, const PixelsToWrite& pixels) {
-  const File file(std::fopen(path.c_str(), "wb"));
-  if (!file) fail(path, "cannot write (cannot open)");
+std::string encodePng(const std::string& name, const PixelsToWrite& pixels) {
   PngStruct png(true);
-  if (!png.ok()) fail(path, "cannot write (out of memory)");
+  if (!png.ok()) fail(name, "cannot write (out of memory)");
   std::string colorSpaceKey = "oiio:ColorSpace", colorSpace = "sRGB";
   std::vector<png_text> texts(pixels.attributes.size() + 1);
   for (std::size_t i = 0; i <= pixels.attributes.size(); ++i) {
@@ -203,10 +208,21 @@ void writePng(const std::string& path, const PixelsToWrite& pixels) {
   for (int y = 0; y < pixels.height; ++y) {
     rows[y] = const_cast<png_bytep>(pixels.srgb8 + static_cast<std::size_t>(y) * pixels.width * 3);
   }
-  if (!writeRows(png, file.get(), pixels, texts, rows.data())) {
-    fail(path, std::string("cannot write (PNG: ") + png.errors().message + ")");
+  std::string out;
+  if (!writeRows(png, out, pixels, texts, rows.data())) {
+    fail(name, std::string("cannot write (PNG: ") + png.errors().message + ")");
   }
-  if (std::fflush(file.get()) != 0) fail(path, "cannot write (disk full?)");
+  return out;
+}
+
+void writePng(const std::string& path, const PixelsToWrite& pixels) {
+  const std::string bytes = encodePng(path, pixels);
+  const File file(std::fopen(path.c_str(), "wb"));
+  if (!file) fail(path, "cannot write (cannot open)");
+  if (std::fwrite(bytes.data(), 1, bytes.size(), file.get()) != bytes.size() ||
+      std::fflush(file.get()) != 0) {
+    fail(path, "cannot write (disk full?)");
+  }
 }
 
 }  // namespace sss

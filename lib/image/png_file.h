@@ -17,5 +17,7 @@ DecodedImage readPng(const std::string& path);
 // tEXt; zlib level 6, its default strategy and libpng's adaptive filters, or level 1 and no
 // filters for fastPng.
 void writePng(const std::string& path, const PixelsToWrite& pixels);
+// The same file's bytes in memory (a texture to embed); errors name `name`.
+std::string encodePng(const std::string& name, const PixelsToWrite& pixels);
 
 }  // namespace sss

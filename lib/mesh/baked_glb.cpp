@@ -13,6 +13,7 @@
 #include "core/atomic_output.h"
 #include "core/error.h"
 #include "core/tool.h"
+#include "mesh/glb_builder.h"
 #include "mesh/glb_chunks.h"
 #include "optics/exit_lobe.h"
 #include "optics/fresnel.h"
@@ -21,13 +22,13 @@ namespace sss {
 namespace {
 
 static_assert(std::endian::native == std::endian::little,
-              "the GLB writer and reader copy little-endian bytes");
+              "the GLB reader copies little-endian bytes");
 
 using Json = nlohmann::ordered_json;
 
 constexpr int kFormatVersion = 1;
 constexpr int kFloat = 5126, kUnsignedInt = 5125, kUnsignedShort = 5123, kUnsignedByte = 5121;
-constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963, kTriangles = 4;
+constexpr int kTriangles = 4;
 
 std::uint32_t getU32(const char* p) {
   std::uint32_t v;
@@ -35,57 +36,7 @@ std::uint32_t getU32(const char* p) {
   return v;
 }
 
-void putU32(std::string& out, std::uint32_t v) {
-  char bytes[4];
-  std::memcpy(bytes, &v, 4);
-  out.append(bytes, 4);
-}
-
 // ---------------------------------------------------------------- writing
-
-// The BIN chunk and the bufferViews and accessors that describe it.
-struct BinaryBuilder {
-  std::string bin;
-  Json bufferViews = Json::array();
-  Json accessors = Json::array();
-
-  int addView(const void* data, std::size_t bytes, int target) {
-    const std::size_t offset = bin.size();
-    bin.append(static_cast<const char*>(data), bytes);
-    bin.resize((bin.size() + 3) / 4 * 4, '\0');
-    bufferViews.push_back(
-        {{"buffer", 0}, {"byteOffset", offset}, {"byteLength", bytes}, {"target", target}});
-    return static_cast<int>(bufferViews.size()) - 1;
-  }
-
-  // A float VEC3 attribute; POSITION needs its bounds (glTF 2.0, 3.7.2.1).
-  int addVec3(const std::vector<glm::vec3>& values, bool withBounds) {
-    Json accessor = {{"bufferView", addView(values.data(), values.size() * 12, kArrayBuffer)},
-                     {"componentType", kFloat},
-                     {"count", values.size()},
-                     {"type", "VEC3"}};
-    if (withBounds) {
-      glm::vec3 lo = values[0], hi = values[0];
-      for (const glm::vec3& v : values) {
-        lo = glm::min(lo, v);
-        hi = glm::max(hi, v);
-      }
-      accessor["min"] = {lo.x, lo.y, lo.z};
-      accessor["max"] = {hi.x, hi.y, hi.z};
-    }
-    accessors.push_back(accessor);
-    return static_cast<int>(accessors.size()) - 1;
-  }
-
-  int addIndices(const std::vector<glm::uvec3>& triangles) {
-    const int view = addView(triangles.data(), triangles.size() * 12, kElementArrayBuffer);
-    accessors.push_back({{"bufferView", view},
-                         {"componentType", kUnsignedInt},
-                         {"count", triangles.size() * 3},
-                         {"type", "SCALAR"}});
-    return static_cast<int>(accessors.size()) - 1;
-  }
-};
 
 // COLOR_0 and how it was made (extras.sss.color).
 struct DisplayColors {
@@ -147,7 +98,7 @@ Json sssExtras(const BakedMesh& baked, const Json& color, const std::string& rep
 }
 
 // The glTF JSON for the primitive whose attributes `bin` holds.
-Json gltfDocument(const BakedMesh& baked, BinaryBuilder& bin, const DisplayColors& colors,
+Json gltfDocument(const BakedMesh& baked, GlbBinary& bin, const DisplayColors& colors,
                   const std::string& reportJson) {
   const double metresPerUnit = baked.mmPerUnit / 1000.0;
   std::vector<glm::vec3> metres;
@@ -186,10 +137,7 @@ Json gltfDocument(const BakedMesh& baked, BinaryBuilder& bin, const DisplayColor
               {{"baseColorFactor", {1.0, 1.0, 1.0, 1.0}},
                {"metallicFactor", 0.0},
                {"roughnessFactor", 1.0}}},
-             {"extensions", {{"KHR_materials_unlit", Json::object()}}}}}},
-          {"buffers", {{{"byteLength", bin.bin.size()}}}},
-          {"bufferViews", bin.bufferViews},
-          {"accessors", bin.accessors}};
+             {"extensions", {{"KHR_materials_unlit", Json::object()}}}}}}};
 }
 
 }  // namespace
@@ -198,30 +146,14 @@ void writeBakedGlb(const std::string& path, const BakedMesh& baked, const std::s
   checkBakedMesh(path, baked);
   DisplayColors colors;
   if (!baked.exitance.empty()) colors = displayColors(path, baked);
-  BinaryBuilder bin;
-  std::string json;
+  GlbBinary bin;
+  Json document;
   try {
-    json = gltfDocument(baked, bin, colors, reportJson).dump();
+    document = gltfDocument(baked, bin, colors, reportJson);
   } catch (const nlohmann::json::exception& e) {
     fail(path, std::string("cannot encode the glTF JSON: ") + e.what());
   }
-  json.resize((json.size() + 3) / 4 * 4, ' ');
-  const std::uint64_t total = 12 + 8 + json.size() + 8 + bin.bin.size();
-  if (total > std::numeric_limits<std::uint32_t>::max()) {
-    fail(path, "the mesh needs " + std::to_string(total) + " bytes, over GLB's 4 GiB");
-  }
-  std::string out;
-  out.reserve(total);
-  putU32(out, kGlbMagic);
-  putU32(out, 2);
-  putU32(out, static_cast<std::uint32_t>(total));
-  putU32(out, static_cast<std::uint32_t>(json.size()));
-  putU32(out, kChunkJson);
-  out += json;
-  putU32(out, static_cast<std::uint32_t>(bin.bin.size()));
-  putU32(out, kChunkBin);
-  out += bin.bin;
-  writeFileAtomically(path, out);
+  writeFileAtomically(path, encodeGlb(path, std::move(document), bin));
 }
 
 // ---------------------------------------------------------------- reading

@@ -1,7 +1,7 @@
 // sss-bake --texture: a low-poly UV sphere baked into a lightmap matches a dense sphere baked per
-// vertex (the texels, not the 24 x 12 facets, set the detail), its seam agrees, and the mistakes a
-// user can make (no texture coordinates, an output that is not an EXR, a size out of range) are
-// one clear line with no output.
+// vertex (the texels, not the 24 x 12 facets, set the detail), its seam agrees, a GLB carries it as
+// the emission, and the mistakes a user can make (no texture coordinates, an output that is neither
+// an EXR nor a GLB, a size out of range) are one clear line with no output.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -16,6 +16,8 @@
 #include "image/image.h"
 #include "mesh/baked_glb.h"
 #include "mesh/baked_mesh.h"
+#include "mesh/glb_chunks.h"
+#include "mesh/lightmapped_glb.h"
 #include "mesh/primitives.h"
 #include "support/tool_test.h"
 #include "support/uv_sphere.h"
@@ -90,6 +92,49 @@ TEST_F(BakeTexture, LowPolyLightmapMatchesADenseVertexBake) {
   EXPECT_EQ(texture["exitance_output"], dir_.path("light_exitance.exr"));
 }
 
+// -o NAME.glb: the same bake's lightmap as the asset's emission. Decoded from its 8-bit sRGB PNG
+// and scaled by emissiveStrength, the emission under the coat's transmittance at normal incidence
+// is the EXR's radiance along the normal to the 8-bit step.
+TEST_F(BakeTexture, GlbCarriesTheLightmapAsItsEmission) {
+  test::writeText(dir_.path("sphere.glb"), uvSphereGlb(24, 12, kRadiusM));
+  ASSERT_EQ(bake("sphere.glb", "light.exr", "--texture 64").exitCode, 0);
+  const ToolRun r = bake("sphere.glb", "asset.glb", "--texture 64");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const GlbChunks chunks = readGlbChunks(dir_.path("asset.glb"));
+  const auto doc = nlohmann::json::parse(chunks.json);
+  const double strength =
+      doc["materials"][0]["extensions"]["KHR_materials_emissive_strength"]["emissiveStrength"]
+          .get<double>();
+  // Marble's eta 1.3: the coat weight whose Schlick reflectance fits F_r(mu, 1.3) best.
+  const double coatWeight =
+      doc["materials"][0]["extensions"]["KHR_materials_clearcoat"]["clearcoatFactor"];
+  EXPECT_NEAR(coatWeight, 0.824, 0.001);
+  const double coatTransmittance = 1.0 - coatWeight * kCoatNormalReflectance;
+  const auto& view = doc["bufferViews"][doc["images"][0]["bufferView"].get<int>()];
+  test::writeText(dir_.path("emission.png"),
+                  chunks.bin.substr(view["byteOffset"].get<std::size_t>(),
+                                    view["byteLength"].get<std::size_t>()));
+  const ImageRgb emission = readImage(dir_.path("emission.png"));
+  const ImageRgb radiance = readImage(dir_.path("light.exr"));
+  ASSERT_EQ(emission.width, 64);
+  double err2 = 0.0, ref2 = 0.0, peak = 0.0;
+  for (std::size_t i = 0; i < radiance.pixels.size(); ++i) {
+    const glm::dvec3 shown = glm::dvec3(emission.pixels[i]) * strength * coatTransmittance;
+    const glm::dvec3 want(radiance.pixels[i]);
+    err2 += glm::dot(shown - want, shown - want);
+    ref2 += glm::dot(want, want);
+    peak = std::max({peak, want.x, want.y, want.z});
+  }
+  EXPECT_LT(std::sqrt(err2 / ref2), 0.004);  // 8-bit sRGB steps: 0.2-0.4 % at these values
+  EXPECT_NEAR(strength * coatTransmittance, peak, 1e-6 * peak);
+  // The source's node and mesh, not the refined mesh.
+  EXPECT_EQ(doc["nodes"][0]["name"], "sphere");
+  EXPECT_EQ(doc["meshes"][0]["name"], "sphere");
+  const auto& extras = doc["asset"]["extras"]["sss"];
+  EXPECT_EQ(extras["material"]["name"], "marble");
+  EXPECT_EQ(extras["report"]["texture"]["size"], 64);
+}
+
 TEST_F(BakeTexture, MistakesAreOneLineAndWriteNothing) {
   BakedMesh plain;
   plain.mesh = makeIcosphere(1, kRadiusM);
@@ -103,7 +148,7 @@ TEST_F(BakeTexture, MistakesAreOneLineAndWriteNothing) {
                              "this mesh has none\n");
   const ToolRun png = bake("sphere.glb", "a.png", "--texture 64");
   EXPECT_EQ(png.exitCode, 2);
-  EXPECT_NE(png.output.find("with --texture the output is the lightmap, NAME.exr"),
+  EXPECT_NE(png.output.find("with --texture the output is the lightmap, NAME.exr, or the asset"),
             std::string::npos)
       << png.output;
   const ToolRun small = bake("sphere.glb", "a.exr", "--texture 8");

@@ -101,6 +101,16 @@ TEST_F(ImageFiles, ExrAndPngBytesAreOpenImageIosButForTheTimeOfWriting) {
   writeImage(path("ours.png"), image, software);
   writeWithOpenImageIo(path("oiio.png"), image, software, false);
   EXPECT_EQ(bytesOf("ours.png"), bytesOf("oiio.png"));
+  // In memory (a texture to embed): the same bytes.
+  std::vector<std::uint8_t> srgb;
+  for (const glm::vec3& p : image.pixels) {
+    for (int k = 0; k < 3; ++k) srgb.push_back(linearToSrgbByte(p[k]));
+  }
+  EXPECT_EQ(encodePng("texture", {.width = image.width,
+                                  .height = image.height,
+                                  .srgb8 = srgb.data(),
+                                  .attributes = software}),
+            bytesOf("ours.png"));
   // "compression" sets the header's own field, as OpenImageIO does (irrmap_compare writes the
   // uncompressed EXRs of tests/bench/irrmap_vs_cmft.sh so).
   for (const char* compression : {"none", "piz"}) {

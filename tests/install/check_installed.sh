@@ -73,6 +73,7 @@ if [[ $man_pages == ON ]]; then
 fi
 doc=$prefix/share/doc/sss-tools
 for f in README.md LICENSE; do cmp -s "$src/$f" "$doc/$f" || fail "$doc/$f not installed"; done
+cmp -s "$src/tools/viewer/index.html" "$doc/viewer/index.html" || fail "the viewer page not installed"
 # Not in every checkout: installed when present.
 for f in CHANGELOG.md docs; do
   [[ ! -e $src/$f || -e $doc/$f ]] || fail "$doc/$f not installed"

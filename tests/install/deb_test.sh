@@ -29,7 +29,8 @@ grep -qxF libgl1-mesa-dri <<<"$depends_on" || fail "Depends lacks libgl1-mesa-dr
 contents=$(dpkg-deb --contents "$deb" | awk '{ print $NF }')
 outside=$(grep -v '^\./usr/' <<<"$contents" | grep -vx '\./' || true)
 [[ -z $outside ]] || fail "files outside /usr: $outside"
-expected=(./usr/share/doc/sss-tools/README.md ./usr/share/doc/sss-tools/LICENSE)
+expected=(./usr/share/doc/sss-tools/README.md ./usr/share/doc/sss-tools/LICENSE
+  ./usr/share/doc/sss-tools/viewer/index.html)
 for tool in "${tools[@]}"; do
   expected+=("./usr/bin/$tool")
   [[ $man_pages == OFF ]] || expected+=("./usr/share/man/man1/$tool.1")

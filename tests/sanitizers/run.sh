@@ -60,8 +60,9 @@ policy+='|BakeTool\.EnergyModelFollowsTheObjectSize|FarField\.UniformLightKeepsB
 policy+='|BakeTool\.AutoSamplesFollowTheTolerance'
 # And install_test and deb_test (tests/install): they check what `cmake --install` and `cpack`
 # lay out and run the installed tools once on quick settings, code that the tools' own tests run
-# under the sanitizers.
-left_out="^(workflow_test|slurm_test|install_test|deb_test|$command_line_only|$statistical|$policy)\$"
+# under the sanitizers. And browser_test (tests/browser): what it checks is a browser drawing our
+# GLB; the bake and the GLB writer it runs are under the sanitizers in sss_bake_texture_test.
+left_out="^(workflow_test|slurm_test|install_test|deb_test|browser_test|$command_line_only|$statistical|$policy)\$"
 ctest --test-dir "$build" --output-on-failure --no-tests=error -j "$(nproc)" -E "$left_out" \
   -LE '^opengl$'
 LD_PRELOAD="$driver" ctest --test-dir "$build" --output-on-failure --no-tests=error \

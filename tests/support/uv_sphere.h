@@ -21,8 +21,9 @@ inline glm::vec3 sphereDirection(float u, float v) {
   return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
 }
 
-// `segments` x `rings` quads (triangles at the poles), radius in metres.
-inline std::string uvSphereGlb(int segments, int rings, float radius) {
+// `segments` x `rings` quads (triangles at the poles), radius in metres, as a primitive of b.
+inline GltfBuilder::Primitive uvSpherePrimitive(GltfBuilder& b, int segments, int rings,
+                                                float radius) {
   std::vector<glm::vec3> positions, normals;
   std::vector<glm::vec2> uv;
   for (int r = 0; r <= rings; ++r) {
@@ -43,13 +44,19 @@ inline std::string uvSphereGlb(int segments, int rings, float radius) {
       if (r < rings - 1) idx.insert(idx.end(), {at(r, s + 1), at(r + 1, s), at(r + 1, s + 1)});
     }
   }
-  GltfBuilder b;
   GltfBuilder::Primitive p;
   p.attributes = {
       {"POSITION", b.positions(positions)},
       {"NORMAL", b.accessor(b.view(GltfBuilder::bytesOf(normals)), 5126, normals.size(), "VEC3")},
       {"TEXCOORD_0", b.texcoords(uv)}};
   p.indices = b.indices(idx);
+  return p;
+}
+
+// The sphere as a GLB: one node "sphere" placing the mesh "sphere".
+inline std::string uvSphereGlb(int segments, int rings, float radius) {
+  GltfBuilder b;
+  const GltfBuilder::Primitive p = uvSpherePrimitive(b, segments, rings, radius);
   b.scene({b.node({{"name", "sphere"}, {"mesh", b.mesh({p}, "sphere")}})});
   return b.glb();
 }

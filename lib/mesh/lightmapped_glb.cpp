@@ -161,7 +161,7 @@ std::size_t addScene(const LightmappedAsset& a, GlbBinary& bin, Json& doc) {
     nodeList.push_back(n);
   }
   doc["scene"] = 0;
-  doc["scenes"] = {{{"nodes", roots}}};
+  doc["scenes"] = Json::array({{{"nodes", roots}}});
   doc["nodes"] = nodeList;
   doc["meshes"] = meshList;
   return nodeList.size();
@@ -197,14 +197,16 @@ void writeLightmappedGlb(const std::string& path, const LightmappedAsset& a) {
                              "KHR_materials_specular",          "KHR_materials_ior",
                              "KHR_materials_transmission",      "KHR_materials_volume"};
     if (addScene(a, bin, doc) == 0) fail(path, "no triangle to write");
-    doc["materials"] = {materialJson(a, a.thicknessM / meanScale(a))};
-    doc["textures"] = {{{"sampler", 0}, {"source", 0}}};
-    doc["images"] = {{{"bufferView", bin.addView(a.emissivePng.data(), a.emissivePng.size())},
-                      {"mimeType", "image/png"}}};
-    doc["samplers"] = {{{"magFilter", kLinear},
-                        {"minFilter", kLinearMipmapLinear},
-                        {"wrapS", kClampToEdge},
-                        {"wrapT", kClampToEdge}}};
+    // Json::array: a braced list of one JSON value may be taken for a copy of it (compilers
+    // differ), not an array holding it.
+    doc["materials"] = Json::array({materialJson(a, a.thicknessM / meanScale(a))});
+    doc["textures"] = Json::array({{{"sampler", 0}, {"source", 0}}});
+    const int imageView = bin.addView(a.emissivePng.data(), a.emissivePng.size());
+    doc["images"] = Json::array({{{"bufferView", imageView}, {"mimeType", "image/png"}}});
+    doc["samplers"] = Json::array({{{"magFilter", kLinear},
+                                    {"minFilter", kLinearMipmapLinear},
+                                    {"wrapS", kClampToEdge},
+                                    {"wrapT", kClampToEdge}}});
   } catch (const nlohmann::json::exception& e) {
     fail(path, std::string("cannot encode the glTF JSON: ") + e.what());
   }

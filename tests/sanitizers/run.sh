@@ -58,11 +58,25 @@ statistical+='|Visibility\.TheRatioEstimatorIsUnbiasedAndQuieterBesideAWall'
 policy='BakeTool\.SameOutputForOneAndTwoThreads|FarField\.SameResultForAnyThreadCount'
 policy+='|BakeTool\.EnergyModelFollowsTheObjectSize|FarField\.UniformLightKeepsBEqualToEP'
 policy+='|BakeTool\.AutoSamplesFollowTheTolerance'
+# And the slowest accuracy checks and process races (9-17 s each under ASan, ~95 s summed,
+# measured): an exact sum against its closed form, the lightmap against a dense bake, the far
+# field's and a pit's bounces against their policies, a fit over every preset, the visibility noise
+# model against its spread, and two bakes racing for one output. The code they run is under the
+# sanitizers in the quicker tests of the same subjects (SssIrrmap.*, BakeTexture.GlbCarries...,
+# Interreflection.*, GaussianSumFit.RecoversAnExactSum, VisibilityNoiseModel.TighterBudgetPicksMoreRays,
+# the BakeTool tests).
+slow='Irradiance\.ExactSumOfAUniformEquirectIsTheClosedForm'
+slow+='|BakeTexture\.LowPolyLightmapMatchesADenseVertexBake'
+slow+='|FarField\.BouncesCarryAllTheLightTheObjectSendsItself|BakeTool\.InterreflectionBrightensAPit'
+slow+='|GaussianSumFit\.MeetsToleranceForEveryPresetAndProfile'
+slow+='|VisibilityNoiseModel\.PredictsTheMeasuredErrorOfB'
+slow+='|Concurrency\.TwoBakesIntoOneOutputLeaveOneWholeBake'
+slow+='|Concurrency\.TwoMeshesBakedIntoOneFolderComeOutAsAlone'
 # And install_test and deb_test (tests/install): they check what `cmake --install` and `cpack`
 # lay out and run the installed tools once on quick settings, code that the tools' own tests run
 # under the sanitizers. And browser_test (tests/browser): what it checks is a browser drawing our
 # GLB; the bake and the GLB writer it runs are under the sanitizers in sss_bake_texture_test.
-left_out="^(workflow_test|slurm_test|install_test|deb_test|browser_test|$command_line_only|$statistical|$policy)\$"
+left_out="^(workflow_test|slurm_test|install_test|deb_test|browser_test|$command_line_only|$statistical|$policy|$slow)\$"
 ctest --test-dir "$build" --output-on-failure --no-tests=error -j "$(nproc)" -E "$left_out" \
   -LE '^opengl$'
 LD_PRELOAD="$driver" ctest --test-dir "$build" --output-on-failure --no-tests=error \

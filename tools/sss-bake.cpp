@@ -180,7 +180,7 @@ void addBakeOptions(CLI::App& app, sss::BakeSettings& s) {
                        "Interreflection: rays that meet the object bring back its light, "
                        "iterated N times or until converged (auto: none where a pilot finds "
                        "them negligible); 0: none, only the pilot's estimate of what is missed")
-      ->default_str("0");
+      ->default_str("auto");
   app.add_option("--walks", s.walks, "Random walks per vertex (--method pathtrace)")
       ->check(cli::checkedBy<int>(sss::checkPathTracerWalks))
       ->capture_default_str();

@@ -58,6 +58,9 @@ enum class EntryModel { Directional, Diffuse };
 inline constexpr EnumNames<EntryModel, 2> kEntryModelNames{
     "entry", {{{EntryModel::Directional, "directional"}, {EntryModel::Diffuse, "diffuse"}}}};
 
+// --bounces auto: as many bounces as B needs to converge, none where a pilot finds them negligible.
+inline constexpr int kAutoBounces = -1;
+
 struct BakeSettings {
   std::string meshPath;
   std::string environment;  // an environment file, or "sky" / "sky:<spec>" (loadEnvironment)
@@ -82,8 +85,9 @@ struct BakeSettings {
   double tolerance = 0.01;
   int walks = 256;  // PathTrace: random walks per vertex (>= 1)
   // Interreflection (interreflection.h): 0 none (a ray that meets the object is dark), N bounces,
-  // kAutoBounces until B changes less than the tolerance's share. Diffusion methods only.
-  int bounces = 0;
+  // kAutoBounces (the default) until B changes less than the tolerance's share, none where the
+  // pilot finds the light the object sends itself below that share. Diffusion methods only.
+  int bounces = kAutoBounces;
   int interreflectionRays = 64;  // cosine rays per vertex for the gather (>= 1)
   int environmentFaceSize = 0;   // 0: from the source resolution
   TextureSettings texture;       // --texture: a UV lightmap beside the per-vertex values
@@ -96,7 +100,6 @@ void validateBakeSettings(const BakeSettings& settings);
 void checkTolerance(double tolerance);     // in (0, 1)
 void checkVisibilitySamples(int samples);  // 0 (auto) or >= 2
 void checkPathTracerWalks(int walks);      // >= 1
-inline constexpr int kAutoBounces = -1;
 void checkBounces(int bounces);   // kAutoBounces or >= 0
 void checkSizeMm(double sizeMm);  // finite, > 0
 

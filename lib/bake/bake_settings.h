@@ -100,7 +100,7 @@ void validateBakeSettings(const BakeSettings& settings);
 void checkTolerance(double tolerance);     // in (0, 1)
 void checkVisibilitySamples(int samples);  // 0 (auto) or >= 2
 void checkPathTracerWalks(int walks);      // >= 1
-void checkBounces(int bounces);   // kAutoBounces or >= 0
-void checkSizeMm(double sizeMm);  // finite, > 0
+void checkBounces(int bounces);            // kAutoBounces or >= 0
+void checkSizeMm(double sizeMm);           // finite, > 0
 
 }  // namespace sss

@@ -223,8 +223,8 @@ TEST_F(BakeTool, InterreflectionBrightensAPit) {
   const TriangleMesh box = boxWithPit();
   writeAsciiPly(dir_ / "pit.ply", box, true);
   const RunResult without = runExpectingWarning(
-      args("pit.ply", "-m marble --unit mm --bounces 0 --json " + path("r0.json") + kHalfSpaceEnergy,
-           64),
+      args("pit.ply",
+           "-m marble --unit mm --bounces 0 --json " + path("r0.json") + kHalfSpaceEnergy, 64),
       "--bounces auto adds it");
   ASSERT_EQ(without.exitCode, 0) << without.output;
   const BakedPlyContents dark = readBakedPly(path("out.ply"));

@@ -9,6 +9,7 @@
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
+#include "core/bounds.h"
 #include "core/error.h"
 #include "core/srgb.h"
 #include "core/timer.h"
@@ -90,20 +91,10 @@ namespace {
 // A typical thickness of the object, mm: the mean chord 4 V / A of a closed body (Cauchy), else
 // its bounding box's smallest side.
 double typicalThicknessMm(const TriangleMesh& mesh, double mmPerUnit) {
-  double volume = 0.0, area = 0.0;
-  glm::dvec3 lo(mesh.positions[0]), hi(mesh.positions[0]);
-  for (const glm::vec3& p : mesh.positions) {
-    lo = glm::min(lo, glm::dvec3(p));
-    hi = glm::max(hi, glm::dvec3(p));
-  }
-  for (const glm::uvec3& t : mesh.triangles) {
-    const glm::dvec3 a(mesh.positions[t.x]), b(mesh.positions[t.y]), c(mesh.positions[t.z]);
-    volume += glm::dot(a, glm::cross(b, c)) / 6.0;
-    area += 0.5 * glm::length(glm::cross(b - a, c - a));
-  }
-  const glm::dvec3 side = hi - lo;
+  const glm::vec3 side = boundsOf(mesh.positions).extent();
   const double smallest = std::min({side.x, side.y, side.z});
-  const double chord = area > 0.0 ? 4.0 * std::abs(volume) / area : 0.0;
+  const double area = surfaceArea(mesh);
+  const double chord = area > 0.0 ? 4.0 * std::abs(signedVolume(mesh)) / area : 0.0;
   return (chord > 0.0 && chord <= smallest ? chord : smallest) * mmPerUnit;
 }
 

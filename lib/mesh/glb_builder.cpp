@@ -9,13 +9,14 @@
 
 #include "core/error.h"
 #include "mesh/glb_chunks.h"
+#include "mesh/gltf_document.h"
 
 namespace sss {
 namespace {
 
 static_assert(std::endian::native == std::endian::little, "GLB is little-endian: bytes are copied");
 
-constexpr int kFloat = 5126, kUnsignedInt = 5125;
+using gltf::kFloat, gltf::kUnsignedInt;
 constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963;
 
 void putU32(std::string& out, std::uint32_t v) {

@@ -2,6 +2,7 @@
 // sss-bake MESH... -e ENV ... -o DIR/ [--json DIR/]   (batch: the environment loaded once)
 // Per-vertex transmitted irradiance (with the mesh's own shadows) and subsurface exitance, written
 // as a binary PLY that sss-render only has to look up. The stages are in lib/bake/bake.h.
+#include <charconv>
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -11,6 +12,7 @@
 #include <CLI/CLI.hpp>
 
 #include "bake/bake.h"
+#include "bake/relight.h"
 #include "bake/bake_report_json.h"
 #include "core/atomic_output.h"
 #include "core/batch.h"
@@ -259,6 +261,23 @@ void writeOutputs(const std::string& output, const std::string& jsonPath,
   jsonOutput->commit();
 }
 
+// --relightable [ORDER]: the order (kDefaultRelightOrder without one); the transfer is written to
+// PLY files only.
+int relightOrderFrom(const std::string& text, const std::string& output) {
+  int order = sss::kDefaultRelightOrder;
+  if (!text.empty()) {
+    const auto r = std::from_chars(text.data(), text.data() + text.size(), order);
+    if (r.ec != std::errc() || r.ptr != text.data() + text.size())
+      throw sss::UsageError("--relightable " + sss::escapeControl(text) +
+                            ": the SH order must be a whole number");
+  }
+  sss::checkRelightOrder(order);
+  if (sss::lowerExtension(output) == "glb")
+    throw sss::UsageError("-o " + sss::escapeControl(output) +
+                          ": a relightable bake is written as PLY (NAME.ply or DIR/)");
+  return order;
+}
+
 // The baked mesh of each input in a batch folder: DIR/<stem> + this.
 constexpr const char* kBatchMeshSuffix = ".ply";
 
@@ -326,6 +345,14 @@ int main(int argc, char** argv) {
   cli::addParsedOption(app, "--material-map", s.materialMap, sss::parseMaterialMap,
                        "glTF material names to presets, name=preset,... or a JSON file "
                        "({\"name\": \"preset\"}); parts not named take -m's material");
+  std::string relightable;
+  auto* relightOption =
+      app.add_option("--relightable", relightable,
+                     "Also store the SH transfer of the radiance along the normal, of order ORDER "
+                     "(default 3), so that sss-relight relights the bake under other "
+                     "environments (PLY output)")
+          ->expected(0, 1)
+          ->default_str("");
   app.add_option("--json", jsonPath, "Write a JSON report (a folder DIR/ with several meshes)");
   app.footer(
       "Examples:\n"
@@ -335,6 +362,7 @@ int main(int argc, char** argv) {
 
   return sss::runTool("sss-bake", app, argc, argv, [&]() -> int {
     checkUnitsGiven(meshes, s);
+    if (relightOption->count() > 0) s.relightOrder = relightOrderFrom(relightable, output);
     if (sss::isBatch(meshes, output)) {
       if (s.texture.size > 0) throw sss::UsageError("--texture bakes one mesh at a time");
       if (skyOption->count() > 0) s.environment = sky.empty() ? "sky" : "sky:" + sky;

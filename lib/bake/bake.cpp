@@ -7,6 +7,8 @@
 #include <utility>
 
 #include "bake/error_budget.h"
+#include "core/format.h"
+#include "core/relative_rms.h"
 #include "core/timer.h"
 #include "core/tool.h"
 #include "envmap/environment.h"
@@ -163,23 +165,6 @@ struct Interreflection {
   InterreflectionReport report;
 };
 
-// The transport the bounces' light goes through: the method the first transport chose, with its
-// sums with E = 1 (transportIn.weightSums). The traced far field came from the environment and
-// carries none of the light the object sends itself: with it, the first transport spread only
-// P's near share, so the bounces go through the escape model's own kernel for all of P, with
-// their own sums (docs/physics.md, "Light the object sends itself").
-TransportInput bounceTransportInput(const TransportInput& transportIn, const VertexExitance& direct,
-                                    EnergyWeightSums& wholeEscapeSums) {
-  TransportInput in = transportIn;
-  in.method = bakeMethodOf(direct.report.diffusion.method);
-  in.run.quiet = true;
-  if (in.farField && in.farField->traced()) {
-    in.farField = nullptr;
-    if (in.weightSums) in.weightSums = &wholeEscapeSums;
-  }
-  return in;
-}
-
 // Stage 7 with bounces: the gather iterated with the transport (iterateInterreflection) until
 // converged or the requested bounces are done, and the gather's noise from a replica of its rays
 // with another seed at the pilot's vertices (without the visibility pilot's noise model,
@@ -194,7 +179,7 @@ Interreflection bounce(const BakeScene& scene, const TransportInput& transportIn
   const InterreflectionGather gather(m.positions, m.normals, m.triangles, scene.radiance, eta,
                                      options);
   EnergyWeightSums wholeEscapeSums;
-  TransportInput in = bounceTransportInput(transportIn, direct, wholeEscapeSums);
+  TransportInput in = linearTransportInput(transportIn, direct, wholeEscapeSums);
   const auto increment = [&](std::span<const glm::vec3> e, double looseness) {
     in.irradiance = e;
     in.diffusionTolerance =
@@ -414,10 +399,47 @@ BakeErrorReport errorReport(const BakeReport& r, const ModelErrorReport& model, 
   return e;
 }
 
+// Stage 11b (--relightable): the SH transfer of B through the transport the bounces use, and
+// the ratios that make the radiance along the normal of it (relight.h); then the bake relit
+// under its own environment, against itself.
+RelightTransfer relightStage(const BakeScene& scene, const TransportInput& transportIn,
+                             const VertexLighting& lighting, const VertexExitance& direct,
+                             const InterreflectionReport& bounces, const BakedLight& light,
+                             std::span<const glm::vec3> radianceNormal) {
+  const BakeSettings& s = scene.settings;
+  if (s.relightOrder < 0 || !scene.diffusion()) return {};
+  EnergyWeightSums wholeEscapeSums;
+  const TransportInput linear = linearTransportInput(transportIn, direct, wholeEscapeSums);
+  RelightTransfer t =
+      relightTransfer({.meshMm = scene.mesh.meshMm,
+                       .transport = linear,
+                       .entry = lighting.entryWeighted.empty() ? nullptr : &scene.entryWeight,
+                       .eta = float(s.material.eta),
+                       .order = s.relightOrder,
+                       .rays = kRelightRays,
+                       .bounces = bounces.enabled ? bounces.bounces : 0,
+                       .gatherRays = s.interreflectionRays,
+                       .exitance = light.exitance,
+                       .radianceNormal = radianceNormal,
+                       .run = s.run});
+  const Stopwatch clock;
+  const RelitLight own = relight(s.meshPath, {scene.mesh.meshMm, s.material, t}, scene.radiance,
+                                 s.run);
+  t.report.selfError = relativeRms(own.radianceNormal, radianceNormal);
+  t.report.compactLights = own.compactLights;
+  t.report.compactFluxShare = own.compactFluxShare;
+  t.report.seconds += clock.seconds();
+  info("relightable transfer (order " + std::to_string(t.order) + "): " +
+           format("%.3f s", t.report.seconds) + ", relit under its own environment " +
+           percent(t.report.selfError) + " RMS from the bake",
+       s.run.quiet);
+  return t;
+}
+
 // Stage 12: the baked mesh in the file's units, with what made it in a comment.
 BakedMesh assembleBakedMesh(TriangleMesh mesh, BakedLight light,
                             std::vector<glm::vec3> radianceNormal, FarField far,
-                            const BakeSettings& s, const BakeReport& r) {
+                            RelightTransfer relight, const BakeSettings& s, const BakeReport& r) {
   BakedMesh baked;
   baked.mesh = std::move(mesh);
   baked.irradiance = std::move(light.irradiance);
@@ -432,6 +454,12 @@ BakedMesh assembleBakedMesh(TriangleMesh mesh, BakedLight light,
   baked.mmPerUnit = r.mesh.mmPerUnit;
   baked.meshChecked = true;  // prepareMesh warned about its topology
   baked.unscatteredTraced = r.unscattered.traced;
+  baked.relightOrder = relight.order;
+  baked.relightTransfer = std::move(relight.relightTransfer);
+  baked.radianceGain = std::move(relight.radianceGain);
+  baked.exitancePerRadiance = std::move(relight.exitancePerRadiance);
+  baked.escapeProbability = std::move(relight.escapeProbability);
+  baked.relightTransport = std::move(relight.relightTransport);
   const bool rays = s.visibility == VisibilityMode::Rays;
   baked.extraComments.push_back(
       "bake method=" + r.transport.methodName() +
@@ -485,6 +513,8 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
                             : radianceOf(bounced.added, far, s.material.eta);
   const ModelErrorReport model =
       modelErrorStage(scene, radianceNormal, normal.vertexModel, interreflected, far);
+  RelightTransfer relight = relightStage(scene, transportIn, lighting, direct, bounced.report,
+                                         light, radianceNormal);
 
   BakeOutput out;
   BakeReport& report = out.report;
@@ -499,8 +529,9 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
   report.interreflection = bounced.report;
   report.unscattered = unscattered.report;
   report.errors = errorReport(report, model, s.tolerance);
+  report.relight = relight.report;
   out.baked = assembleBakedMesh(std::move(mesh.mesh), std::move(light), std::move(radianceNormal),
-                                std::move(far), s, report);
+                                std::move(far), std::move(relight), s, report);
   report.totalSeconds = clock.seconds();
   return out;
 }

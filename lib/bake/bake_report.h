@@ -7,6 +7,7 @@
 #include "bake/light_vertices.h"
 #include "bake/plan_energy.h"
 #include "bake/prepare_mesh.h"
+#include "bake/relight.h"
 #include "bake/texture_stage.h"
 #include "bake/transport.h"
 #include "material/material.h"
@@ -74,6 +75,7 @@ struct BakeReport {
   UnscatteredLightReport unscattered;
   BakeErrorReport errors;
   LightmapReport lightmap;  // size 0: no texture
+  RelightReport relight;    // order -1: a plain bake
   int threads = 0;
   double totalSeconds = 0.0;
 };

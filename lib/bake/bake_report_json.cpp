@@ -266,6 +266,15 @@ Json toJson(const BakeReport& r) {
   j["unscattered"] = toJson(r.unscattered);
   j["estimated_error"] = toJson(r.errors);
   if (r.lightmap.size > 0) j["texture"] = toJson(r.lightmap);
+  if (r.relight.order >= 0)
+    j["relightable"] = {{"sh_order", r.relight.order},
+                        {"coefficients", r.relight.coefficients},
+                        {"rays_per_vertex", r.relight.rays},
+                        {"blocked_fraction", r.relight.blockedFraction},
+                        {"self_relative_rms", r.relight.selfError},
+                        {"transfer_s", r.relight.transferSeconds},
+                        {"transport_s", r.relight.transportSeconds},
+                        {"seconds", r.relight.seconds}};
   j["threads"] = r.threads;
   j["stages"] = {{"load_mesh_s", r.mesh.seconds},
                  {"load_environment_s", r.environment.seconds},

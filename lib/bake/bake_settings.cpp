@@ -55,6 +55,12 @@ void checkSizeMm(double sizeMm) {
   }
 }
 
+void checkRelightOrder(int order) {
+  if (order < -1 || order > kMaxRelightOrder)
+    throw Error("--relightable " + std::to_string(order) + ": the SH order must be in [0, " +
+                std::to_string(kMaxRelightOrder) + "]");
+}
+
 void checkTextureSettings(const TextureSettings& s) {
   if (s.size != 0 && (s.size < 16 || s.size > 8192)) {
     throw Error("--texture " + std::to_string(s.size) + ": texels a side must be in [16, 8192]");
@@ -84,6 +90,13 @@ void validateBakeSettings(const BakeSettings& s) {
   if (s.interreflectionRays < 1) fail("", "interreflection needs at least 1 ray per vertex");
   checkTolerance(s.tolerance);
   checkTextureSettings(s.texture);
+  checkRelightOrder(s.relightOrder);
+  if (s.relightOrder >= 0 && s.method == BakeMethod::PathTrace)
+    throw Error("--relightable needs a diffusion method: the path tracer is not linear in a "
+                "stored transfer");
+  if (s.relightOrder >= 0 && s.texture.size > 0)
+    throw Error("--relightable with --texture: a relightable lightmap is not supported; bake the "
+                "transfer per vertex");
 }
 
 }  // namespace sss

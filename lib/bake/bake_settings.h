@@ -91,6 +91,8 @@ struct BakeSettings {
   int interreflectionRays = 64;  // cosine rays per vertex for the gather (>= 1)
   int environmentFaceSize = 0;   // 0: from the source resolution
   TextureSettings texture;       // --texture: a UV lightmap beside the per-vertex values
+  // --relightable [ORDER]: the SH order of the stored transfer (bake/relight.h); -1: a plain bake.
+  int relightOrder = -1;
 };
 
 // Everything that needs no file, so that a typo costs nothing: the material, the units, the
@@ -102,5 +104,7 @@ void checkVisibilitySamples(int samples);  // 0 (auto) or >= 2
 void checkPathTracerWalks(int walks);      // >= 1
 void checkBounces(int bounces);            // kAutoBounces or >= 0
 void checkSizeMm(double sizeMm);           // finite, > 0
+void checkRelightOrder(int order);         // -1 (off) or 0..kMaxRelightOrder
+inline constexpr int kMaxRelightOrder = 8;
 
 }  // namespace sss

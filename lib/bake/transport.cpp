@@ -71,4 +71,16 @@ VertexExitance transport(const TransportInput& in) {
   return out;
 }
 
+TransportInput linearTransportInput(const TransportInput& transportIn, const VertexExitance& direct,
+                                    EnergyWeightSums& wholeEscapeSums) {
+  TransportInput in = transportIn;
+  in.method = bakeMethodOf(direct.report.diffusion.method);
+  in.run.quiet = true;
+  if (in.farField && in.farField->traced()) {
+    in.farField = nullptr;
+    if (in.weightSums) in.weightSums = &wholeEscapeSums;
+  }
+  return in;
+}
+
 }  // namespace sss

@@ -74,4 +74,12 @@ struct VertexExitance {
 
 VertexExitance transport(const TransportInput& in);
 
+// The transport of light that did not come from the environment's traced far field (the bounces,
+// a relightable bake's basis lights): the method the first transport (`direct`) chose, quiet. The
+// traced far field carries none of that light: with it, the first transport spread only P's near
+// share, so this one goes through the escape model's own kernel for all of P, with its own sums
+// (wholeEscapeSums; docs/physics.md, "Light the object sends itself").
+TransportInput linearTransportInput(const TransportInput& transportIn, const VertexExitance& direct,
+                                    EnergyWeightSums& wholeEscapeSums);
+
 }  // namespace sss

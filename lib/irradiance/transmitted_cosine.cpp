@@ -58,14 +58,21 @@ double TransmittedCosineKernel::zonalCoefficient(int l) const {
     const double sign = (l / 2) % 2 == 1 ? 1.0 : -1.0;
     return 2.0 * M_PI * sign / ((l + 2.0) * (l - 1.0)) * ratio;
   }
-  // 2 pi int_0^1 mu F_t(mu) P_l(mu) dmu, composite Simpson on the exact Fresnel term, with panels
-  // fine enough for the critical-angle kink of eta < 1, which lies inside a panel.
+  return weightedZonalCoefficient(l, [](double) { return glm::dvec3(1.0); }).x;
+}
+
+// 2 pi int_0^1 mu F_t(mu) w(mu) P_l(mu) dmu, composite Simpson on the exact Fresnel term, with
+// panels fine enough for the critical-angle kink of eta < 1, which lies inside a panel.
+glm::dvec3 TransmittedCosineKernel::weightedZonalCoefficient(
+    int l, const std::function<glm::dvec3(double mu)>& weight) const {
+  if (l < 0) return glm::dvec3(0.0);
   const int panels = 8000;
-  double sum = 0.0;
+  glm::dvec3 sum(0.0);
   for (int i = 0; i <= panels; ++i) {
     const double mu = static_cast<double>(i) / panels;
     const double w = (i == 0 || i == panels) ? 1.0 : (i % 2 ? 4.0 : 2.0);
-    sum += w * mu * fresnelTransmittance(static_cast<float>(mu), eta_) * legendre(l, mu);
+    sum += w * mu * fresnelTransmittance(static_cast<float>(mu), eta_) * legendre(l, mu) *
+           weight(mu);
   }
   return 2.0 * M_PI * sum / (3.0 * panels);
 }

@@ -10,7 +10,10 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <vector>
+
+#include <glm/vec3.hpp>
 
 namespace sss {
 
@@ -33,6 +36,11 @@ class TransmittedCosineKernel {
   float operator()(float mu) const { return mu > 0.0f ? mu * transmittance(mu) : 0.0f; }
   // kHat_l (above), by quadrature; exact closed forms when eta = 1.
   double zonalCoefficient(int l) const;
+  // The same for the kernel times a per-channel weight of the cosine, k(mu) w(mu) (the directional
+  // entry, material/directional_albedo_weight.h): 2 pi integral_0^1 k(mu) w(mu) P_l(mu) dmu, by
+  // the same quadrature.
+  glm::dvec3 weightedZonalCoefficient(int l,
+                                      const std::function<glm::dvec3(double mu)>& weight) const;
 
  private:
   float eta_;

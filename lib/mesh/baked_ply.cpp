@@ -23,6 +23,8 @@ static_assert(std::endian::native == std::endian::little,
               "the baked PLY writer copies floats as little-endian bytes");
 
 constexpr int kFormatVersion = 1;
+// The highest relight order a file may declare (irradiance/spherical_harmonics.h's kMaxOrder).
+constexpr int kMaxRelightOrder = 16;
 
 // Shortest text that reads back to the same double.
 std::string number(double x) {
@@ -101,6 +103,31 @@ void checkFarField(const std::string& path, const BakedMesh& baked, std::size_t 
     }
 }
 
+// A relightable bake's values: an order in range, K transfer coefficients and one ratio per vertex,
+// finite; none without an order.
+void checkRelight(const std::string& path, const BakedMesh& baked, std::size_t n) {
+  if (baked.relightOrder < 0) {
+    if (!baked.relightTransfer.empty() || !baked.exitancePerRadiance.empty() ||
+        !baked.radianceGain.empty() || !baked.escapeProbability.empty())
+      fail(path, "has relight transfer values without relight_order");
+    return;
+  }
+  if (baked.relightOrder > kMaxRelightOrder)
+    fail(path, "relight_order " + std::to_string(baked.relightOrder) + " is above " +
+                   std::to_string(kMaxRelightOrder));
+  checkVertexValues(path, baked.relightTransfer, n * baked.relightCount(), "transfer");
+  if (baked.relightTransfer.size() != n * baked.relightCount())
+    fail(path, "relight_order " + std::to_string(baked.relightOrder) + " without its transfer");
+  checkVertexValues(path, baked.radianceGain, n, "radiance_gain");
+  checkVertexValues(path, baked.exitancePerRadiance, n, "exitance_per_radiance");
+  checkVertexValues(path, baked.escapeProbability, n, "escape_probability");
+  if (baked.exitancePerRadiance.size() != n || baked.radianceGain.size() != n)
+    fail(path, "relight transfer without radiance_gain and exitance_per_radiance");
+  if (baked.relightTransport.empty() ||
+      baked.relightTransport.find_first_of(" \t\r\n") != std::string::npos)
+    fail(path, "relight transfer without a one-word relight_transport");
+}
+
 }  // namespace
 
 void checkBakedMesh(const std::string& path, const BakedMesh& baked) {
@@ -116,6 +143,7 @@ void checkBakedMesh(const std::string& path, const BakedMesh& baked) {
   checkVertexValues(path, baked.exitance, nv, "exitance");
   checkVertexValues(path, baked.radianceNormal, nv, "radiance_normal");
   checkFarField(path, baked, nv);
+  checkRelight(path, baked, nv);
 }
 
 namespace {
@@ -143,12 +171,16 @@ struct BakedFields {
       : irradiance(!baked.irradiance.empty()),
         exitance(!baked.exitance.empty()),
         radianceNormal(!baked.radianceNormal.empty()),
-        farField(!baked.farExitance.empty()) {}
+        farField(!baked.farExitance.empty()),
+        relightCount(baked.relightCount()),
+        escape(!baked.escapeProbability.empty()) {}
   bool irradiance, exitance, radianceNormal, farField;
+  int relightCount;
+  bool escape;
   // Bytes of one vertex record: position and normal, then the optional fields in order.
   std::size_t vertexBytes() const {
     return 24 + (irradiance ? 12 : 0) + (exitance ? 15 : 0) + (radianceNormal ? 12 : 0) +
-           (farField ? 24 : 0);
+           (farField ? 24 : 0) + (relightCount > 0 ? 12 * (relightCount + 2) : 0) + (escape ? 12 : 0);
   }
 };
 
@@ -166,6 +198,9 @@ void appendComments(std::string& out, const BakedMesh& baked, const BakedFields&
   if (fields.exitance) out += "comment sss preview_scale=" + number(scale) + "\n";
   if (baked.meshChecked) out += "comment sss checked=1\n";
   if (baked.unscatteredTraced) out += "comment sss unscattered=1\n";
+  if (baked.relightOrder >= 0)
+    out += "comment sss relight_order=" + std::to_string(baked.relightOrder) +
+           "\ncomment sss relight_transport=" + baked.relightTransport + "\n";
   for (const std::string& c : baked.extraComments) out += "comment " + c + "\n";
 }
 
@@ -190,6 +225,15 @@ void appendVertexProperties(std::string& out, std::size_t vertices, const BakedF
         "property float far_exitance_r\nproperty float far_exitance_g\n"
         "property float far_exitance_b\nproperty float far_exit_slope_r\n"
         "property float far_exit_slope_g\nproperty float far_exit_slope_b\n";
+  for (int k = 0; k < fields.relightCount; ++k)
+    for (const char* c : {"_r", "_g", "_b"})
+      out += "property float transfer" + std::to_string(k) + c + "\n";
+  for (const char* name : {"radiance_gain", "exitance_per_radiance", "escape_probability"}) {
+    if (fields.relightCount == 0 || (std::string(name) == "escape_probability" && !fields.escape))
+      continue;
+    for (const char* c : {"_r", "_g", "_b"})
+      out += std::string("property float ") + name + c + "\n";
+  }
 }
 
 // Vertex i's record: floats, and the exitance's 8-bit sRGB preview colour at `scale`.
@@ -213,6 +257,15 @@ void appendVertex(std::string& out, const BakedMesh& baked, const BakedFields& f
     for (int k = 0; k < 3; ++k) put(out, baked.farExitance[i][k]);
     for (int k = 0; k < 3; ++k) put(out, baked.farExitSlope[i][k]);
   }
+  const std::size_t count = static_cast<std::size_t>(fields.relightCount);
+  for (std::size_t t = i * count; t < (i + 1) * count; ++t)
+    for (int k = 0; k < 3; ++k) put(out, baked.relightTransfer[t][k]);
+  if (count > 0) {
+    for (int k = 0; k < 3; ++k) put(out, baked.radianceGain[i][k]);
+    for (int k = 0; k < 3; ++k) put(out, baked.exitancePerRadiance[i][k]);
+  }
+  if (fields.escape)
+    for (int k = 0; k < 3; ++k) put(out, baked.escapeProbability[i][k]);
 }
 
 // Triangles as PLY lists: a count of 3, then three int32 indices.
@@ -271,7 +324,8 @@ Keys sssKeys(const std::vector<std::string>& comments, std::vector<std::string>&
       const std::string key = c.substr(4, eq - 4);
       static const char* const known[] = {"format",        "material", "sigma_a",
                                           "sigma_s_prime", "eta",      "mm_per_unit",
-                                          "preview_scale", "checked",  "unscattered"};
+                                          "preview_scale", "checked",  "unscattered",
+                                          "relight_order", "relight_transport"};
       if (std::find(std::begin(known), std::end(known), key) != std::end(known)) {
         keys[key] = c.substr(eq + 1);
         continue;
@@ -325,6 +379,17 @@ void readKeys(const std::string& path, Keys& keys, BakedPlyContents& result) {
     if (keys["unscattered"] != "1") bad("unscattered");
     baked.unscatteredTraced = true;
   }
+  if (keys.count("relight_order")) {
+    double order = -1;
+    if (!parseNumber(keys["relight_order"], order) || order != std::floor(order) || order < 0 ||
+        order > kMaxRelightOrder)
+      bad("relight_order");
+    baked.relightOrder = static_cast<int>(order);
+    result.hasRelight = true;
+    baked.relightTransport = keys["relight_transport"];
+  } else if (keys.count("relight_transport")) {
+    bad("relight_transport");
+  }
 }
 
 // Per-vertex values base_r/g/b: all three channels (present = true) or none (empty).
@@ -347,6 +412,33 @@ std::vector<glm::vec3> readChannels(const std::string& path, const ply::PlyMesh&
     values[i] = {(*c[0])[i], (*c[1])[i], (*c[2])[i]};
   }
   return values;
+}
+
+// A relightable bake's transfer0.. and exitance_per_radiance, all of them with relight_order.
+void readRelight(const std::string& path, const ply::PlyMesh& ply, BakedPlyContents& result,
+                 BakedVertexValues& values) {
+  bool ratio = false, gain = false, escape = false, first = false;
+  values.exitancePerRadiance = readChannels(path, ply, "exitance_per_radiance", ratio);
+  values.radianceGain = readChannels(path, ply, "radiance_gain", gain);
+  values.escapeProbability = readChannels(path, ply, "escape_probability", escape);
+  readChannels(path, ply, "transfer0", first);
+  if (!result.hasRelight) {
+    if (ratio || gain || escape || first)
+      fail(path, "has relight transfer values without relight_order");
+    return;
+  }
+  if (!ratio || !gain)
+    fail(path, "relight_order without radiance_gain_r/g/b and exitance_per_radiance_r/g/b");
+  const int count = result.baked.relightCount();
+  const std::size_t n = values.exitancePerRadiance.size();
+  values.relightTransfer.resize(n * count);
+  for (int k = 0; k < count; ++k) {
+    bool present = false;
+    const std::string name = "transfer" + std::to_string(k);
+    const std::vector<glm::vec3> channel = readChannels(path, ply, name, present);
+    if (!present) fail(path, "relight_order without " + name + "_r/g/b");
+    for (std::size_t i = 0; i < n; ++i) values.relightTransfer[i * count + k] = channel[i];
+  }
 }
 
 }  // namespace
@@ -376,6 +468,7 @@ BakedPlyContents readBakedPly(const std::string& path) {
   if (hasFarExitance != hasFarSlope)
     fail(path, "has far_exitance without far_exit_slope or the other way round");
   result.hasFarField = hasFarExitance;
+  readRelight(path, ply, result, values);
 
   cleanBakedMesh(path, ply::takeMesh(ply, result.report), values, result);
   return result;
@@ -394,11 +487,22 @@ void cleanBakedMesh(const std::string& path, RawMesh raw, const BakedVertexValue
       baked.farExitance.push_back(values.farExitance[o]);
       baked.farExitSlope.push_back(values.farExitSlope[o]);
     }
+    if (contents.hasRelight) {
+      const std::size_t count = baked.relightCount();
+      const auto first = values.relightTransfer.begin() + std::ptrdiff_t(o * count);
+      baked.relightTransfer.insert(baked.relightTransfer.end(), first,
+                                   first + std::ptrdiff_t(count));
+      baked.radianceGain.push_back(values.radianceGain[o]);
+      baked.exitancePerRadiance.push_back(values.exitancePerRadiance[o]);
+      if (!values.escapeProbability.empty())
+        baked.escapeProbability.push_back(values.escapeProbability[o]);
+    }
   }
   checkVertexValues(path, baked.irradiance, origin.size(), "irradiance");
   checkVertexValues(path, baked.exitance, origin.size(), "exitance");
   checkVertexValues(path, baked.radianceNormal, origin.size(), "radiance_normal");
   checkFarField(path, baked, origin.size());
+  checkRelight(path, baked, origin.size());
   if (baked.meshChecked) contents.report.warnings.clear();  // sss-bake showed them
 }
 

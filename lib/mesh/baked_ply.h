@@ -34,6 +34,17 @@
 //                  transport/far_field.h: the part of B that light paths carried from afar,
 //                  and the slope k of the exit lobe that the paths' exits measured,
 //                  optics/exit_lobe.h, which all of B leaves with: sss-render draws B through it)
+//   property float transfer0_r, transfer0_g, transfer0_b, ... transfer<K-1>_b
+//   property float radiance_gain_r, radiance_gain_g, radiance_gain_b
+//   property float exitance_per_radiance_r, exitance_per_radiance_g, exitance_per_radiance_b
+//   property float escape_probability_r, escape_probability_g, escape_probability_b
+//                  (a relightable bake, sss-bake --relightable, with "comment sss
+//                  relight_order=N", K = (N + 1)^2, and "comment sss relight_transport=..."
+//                  (bake/relight.h): under an environment with real SH coefficients L_k
+//                  (irradiance/spherical_harmonics.h, index l (l + 1) + m) the radiance along the
+//                  normal is radiance_gain (sum_k transfer<k> L_k) per channel, and B is that
+//                  times exitance_per_radiance; escape_probability only with the escape energy
+//                  model; docs/relighting.md)
 //   element face M
 //   property list uchar int vertex_indices
 //   end_header
@@ -74,6 +85,14 @@ struct BakedMesh {
   // The bake found light that crosses the object unscattered and traced it (radiance_normal holds
   // it along the normals; sss-render draws it, view-dependent, by default).
   bool unscatteredTraced = false;
+  // A relightable bake (relightOrder >= 0): per vertex (relightOrder + 1)^2 SH transfer
+  // coefficients of the radiance along the normal, per channel, at [vertex * K + k], and B / L.
+  int relightOrder = -1;
+  std::vector<glm::vec3> relightTransfer;
+  std::vector<glm::vec3> radianceGain, exitancePerRadiance;
+  std::vector<glm::vec3> escapeProbability;  // may be empty
+  std::string relightTransport;              // bake/relight.h's key; one word
+  int relightCount() const { return relightOrder < 0 ? 0 : (relightOrder + 1) * (relightOrder + 1); }
 };
 
 // What every baked-mesh writer checks first (one value per vertex or none, finite values, indices
@@ -100,6 +119,7 @@ struct BakedPlyContents {
   bool hasExitance = false;        // exitance_r/g/b present
   bool hasRadianceNormal = false;  // radiance_normal_r/g/b present
   bool hasFarField = false;        // far_exitance_r/g/b and far_exit_slope_r/g/b present
+  bool hasRelight = false;         // relight_order, transfer*_r/g/b, exitance_per_radiance_r/g/b
   bool hasMaterial = false;        // "sss material/sigma_a/sigma_s_prime/eta" comments present
   bool hasUnits = false;           // "sss mm_per_unit" comment present
   MeshReport report;               // cleanup of the mesh part; no warnings when baked.meshChecked
@@ -114,6 +134,8 @@ BakedPlyContents readBakedPly(const std::string& path);
 // Per-vertex values as a reader found them, in the file's vertex order (empty: absent).
 struct BakedVertexValues {
   std::vector<glm::vec3> irradiance, exitance, radianceNormal, farExitance, farExitSlope;
+  std::vector<glm::vec3> relightTransfer;  // [vertex * K + k]
+  std::vector<glm::vec3> radianceGain, exitancePerRadiance, escapeProbability;
 };
 
 // The end of every baked-mesh reader: `raw` through cleanMesh into contents.baked.mesh, the

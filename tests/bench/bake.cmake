@@ -9,3 +9,7 @@ sss_add_benchmark(bake_sweep SOURCES ${CMAKE_CURRENT_LIST_DIR}/bake_sweep.cpp
 # tests/bench/results/texture/sphere.csv.
 sss_add_benchmark(texture_study SOURCES ${CMAKE_CURRENT_LIST_DIR}/texture_study.cpp
                   LIBS sss_bake sss_lightmap sss_mesh nlohmann_json::nlohmann_json)
+# The relightable bake against fresh bakes under the sample HDRs turned and a sun from 8 directions:
+# tests/bench/results/relight/relight.csv, relight_cost.csv (relight_study.sh).
+sss_add_benchmark(relight_study SOURCES ${CMAKE_CURRENT_LIST_DIR}/relight_study.cpp
+                  LIBS sss_bake sss_mesh sss_envmap sss_material)

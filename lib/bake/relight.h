@@ -1,0 +1,114 @@
+// Relightable bakes (sss-bake --relightable, sss-relight; docs/relighting.md).
+//
+// Every stage of the bake is linear in the environment's radiance. A relightable bake splits the
+// light as real-time practice does (envmap/compact_lights.h): the smooth part goes through a
+// stored spherical-harmonic transfer (Sloan, Kautz & Snyder 2002), the compact bright sources (a
+// sun, lamps) are directional lights whose shadows are traced and whose light is spread by the
+// bake's own transport at relight time. Per vertex and channel:
+//
+//   B_direct = sum_k T_k L_k + transport(E_compact),
+//   B = B_direct and the bake's bounces on it (interreflection.h),   L_n = g B,   B_out = b L_n,
+//
+// T_k (k = l (l + 1) + m, l <= order) the exitance B of SH basis function k through the bake's
+// linear transport, L_k the SH coefficients of the environment without its compact lights,
+// E_compact their transmitted irradiance with shadows, g the bake's own ratio of its radiance
+// along the normal to its B, and b its B / L_n. T is built from what is linear and
+// light-independent in the pipeline:
+//   1. the transmitted-cosine transfer with the mesh's shadows and the directional entry
+//      (lighting/visibility_transfer.h), one irradiance per basis function;
+//   2. each through the bake's transport (the diffusion sum of Li & Guo Eq. 7 with the energy
+//      model; transport.h, linearTransportInput), split into its positive and negative parts, as
+//      the sums take light >= 0.
+// g carries the exit model and what the traced far field and the unscattered light add, in the
+// proportion the bake's own environment gave them: the approximation that docs/relighting.md
+// measures. The transport is stored as a key (method, tolerance, profile, energy model,
+// half-space albedo, entry, bounces, gather rays) and the escape probability per vertex, so that
+// sss-relight rebuilds it.
+#pragma once
+
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "bake/transport.h"
+#include "core/run_context.h"
+#include "envmap/compact_lights.h"
+#include "irradiance/spherical_harmonics.h"
+#include "mesh/baked_ply.h"
+
+namespace sss {
+
+class Cubemap;                  // envmap/cubemap.h
+class DirectionalAlbedoWeight;  // material/directional_albedo_weight.h
+
+// --relightable's order when none is given, and the rays per vertex of its transfer.
+inline constexpr int kDefaultRelightOrder = 3;
+inline constexpr int kRelightRays = 64;
+
+struct RelightInput {
+  const TriangleMesh& meshMm;
+  const TransportInput& transport;  // linearTransportInput of the bake's transport
+  const DirectionalAlbedoWeight* entry = nullptr;  // the transport's, null for diffuse entry
+  float eta = 1.3f;
+  int order = kDefaultRelightOrder;
+  int rays = kRelightRays;
+  int bounces = 0;     // the bake's (interreflection.h), done again at relight time
+  int gatherRays = 64;  // the bounces' gather rays per vertex
+  std::span<const glm::vec3> exitance;        // the bake's B (with its bounces)
+  std::span<const glm::vec3> radianceNormal;  // its radiance along the normal
+  RunContext run{};
+};
+
+struct RelightReport {
+  int order = -1;  // -1: not relightable
+  int coefficients = 0;
+  int rays = 0;
+  double blockedFraction = 0.0;
+  // Relative RMS of the radiance along the normal, relit under the bake's own environment
+  // against the bake: what the split light and g cost there.
+  double selfError = 0.0;
+  int compactLights = 0;           // in the bake's own environment
+  double compactFluxShare = 0.0;   // their share of its irradiance
+  double transferSeconds = 0.0, transportSeconds = 0.0, seconds = 0.0;
+};
+
+// What the bake stores (BakedMesh's relight fields, the same names).
+struct RelightTransfer {
+  int order = -1;
+  std::vector<glm::vec3> relightTransfer;  // T at [vertex * coefficients + k], per channel
+  std::vector<glm::vec3> radianceGain, exitancePerRadiance, escapeProbability;
+  std::string relightTransport;
+  RelightReport report;
+};
+
+RelightTransfer relightTransfer(const RelightInput& in);
+
+// A relightable bake (mesh in mm) with its material, as relight() reads it.
+struct RelightableMesh {
+  const TriangleMesh& meshMm;
+  const Material& material;
+  const RelightTransfer& transfer;
+};
+
+struct RelitLight {
+  std::vector<glm::vec3> radianceNormal, exitance;
+  int compactLights = 0;
+  double compactFluxShare = 0.0;
+};
+
+// The bake under `environment` (a radiance cubemap in the mesh's frame): compact lights split
+// off, the rest through the transfer. Throws Error naming `path` on a transport key it cannot
+// read.
+RelitLight relight(const std::string& path, const RelightableMesh& bake, const Cubemap& environment,
+                   const RunContext& run);
+
+// sum_k T_k L_k per vertex over the bands both have (B of the smooth light, before g).
+std::vector<glm::vec3> transferredExitance(std::span<const glm::vec3> transfer, int order,
+                                           const SphericalHarmonics& light);
+
+// A relightable BakedMesh's fields as relight() takes them (copies).
+RelightTransfer relightTransferOf(const BakedMesh& baked);
+
+}  // namespace sss

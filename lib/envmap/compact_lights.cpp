@@ -1,0 +1,83 @@
+#include "envmap/compact_lights.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+#include "core/luminance.h"
+
+namespace sss {
+
+namespace {
+
+struct Texel {
+  int face, x, y;
+  float luminance;  // of the radiance
+};
+
+// The texels above the contrast, brightest first, until they cover the solid angle allowed.
+std::vector<Texel> brightestTexels(const Cubemap& radiance, const CompactLightOptions& o) {
+  double flux = 0.0, solidAngle = 0.0;
+  std::vector<Texel> all;
+  forEachTexel(radiance.size(), [&](int f, int x, int y) {
+    const float l = luminance(radiance.at(f, x, y));
+    const float dw = radiance.solidAngle(f, x, y);
+    flux += double(l) * dw;
+    solidAngle += dw;
+    all.push_back({f, x, y, l});
+  });
+  const double threshold = o.minContrast * flux / std::max(solidAngle, 1e-30);
+  std::erase_if(all, [&](const Texel& t) { return !(t.luminance > threshold); });
+  std::stable_sort(all.begin(), all.end(),
+                   [](const Texel& a, const Texel& b) { return a.luminance > b.luminance; });
+  const double allowed = o.maxSolidAngleFraction * 4.0 * M_PI;
+  double covered = 0.0;
+  std::size_t kept = 0;
+  for (; kept < all.size(); ++kept) {
+    covered += radiance.solidAngle(all[kept].face, all[kept].x, all[kept].y);
+    if (covered > allowed) break;
+  }
+  all.resize(kept);
+  return all;
+}
+
+}  // namespace
+
+CompactLightSplit splitCompactLights(const Cubemap& radiance, const CompactLightOptions& o) {
+  CompactLightSplit out;
+  out.rest = radiance;
+  std::vector<Texel> bright = brightestTexels(radiance, o);
+  const float cosCluster = float(std::cos(o.clusterDeg * M_PI / 180.0));
+  std::vector<char> taken(bright.size(), 0);
+  for (std::size_t seed = 0; seed < bright.size() && int(out.lights.size()) < o.maxLights;
+       ++seed) {
+    if (taken[seed]) continue;
+    const glm::vec3 axis = radiance.direction(bright[seed].face, bright[seed].x, bright[seed].y);
+    DirectionalLight light;
+    glm::dvec3 weighted(0.0);
+    for (std::size_t i = seed; i < bright.size(); ++i) {
+      const Texel& t = bright[i];
+      const glm::vec3 d = radiance.direction(t.face, t.x, t.y);
+      if (taken[i] || glm::dot(d, axis) < cosCluster) continue;
+      taken[i] = 1;
+      const float dw = radiance.solidAngle(t.face, t.x, t.y);
+      const glm::vec3 e = radiance.at(t.face, t.x, t.y) * dw;
+      light.irradiance += e;
+      light.solidAngle += dw;
+      weighted += glm::dvec3(d) * double(luminance(e));
+      out.rest.at(t.face, t.x, t.y) = glm::vec3(0.0f);
+    }
+    light.direction = glm::length(weighted) > 0.0 ? glm::vec3(glm::normalize(weighted)) : axis;
+    out.lights.push_back(light);
+  }
+  double total = 0.0, lights = 0.0;
+  forEachTexel(radiance.size(), [&](int f, int x, int y) {
+    total += double(luminance(radiance.at(f, x, y))) * radiance.solidAngle(f, x, y);
+  });
+  for (const DirectionalLight& l : out.lights) lights += luminance(l.irradiance);
+  out.fluxShare = total > 0.0 ? lights / total : 0.0;
+  return out;
+}
+
+}  // namespace sss

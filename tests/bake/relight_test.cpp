@@ -1,0 +1,216 @@
+// Relightable bakes (lib/bake/relight.h): linearity in the environment, a turned environment
+// against a fresh bake under it, the bake's own environment against itself, the file's round
+// trip and its refusals.
+#include "bake/relight.h"
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "bake/bake.h"
+#include "core/error.h"
+#include "core/relative_rms.h"
+#include "mesh/baked_ply.h"
+#include "mesh/primitives.h"
+#include "support/tool_test.h"
+
+namespace sss {
+namespace {
+
+// A bumpy sphere, 20 mm across, with concave valleys between its bumps (it shadows itself), as
+// an ASCII PLY without normals.
+void writeBumpySphere(const std::string& path) {
+  TriangleMesh m = makeIcosphere(3, 1.0f);
+  std::ofstream out(path);
+  out << "ply\nformat ascii 1.0\nelement vertex " << m.positions.size()
+      << "\nproperty float x\nproperty float y\nproperty float z\nelement face "
+      << m.triangles.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
+  for (const glm::vec3& p : m.positions) {
+    const float r = 10.0f * (1.0f + 0.3f * std::sin(4.0f * p.x) * std::sin(4.0f * p.y + 1.0f) *
+                                        std::cos(3.0f * p.z));
+    out << r * p.x << ' ' << r * p.y << ' ' << r * p.z << '\n';
+  }
+  for (const glm::uvec3& t : m.triangles) out << "3 " << t.x << ' ' << t.y << ' ' << t.z << '\n';
+}
+
+BakeSettings settingsFor(const std::string& mesh, const std::string& sky, double rotateDeg = 0.0) {
+  BakeSettings s;
+  s.meshPath = mesh;
+  s.environment = sky;
+  s.orientation.rotateDeg = rotateDeg;
+  s.material = findMaterialPreset("marble");
+  s.mmPerUnit = 1.0;
+  s.run = {.seed = 3, .threads = 2, .quiet = true};
+  // The stages traced per environment ride on the ratio g (relight.h): off, so that the stored
+  // transfer itself is what is compared.
+  s.farField = FarFieldMode::Off;
+  s.unscattered = UnscatteredMode::Off;
+  return s;
+}
+
+// A smooth environment: no compact light in it.
+Cubemap gradient(const glm::vec3& axis, const glm::vec3& colour) {
+  Cubemap map(32);
+  forEachTexel(32, [&](int f, int x, int y) {
+    map.at(f, x, y) = colour * (1.2f + glm::dot(map.direction(f, x, y), axis));
+  });
+  return map;
+}
+
+class Relight : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = std::filesystem::temp_directory_path() /
+           ("sss-test-" + std::to_string(::getpid()) + "-relight");
+    std::filesystem::create_directories(dir_);
+    mesh_ = file("bumpy.ply");
+    writeBumpySphere(mesh_);
+    BakeSettings s = settingsFor(mesh_, kSky);
+    s.relightOrder = 3;
+    out_ = new BakeOutput(bake(s));
+    transfer_ = new RelightTransfer(relightTransferOf(out_->baked));
+    material_ = new Material(findMaterialPreset("marble"));
+  }
+  static void TearDownTestSuite() {
+    delete transfer_;
+    delete out_;
+    delete material_;
+    std::error_code ignored;
+    std::filesystem::remove_all(dir_, ignored);
+  }
+  static std::string file(const std::string& name) { return (dir_ / name).string(); }
+  static RelightableMesh bakeMesh() { return {out_->baked.mesh, *material_, *transfer_}; }
+  static RelitLight relit(const Cubemap& env) {
+    return relight("bumpy.ply", bakeMesh(), env, {.seed = 3, .threads = 2, .quiet = true});
+  }
+
+  static constexpr const char* kSky = "sky:elevation=35,azimuth=60,turbidity=3";
+  static std::filesystem::path dir_;
+  static std::string mesh_;
+  static BakeOutput* out_;
+  static RelightTransfer* transfer_;
+  static Material* material_;
+};
+std::filesystem::path Relight::dir_;
+std::string Relight::mesh_;
+BakeOutput* Relight::out_ = nullptr;
+RelightTransfer* Relight::transfer_ = nullptr;
+Material* Relight::material_ = nullptr;
+
+TEST_F(Relight, StoresTheTransferAndReportsItsOwnEnvironment) {
+  const BakedMesh& b = out_->baked;
+  EXPECT_EQ(b.relightOrder, 3);
+  EXPECT_EQ(b.relightTransfer.size(), 16 * b.mesh.vertexCount());
+  EXPECT_EQ(b.radianceGain.size(), b.mesh.vertexCount());
+  EXPECT_FALSE(b.relightTransport.empty());
+  const RelightReport& r = out_->report.relight;
+  EXPECT_GT(r.blockedFraction, 0.01);  // the valleys shadow
+  EXPECT_EQ(r.compactLights, 1);       // the sky's sun
+  // Relit under its own environment, against itself: what the report says, and small.
+  const RelitLight own = relit(loadBakeEnvironment(settingsFor(mesh_, kSky)).radiance);
+  EXPECT_NEAR(relativeRms(own.radianceNormal, b.radianceNormal), r.selfError, 1e-6);
+  EXPECT_LT(r.selfError, 0.03);
+  EXPECT_GT(r.selfError, 0.0);
+}
+
+TEST_F(Relight, IsLinearInTheEnvironment) {
+  const Cubemap a = gradient(glm::vec3(0.0f, 1.0f, 0.0f), glm::vec3(1.0f, 0.9f, 0.8f));
+  const Cubemap b = gradient(glm::normalize(glm::vec3(1.0f, -0.5f, 0.2f)), glm::vec3(0.3f, 0.5f, 0.9f));
+  Cubemap sum = a;
+  forEachTexel(32, [&](int f, int x, int y) { sum.at(f, x, y) += b.at(f, x, y); });
+  const RelitLight ra = relit(a), rb = relit(b), rsum = relit(sum);
+  EXPECT_EQ(rsum.compactLights, 0);
+  std::vector<glm::vec3> added = ra.radianceNormal;
+  for (std::size_t v = 0; v < added.size(); ++v) added[v] += rb.radianceNormal[v];
+  // The bounces' sums run at a tolerance: linear to well within it.
+  EXPECT_LT(relativeRms(rsum.radianceNormal, added), 2e-3);
+  // And a sun beside a sky: the sun alone is a compact light, as it is in the sum.
+  const Cubemap sun = loadBakeEnvironment(settingsFor(mesh_, kSky)).radiance;
+  Cubemap sunAndSky = sun;
+  forEachTexel(sun.size(), [&](int f, int x, int y) {
+    sunAndSky.at(f, x, y) += a.sample(sun.direction(f, x, y));
+  });
+  Cubemap aFine(sun.size());
+  forEachTexel(sun.size(), [&](int f, int x, int y) { aFine.at(f, x, y) = a.sample(sun.direction(f, x, y)); });
+  const RelitLight rs = relit(sun), ra2 = relit(aFine), rboth = relit(sunAndSky);
+  std::vector<glm::vec3> both = rs.radianceNormal;
+  for (std::size_t v = 0; v < both.size(); ++v) both[v] += ra2.radianceNormal[v];
+  EXPECT_LT(relativeRms(rboth.radianceNormal, both), 0.01);
+}
+
+TEST_F(Relight, ATurnedEnvironmentMatchesAFreshBakeUnderIt) {
+  for (double rotate : {90.0, 200.0}) {
+    const BakeSettings s = settingsFor(mesh_, kSky, rotate);
+    const BakeOutput fresh = bake(s);
+    const RelitLight r = relit(loadBakeEnvironment(s).radiance);
+    // Under the unturned sky the transfer's own error is selfError; turned, it stays of that order.
+    EXPECT_LT(relativeRms(r.radianceNormal, fresh.baked.radianceNormal), 0.04) << rotate;
+    // Not the unturned bake: the turn matters.
+    EXPECT_GT(relativeRms(out_->baked.radianceNormal, fresh.baked.radianceNormal), 0.1) << rotate;
+  }
+}
+
+TEST_F(Relight, RoundTripsThroughThePly) {
+  const std::string path = file("relightable.ply");
+  writeBakedPly(path, out_->baked);
+  const BakedPlyContents read = readBakedPly(path);
+  ASSERT_TRUE(read.hasRelight);
+  EXPECT_EQ(read.baked.relightOrder, 3);
+  EXPECT_EQ(read.baked.relightTransfer, out_->baked.relightTransfer);
+  EXPECT_EQ(read.baked.radianceGain, out_->baked.radianceGain);
+  EXPECT_EQ(read.baked.exitancePerRadiance, out_->baked.exitancePerRadiance);
+  EXPECT_EQ(read.baked.escapeProbability, out_->baked.escapeProbability);
+  EXPECT_EQ(read.baked.relightTransport, out_->baked.relightTransport);
+}
+
+// The header of the relightable PLY with `from` replaced by `to`.
+std::string edited(const std::string& bytes, const std::string& from, const std::string& to) {
+  std::string out = bytes;
+  const std::size_t at = out.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) out.replace(at, from.size(), to);
+  return out;
+}
+
+TEST_F(Relight, RefusesBrokenFiles) {
+  const std::string path = file("good.ply");
+  writeBakedPly(path, out_->baked);
+  const std::string bytes = test::readFile(path);
+  const std::string order = "relight_order=3";
+  const std::string key = "relight_transport=" + out_->baked.relightTransport;
+  const struct {
+    std::string from, to, message;
+  } cases[] = {
+      {order, "relight_order=9", "relight_order without transfer16_r/g/b"},
+      {order, "relight_order=x", "bad 'comment sss relight_order=x'"},
+      {order, "relight_orderz=3", "bad 'comment sss relight_transport="},
+      {"property float transfer15_b", "property float transfer15_q", "transfer15_r/g/b"},
+      {key, "relight_transport=a b", "bad"},
+  };
+  for (const auto& c : cases) {
+    const std::string bad = file("bad.ply");
+    test::writeText(bad, edited(bytes, c.from, c.to));
+    try {
+      readBakedPly(bad);
+      ADD_FAILURE() << c.to;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(c.message), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("bad.ply"), std::string::npos) << e.what();
+    }
+  }
+  // A transport key that does not parse is refused when relighting.
+  RelightTransfer broken = *transfer_;
+  broken.relightTransport = "hierarchical,0.01";
+  EXPECT_THROW(relight("x.ply", {out_->baked.mesh, *material_, broken}, gradient(glm::vec3(0, 1, 0), glm::vec3(1)), {}),
+               Error);
+}
+
+}  // namespace
+}  // namespace sss

@@ -99,7 +99,8 @@ int main(int argc, char** argv) {
   CLI::App app{
       "Relight a relightable bake (sss-bake --relightable) under another environment, without "
       "baking again: writes what a fresh bake would (exitance, radiance along the normal, "
-      "preview colours)."};
+      "preview colours). The bake itself comes from sss-bake MESH -e ENV --relightable -o "
+      "NAME.ply."};
   RelightOptions o;
   std::string output, sky;
   std::vector<std::string> inputs;
@@ -122,8 +123,8 @@ int main(int argc, char** argv) {
   sss::cli::addQuietFlag(app, o.quiet);
   app.footer(
       "Examples:\n"
-      "  sss-bake bunny.ply -e forest.exr -m marble --size-mm 50 --relightable -o bunny.ply\n"
-      "  sss-relight bunny.ply -e sunset.exr --env-rotate 90 -o bunny_sunset.ply");
+      "  sss-relight bunny_relightable.ply -e sunset.exr --env-rotate 90 -o bunny_sunset.ply\n"
+      "  sss-relight a.ply b.ply --sky elevation=10,azimuth=200 -o relit/  # one process");
 
   return sss::runTool("sss-relight", app, argc, argv, [&]() -> int {
     if (skyOption->count() > 0) o.environment = sky.empty() ? "sky" : "sky:" + sky;

@@ -604,7 +604,7 @@ TEST_F(BakeTool, AnOutputExtensionNoWriterKnowsIsAUsageError) {
 // Every tool: --version prints the CMake project version; --help ends with the exit statuses
 // and two or three typical command lines of that tool.
 TEST_F(BakeTool, EveryToolHasVersionAndHelpEndsWithExamples) {
-  for (const std::string tool : {"sss-irrmap", "sss-bake", "sss-render"}) {
+  for (const std::string tool : {"sss-irrmap", "sss-bake", "sss-render", "sss-relight"}) {
     SCOPED_TRACE(tool);
     const std::string binary = SSS_BINARY_DIR "/tools/" + tool;
     test::ToolRun r = test::runCommand(binary + " --version");

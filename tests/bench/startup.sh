@@ -22,7 +22,7 @@ def timed(cmd):
     wall = time.perf_counter() - t
     a = resource.getrusage(resource.RUSAGE_CHILDREN)
     return 1e3 * wall, 1e3 * (a.ru_utime - b.ru_utime + a.ru_stime - b.ru_stime)
-cases = [(t, f) for t in ("sss-irrmap", "sss-bake", "sss-render") for f in ("--version", "--help")]
+cases = [(t, f) for t in ("sss-irrmap", "sss-bake", "sss-render", "sss-relight") for f in ("--version", "--help")]
 samples = {}
 for _ in range(runs):
     for tool, flag in cases:

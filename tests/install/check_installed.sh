@@ -18,7 +18,7 @@ mesh=$src/data/cache/meshes/bunny.ply
 env=$src/data/cache/env/forest.exr
 for f in "$mesh" "$env"; do [[ -f $f ]] || fail "$f missing: run data/fetch.sh"; done
 bin=$prefix/bin
-tools=(sss-irrmap sss-bake sss-render)
+tools=(sss-irrmap sss-bake sss-render sss-relight)
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT

@@ -10,7 +10,7 @@ src=$1 build=$2 version=$3 man_pages=$4
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 fail() { echo "deb_test: FAIL: $*" >&2; exit 1; }
-tools=(sss-irrmap sss-bake sss-render)
+tools=(sss-irrmap sss-bake sss-render sss-relight)
 
 cpack -G DEB --config "$build/CPackConfig.cmake" -B "$work/package" >"$work/cpack.log" 2>&1 ||
   { cat "$work/cpack.log"; fail "cpack -G DEB failed"; }

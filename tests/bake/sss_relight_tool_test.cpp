@@ -1,0 +1,117 @@
+// sss-relight as a binary: a relightable bake relit under another sky matches what the library
+// gives, PLY and GLB out, batches, and its refusals (a plain bake, an output that names the input,
+// no environment).
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "bake/relight.h"
+#include "core/relative_rms.h"
+#include "envmap/environment.h"
+#include "material/material.h"
+#include "mesh/baked_glb.h"
+#include "mesh/baked_ply.h"
+#include "mesh/primitives.h"
+#include "support/tool_test.h"
+
+namespace sss {
+namespace {
+
+using test::Capture;
+
+class SssRelightTool : public ::testing::Test {
+ protected:
+  // One folder and one relightable bake for every test of the suite.
+  static void SetUpTestSuite() {
+    dir_ = std::filesystem::temp_directory_path() /
+           ("sss-test-" + std::to_string(::getpid()) + "-relight-tool");
+    std::filesystem::create_directories(dir_);
+  }
+  static void TearDownTestSuite() {
+    std::error_code ignored;
+    std::filesystem::remove_all(dir_, ignored);
+  }
+  void SetUp() override {
+    if (std::filesystem::exists(path("baked.ply"))) return;
+    BakedMesh mesh;
+    mesh.mesh = makeIcosphere(3, 10.0f);
+    writeBakedPly(path("sphere.ply"), mesh);
+    const test::ToolRun r = test::runTool(
+        "sss-bake", path("sphere.ply") + " --sky elevation=40,azimuth=10 -m skin1 --mm-per-unit 1 "
+                    "--relightable 2 --far-field off --tolerance 0.03 -q -o " + path("baked.ply"),
+        Capture::StdoutAndStderr);
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    test::runTool("sss-bake", path("sphere.ply") + " --sky -m skin1 --mm-per-unit 1 -q -o " +
+                                  path("plain.ply"),
+                  Capture::StdoutAndStderr);
+  }
+  static std::string path(const std::string& name) { return (dir_ / name).string(); }
+  static test::ToolRun relight(const std::string& args) {
+    return test::runTool("sss-relight", args, Capture::StdoutAndStderr);
+  }
+  static std::filesystem::path dir_;
+};
+std::filesystem::path SssRelightTool::dir_;
+
+TEST_F(SssRelightTool, WritesWhatTheLibraryRelights) {
+  const std::string sky = "sky:elevation=15,azimuth=200";
+  const test::ToolRun r =
+      relight(path("baked.ply") + " --sky elevation=15,azimuth=200 --env-rotate 30 -q -o " +
+              path("relit.ply"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const BakedPlyContents relit = readBakedPly(path("relit.ply"));
+  EXPECT_TRUE(relit.hasExitance);
+  EXPECT_TRUE(relit.hasRadianceNormal);
+  EXPECT_FALSE(relit.hasRelight);
+  EXPECT_FALSE(relit.hasIrradiance);
+  // The library on the same file and environment.
+  const BakedPlyContents baked = readBakedPly(path("baked.ply"));
+  TriangleMesh mm = baked.baked.mesh;
+  const Material material = findMaterialPreset("skin1");
+  const RelightTransfer transfer = relightTransferOf(baked.baked);
+  EnvironmentOptions options;
+  options.orientation.rotateDeg = 30.0;
+  const RelitLight want =
+      sss::relight(path("baked.ply"), {mm, material, transfer}, loadEnvironment(sky, options), {});
+  EXPECT_LT(relativeRms(relit.baked.radianceNormal, want.radianceNormal), 1e-6);
+  EXPECT_LT(relativeRms(relit.baked.exitance, want.exitance), 1e-6);
+  // Another light than the bake's.
+  EXPECT_GT(relativeRms(relit.baked.radianceNormal, baked.baked.radianceNormal), 0.1);
+}
+
+TEST_F(SssRelightTool, WritesGlbAndBatches) {
+  test::ToolRun r = relight(path("baked.ply") + " --sky -q -o " + path("relit.glb"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_EQ(readBakedGlb(path("relit.glb")).baked.exitance.size(), 642u);
+  std::filesystem::copy_file(path("baked.ply"), path("second.ply"),
+                             std::filesystem::copy_options::overwrite_existing);
+  r = relight(path("baked.ply") + " " + path("second.ply") + " --sky -q -o " + path("out/"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_TRUE(std::filesystem::exists(path("out/baked.ply")));
+  EXPECT_TRUE(std::filesystem::exists(path("out/second.ply")));
+}
+
+TEST_F(SssRelightTool, RefusesWithOneClearLine) {
+  const std::string before = test::readFile(path("baked.ply"));
+  test::ToolRun r = relight(path("plain.ply") + " --sky -q -o " + path("x.ply"));
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.output.find("plain.ply: not a relightable bake"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(path("x.ply")));
+  r = relight(path("baked.ply") + " --sky -q -o " + path("baked.ply"));
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_EQ(test::readFile(path("baked.ply")), before);
+  r = relight(path("baked.ply") + " -q -o " + path("x.ply"));
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  r = relight(path("missing.ply") + " --sky -q -o " + path("x.ply"));
+  EXPECT_EQ(r.exitCode, 1) << r.output;
+  EXPECT_NE(r.output.find("missing.ply"), std::string::npos) << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+}
+
+}  // namespace
+}  // namespace sss

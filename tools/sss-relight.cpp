@@ -44,8 +44,13 @@ sss::Cubemap environmentOf(const RelightOptions& o) {
 // What a fresh bake would write: the mesh, material and units of `input`, the relit exitance and
 // radiance along the normal, a new preview; no transfer, no irradiance, no far field (each was
 // the bake environment's).
-sss::BakedMesh relitMesh(const std::string& input, const sss::Cubemap& environment,
-                         const RelightOptions& o) {
+struct Relit {
+  sss::BakedMesh baked;
+  int order = -1, compactLights = 0;
+};
+
+Relit relitMesh(const std::string& input, const sss::Cubemap& environment,
+                const RelightOptions& o) {
   sss::BakedPlyContents contents = sss::readBakedPly(input);
   if (!contents.hasRelight)
     sss::fail(input, "not a relightable bake (no relight_order): run sss-bake --relightable");
@@ -60,6 +65,7 @@ sss::BakedMesh relitMesh(const std::string& input, const sss::Cubemap& environme
   const sss::RelightTransfer transfer = sss::relightTransferOf(baked);
   sss::RelitLight relit = sss::relight(input, {meshMm, material, transfer}, environment,
                                        {.threads = o.threads, .quiet = true});
+  const int order = baked.relightOrder;
   baked.exitance = std::move(relit.exitance);
   baked.radianceNormal = std::move(relit.radianceNormal);
   baked.irradiance.clear();
@@ -77,17 +83,37 @@ sss::BakedMesh relitMesh(const std::string& input, const sss::Cubemap& environme
       std::string(sss::kEquirectConventionNames.name(o.orientation.convention)) +
       " rotate_deg=" + sss::format("%g", o.orientation.rotateDeg) +
       " compact_lights=" + std::to_string(relit.compactLights));
-  return baked;
+  return {std::move(baked), order, relit.compactLights};
 }
 
-void relightOne(const std::string& input, const std::string& output,
+// The report as JSON at `path` (none when empty), through a temporary renamed into place.
+void writeReport(const std::string& path, const nlohmann::json& report) {
+  if (path.empty()) return;
+  sss::AtomicOutput output(path);
+  {
+    std::ofstream file(output.tempPath());
+    file << report.dump(2) << "\n";
+    file.close();
+    if (!file) sss::fail(path, "cannot write the JSON report");
+  }
+  output.commit();
+}
+
+void relightOne(const std::string& input, const std::string& output, const std::string& jsonPath,
                 const sss::Cubemap& environment, const RelightOptions& o) {
   const sss::Stopwatch clock;
-  const sss::BakedMesh baked = relitMesh(input, environment, o);
-  const nlohmann::json report = {{"input", input},
-                                 {"environment", o.environment},
-                                 {"rotate_deg", o.orientation.rotateDeg}};
+  const Relit relit = relitMesh(input, environment, o);
+  const sss::BakedMesh& baked = relit.baked;
+  nlohmann::json report = {{"input", input},
+                           {"output", output},
+                           {"environment", o.environment},
+                           {"rotate_deg", o.orientation.rotateDeg},
+                           {"sh_order", relit.order},
+                           {"compact_lights", relit.compactLights},
+                           {"vertices", baked.mesh.vertexCount()}};
   sss::writeBakedMesh(output, baked, report.dump());
+  report["seconds"] = clock.seconds();
+  writeReport(jsonPath, report);
   sss::info("wrote " + output + " (" + std::to_string(baked.mesh.vertexCount()) +
                 " vertices) in " + sss::format("%.3f s", clock.seconds()),
             o.quiet);
@@ -102,7 +128,7 @@ int main(int argc, char** argv) {
       "preview colours). The bake itself comes from sss-bake MESH -e ENV --relightable -o "
       "NAME.ply."};
   RelightOptions o;
-  std::string output, sky;
+  std::string output, sky, jsonPath;
   std::vector<std::string> inputs;
   app.add_option("baked", inputs, "Relightable baked PLY; several with -o DIR/")->required();
   auto* environment = app.add_option_group("environment", "Exactly one: -e ENV or --sky");
@@ -118,6 +144,7 @@ int main(int argc, char** argv) {
   app.add_option("-o,--output", output,
                  "Output baked mesh: .ply or .glb, or a folder DIR/ (several inputs)")
       ->required();
+  app.add_option("--json", jsonPath, "Write a JSON report (a folder DIR/ with several inputs)");
   sss::cli::addOrientationOptions(app, o.orientation);
   sss::cli::addThreadsOption(app, o.threads);
   sss::cli::addQuietFlag(app, o.quiet);
@@ -129,21 +156,25 @@ int main(int argc, char** argv) {
   return sss::runTool("sss-relight", app, argc, argv, [&]() -> int {
     if (skyOption->count() > 0) o.environment = sky.empty() ? "sky" : "sky:" + sky;
     if (sss::isBatch(inputs, output)) {
-      const std::vector<sss::BatchItem> items = sss::planBatch(
-          inputs, {{"-o", output, ".ply"}}, {{"the environment", o.environment}});
+      if (!jsonPath.empty() && !sss::namesFolder(jsonPath))
+        throw sss::UsageError("--json " + jsonPath +
+                              ": with several inputs, --json names a folder (DIR/)");
+      const std::vector<sss::BatchItem> items =
+          sss::planBatch(inputs, {{"-o", output, ".ply"}, {"--json", jsonPath, ".json"}},
+                         {{"the environment", o.environment}});
       const sss::Cubemap light = environmentOf(o);
       return sss::runBatch(
           items,
           [&](const sss::BatchItem& item) {
-            relightOne(item.input, item.outputs[0], light, o);
+            relightOne(item.input, item.outputs[0], item.outputs[1], light, o);
           },
           o.quiet);
     }
     sss::checkBakedMeshPath(output);
-    sss::checkOutputsAreNotInputs({{"-o", output}},
+    sss::checkOutputsAreNotInputs({{"-o", output}, {"--json", jsonPath}},
                                   {{"the baked mesh", inputs.front()},
                                    {"the environment", o.environment}});
-    relightOne(inputs.front(), output, environmentOf(o), o);
+    relightOne(inputs.front(), output, jsonPath, environmentOf(o), o);
     return 0;
   });
 }

@@ -399,7 +399,7 @@ BakeErrorReport errorReport(const BakeReport& r, const ModelErrorReport& model, 
   return e;
 }
 
-// Stage 11b (--relightable): the SH transfer of B through the transport the bounces use, and
+// Stage 10b (--relightable): the SH transfer of B through the transport the bounces use, and
 // the ratios that make the radiance along the normal of it (relight.h); then the bake relit
 // under its own environment, against itself.
 RelightTransfer relightStage(const BakeScene& scene, const TransportInput& transportIn,

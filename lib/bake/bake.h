@@ -18,6 +18,8 @@
 //   9. traceUnscatteredLight   the light crossing the object unscattered, added to that radiance
 //                              (transport/unscattered_light.h)
 //  10. estimateModelError      the model's own error (transport/model_error.h)
+//  10b. relightTransfer        with --relightable: the SH transfer of B and the ratios that
+//                              relight the bake under other environments (relight.h)
 //  11. errorReport             the predicted errors, split as ErrorBudget (error_budget.h) does
 //  12. assembleBakedMesh       the baked mesh in the file's units, E and B with the bounces' light
 //  13. bakeLightmap            with --texture: the refined vertices' radiance along the normal

@@ -6,7 +6,7 @@
 // HDRs turned by 0, 90, 180 and 270 degrees about the up axis (--env-rotate), and a sun of 1
 // degree from the 8 diagonal directions (half of them from below, behind the object's base).
 // The fresh bakes' own noise: a second bake of the first light with another seed (row
-// "seed-spread"). Also the costs: the plain and the relightable bake's times, the files' bytes,
+// "seed": sh_order -1, relative_rms and p95_relative between the two). Also the costs: the plain and the relightable bake's times, the files' bytes,
 // and relighting on the CPU (SH projection of the environment and the dot products).
 //   relight_study OUT_DIR DATA_DIR [--quick] [--traced-off]
 // writes OUT_DIR/relight.csv and relight_cost.csv. --quick: the marble bunny alone, 2 HDRs and 2
@@ -61,7 +61,9 @@ BakeSettings settingsFor(const std::string& meshPath, const std::string& materia
 }
 
 struct Light {
-  std::string name;
+  std::string kind;  // hdr or sun
+  std::string name;  // the HDR's, or sun_<signs of x, y, z>: sun_pmm towards (+1, -1, -1)
+  int rotateDeg = 0;
   BakeEnvironment environment;
 };
 
@@ -79,16 +81,14 @@ std::vector<Light> lights(const std::string& dataDir, bool quick) {
   for (int h = 0; h < hdrCount; ++h)
     for (double rotate : {0.0, 90.0, 180.0, 270.0}) {
       if (quick && rotate > 90.0) continue;
-      out.push_back({std::string(kHdrs[h]) + "@" + std::to_string(int(rotate)),
-                     hdr(dataDir, kHdrs[h], rotate)});
+      out.push_back({"hdr", kHdrs[h], int(rotate), hdr(dataDir, kHdrs[h], rotate)});
     }
   const int suns = quick ? 2 : 8;
   for (int k = 0; k < suns; ++k) {
     const glm::vec3 d = glm::normalize(glm::vec3(k & 1 ? 1 : -1, k & 2 ? 1 : -1, k & 4 ? 1 : -1));
-    char name[64];
-    std::snprintf(name, sizeof name, "sun(%+.0f,%+.0f,%+.0f)", d.x * 1.7320508, d.y * 1.7320508,
-                  d.z * 1.7320508);
-    out.push_back({name, {study::sunEnvironment(d, 1.0, 256), {}}});
+    const std::string name = std::string("sun_") + (d.x > 0 ? 'p' : 'm') + (d.y > 0 ? 'p' : 'm') +
+                             (d.z > 0 ? 'p' : 'm');
+    out.push_back({"sun", name, 0, {study::sunEnvironment(d, 1.0, 256), {}}});
   }
   return out;
 }
@@ -154,7 +154,7 @@ void runScene(const Scene& scene, const std::vector<Light>& lights, const std::s
   BakeSettings reseeded = plain;
   reseeded.run.seed = 2;
   const BakeOutput second = bake(reseeded, forest);
-  csv << scene.name << ",seed-spread,-1,0,0,"
+  csv << scene.name << ",seed,forest,0,-1,0,0,"
       << relativeRms(second.baked.radianceNormal, base.baked.radianceNormal) << ','
       << percentile95(second.baked.radianceNormal, base.baked.radianceNormal) << ','
       << base.report.errors.total << '\n';
@@ -164,13 +164,13 @@ void runScene(const Scene& scene, const std::vector<Light>& lights, const std::s
       if (t.order == 1 || t.order == 5) continue;
       const RelitLight l =
           relight(meshPath, {scene.meshMm, material, t}, light.environment.radiance, {});
-      csv << scene.name << ',' << light.name << ',' << t.order << ',' << l.compactLights << ','
-          << l.compactFluxShare << ',' << relativeRms(l.radianceNormal, fresh.baked.radianceNormal)
+      csv << scene.name << ',' << light.kind << ',' << light.name << ',' << light.rotateDeg << ','
+          << t.order << ',' << l.compactLights << ',' << l.compactFluxShare << ',' << relativeRms(l.radianceNormal, fresh.baked.radianceNormal)
           << ',' << percentile95(l.radianceNormal, fresh.baked.radianceNormal) << ','
           << fresh.report.errors.total << '\n';
     }
     csv.flush();
-    std::fprintf(stderr, "%s %s\n", scene.name.c_str(), light.name.c_str());
+    std::fprintf(stderr, "%s %s %d\n", scene.name.c_str(), light.name.c_str(), light.rotateDeg);
   }
 }
 
@@ -211,8 +211,8 @@ int main(int argc, char** argv) {
   }
   const std::vector<Light> all = lights(data, quick);
   std::ofstream csv(out + "/relight.csv"), cost(out + "/relight_cost.csv");
-  csv << "scene,light,sh_order,compact_lights,compact_flux_share,relative_rms,p95_relative,"
-         "fresh_predicted_error\n";
+  csv << "scene,kind,light,rotate_deg,sh_order,compact_lights,compact_flux_share,relative_rms,"
+         "p95_relative,fresh_predicted_error\n";
   cost << "scene,vertices,plain_bake_s,relightable_bake_s,relight_stage_s,self_relative_rms,"
           "plain_ply_bytes,relightable_ply_bytes,relight_cpu_s\n";
   for (const Scene& scene : scenes) runScene(scene, all, work, csv, cost);

@@ -297,6 +297,11 @@ RelitLight relight(const std::string& path, const RelightableMesh& bake, const C
   return out;
 }
 
+void checkRelightTransport(const std::string& path, const BakedMesh& baked) {
+  if (baked.relightOrder >= 0)
+    parseTransportKey(path, baked.relightTransport, baked.escapeProbability.size());
+}
+
 RelightTransfer relightTransferOf(const BakedMesh& baked) {
   RelightTransfer t;
   t.order = baked.relightOrder;

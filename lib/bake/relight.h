@@ -108,6 +108,10 @@ RelitLight relight(const std::string& path, const RelightableMesh& bake, const C
 std::vector<glm::vec3> transferredExitance(std::span<const glm::vec3> transfer, int order,
                                            const SphericalHarmonics& light);
 
+// Throws Error naming `path` unless `baked` is a plain bake or a relightable one whose transport
+// key parses (what relight() checks first; the readers check the rest).
+void checkRelightTransport(const std::string& path, const BakedMesh& baked);
+
 // A relightable BakedMesh's fields as relight() takes them (copies).
 RelightTransfer relightTransferOf(const BakedMesh& baked);
 

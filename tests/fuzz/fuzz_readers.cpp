@@ -8,6 +8,7 @@
 #include "envmap/environment.h"
 #include "image/image.h"  // NonFiniteTexelsError
 #include "mesh/baked_glb.h"
+#include "bake/relight.h"
 #include "mesh/baked_ply.h"
 #include "mesh/load_mesh.h"
 
@@ -77,7 +78,7 @@ void readInput(std::string_view target, std::string_view bytes, const std::strin
   } else if (isImageTarget(target)) {
     readImageFile(path);
   } else if (target == "baked_ply") {
-    readBakedPly(path);
+    checkRelightTransport(path, readBakedPly(path).baked);
   } else if (target == "baked_glb") {
     readBakedGlb(path);
   } else if (target == "ply" || target == "obj" || target == "off" || target == "stl" ||

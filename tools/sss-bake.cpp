@@ -261,9 +261,8 @@ void writeOutputs(const std::string& output, const std::string& jsonPath,
   jsonOutput->commit();
 }
 
-// --relightable [ORDER]: the order (kDefaultRelightOrder without one); the transfer is written to
-// PLY files only.
-int relightOrderFrom(const std::string& text, const std::string& output) {
+// --relightable [ORDER]: the order (kDefaultRelightOrder without one).
+int relightOrderFrom(const std::string& text) {
   int order = sss::kDefaultRelightOrder;
   if (!text.empty()) {
     const auto r = std::from_chars(text.data(), text.data() + text.size(), order);
@@ -272,9 +271,6 @@ int relightOrderFrom(const std::string& text, const std::string& output) {
                             ": the SH order must be a whole number");
   }
   sss::checkRelightOrder(order);
-  if (sss::lowerExtension(output) == "glb")
-    throw sss::UsageError("-o " + sss::escapeControl(output) +
-                          ": a relightable bake is written as PLY (NAME.ply or DIR/)");
   return order;
 }
 
@@ -350,7 +346,7 @@ int main(int argc, char** argv) {
       app.add_option("--relightable", relightable,
                      "Also store the SH transfer of the radiance along the normal, of order ORDER "
                      "(default 3), so that sss-relight relights the bake under other "
-                     "environments (PLY output)")
+                     "environments")
           ->expected(0, 1)
           ->default_str("");
   app.add_option("--json", jsonPath, "Write a JSON report (a folder DIR/ with several meshes)");
@@ -362,7 +358,7 @@ int main(int argc, char** argv) {
 
   return sss::runTool("sss-bake", app, argc, argv, [&]() -> int {
     checkUnitsGiven(meshes, s);
-    if (relightOption->count() > 0) s.relightOrder = relightOrderFrom(relightable, output);
+    if (relightOption->count() > 0) s.relightOrder = relightOrderFrom(relightable);
     if (sss::isBatch(meshes, output)) {
       if (s.texture.size > 0) throw sss::UsageError("--texture bakes one mesh at a time");
       if (skyOption->count() > 0) s.environment = sky.empty() ? "sky" : "sky:" + sky;

@@ -51,7 +51,7 @@ struct Relit {
 
 Relit relitMesh(const std::string& input, const sss::Cubemap& environment,
                 const RelightOptions& o) {
-  sss::BakedPlyContents contents = sss::readBakedPly(input);
+  sss::BakedPlyContents contents = sss::readBakedMesh(input);
   if (!contents.hasRelight)
     sss::fail(input, "not a relightable bake (no relight_order): run sss-bake --relightable");
   if (!contents.hasMaterial) sss::fail(input, "relightable bake without its material comments");
@@ -130,7 +130,8 @@ int main(int argc, char** argv) {
   RelightOptions o;
   std::string output, sky, jsonPath;
   std::vector<std::string> inputs;
-  app.add_option("baked", inputs, "Relightable baked PLY; several with -o DIR/")->required();
+  app.add_option("baked", inputs, "Relightable bake, PLY or GLB; several with -o DIR/")
+      ->required();
   auto* environment = app.add_option_group("environment", "Exactly one: -e ENV or --sky");
   environment->add_option("-e,--env", o.environment,
                           "Environment: equirect, cross or cubemap-stack image");

@@ -90,11 +90,29 @@ Json sssExtras(const BakedMesh& baked, const Json& color, const std::string& rep
                        {"eta", baked.eta}};
   }
   if (!color.is_null()) sss["color"] = color;
+  if (baked.relightOrder >= 0)
+    sss["relight"] = {{"order", baked.relightOrder}, {"transport", baked.relightTransport}};
   sss["checked"] = baked.meshChecked;
   sss["unscattered"] = baked.unscatteredTraced;
   sss["comments"] = baked.extraComments;
   if (!reportJson.empty()) sss["report"] = Json::parse(reportJson);
   return sss;
+}
+
+// A relightable bake's per-vertex values as custom attributes: _TRANSFER_<k> (k < (order + 1)^2),
+// _RADIANCE_GAIN, _EXITANCE_PER_RADIANCE and, with the escape model, _ESCAPE_PROBABILITY; the
+// order and the transport key go to extras.sss.relight.
+void addRelightAttributes(GlbBinary& bin, const BakedMesh& baked, Json& attributes) {
+  const std::size_t n = baked.mesh.vertexCount(), count = baked.relightCount();
+  for (std::size_t k = 0; k < count; ++k) {
+    std::vector<glm::vec3> channel(n);
+    for (std::size_t v = 0; v < n; ++v) channel[v] = baked.relightTransfer[v * count + k];
+    attributes["_TRANSFER_" + std::to_string(k)] = bin.addVec3(channel, false);
+  }
+  attributes["_RADIANCE_GAIN"] = bin.addVec3(baked.radianceGain, false);
+  attributes["_EXITANCE_PER_RADIANCE"] = bin.addVec3(baked.exitancePerRadiance, false);
+  if (!baked.escapeProbability.empty())
+    attributes["_ESCAPE_PROBABILITY"] = bin.addVec3(baked.escapeProbability, false);
 }
 
 // The glTF JSON for the primitive whose attributes `bin` holds.
@@ -110,6 +128,7 @@ Json gltfDocument(const BakedMesh& baked, GlbBinary& bin, const DisplayColors& c
   if (!baked.exitance.empty()) attributes["COLOR_0"] = bin.addVec3(colors.colors, false);
   if (!baked.irradiance.empty()) attributes["_IRRADIANCE"] = bin.addVec3(baked.irradiance, false);
   if (!baked.exitance.empty()) attributes["_EXITANCE"] = bin.addVec3(baked.exitance, false);
+  if (baked.relightOrder >= 0) addRelightAttributes(bin, baked, attributes);
   if (!baked.farExitance.empty()) {
     attributes["_FAR_EXITANCE"] = bin.addVec3(baked.farExitance, false);
     attributes["_FAR_EXIT_SLOPE"] = bin.addVec3(baked.farExitSlope, false);
@@ -276,10 +295,38 @@ void readSssExtras(const std::string& path, const Json& sss, BakedPlyContents& c
   if (const auto c = sss.find("color"); c != sss.end()) {
     baked.previewScale = c->at("exposure").get<double>();
   }
+  if (const auto r = sss.find("relight"); r != sss.end()) {
+    const int order = r->at("order").get<int>();
+    if (order < 0 || order > 16) fail(path, "glTF extras: bad relight order");
+    baked.relightOrder = order;
+    baked.relightTransport = r->at("transport").get<std::string>();
+    contents.hasRelight = true;
+  }
   baked.meshChecked = sss.value("checked", false);
   baked.unscatteredTraced = sss.value("unscattered", false);
   if (const auto c = sss.find("comments"); c != sss.end()) {
     baked.extraComments = c->get<std::vector<std::string>>();
+  }
+}
+
+// A relightable bake's attributes (addRelightAttributes), every one of them with extras.sss.relight.
+void readRelightAttributes(const std::string& path, const Json& document, const std::string& bin,
+                           const Json& attributes, const BakedPlyContents& contents,
+                           BakedVertexValues& values) {
+  const auto read = [&](const std::string& name) {
+    if (!attributes.contains(name)) fail(path, "glTF: a relightable bake without " + name);
+    return readVec3(path, document, bin, index(path, attributes, name.c_str()), name.c_str());
+  };
+  values.radianceGain = read("_RADIANCE_GAIN");
+  values.exitancePerRadiance = read("_EXITANCE_PER_RADIANCE");
+  if (attributes.contains("_ESCAPE_PROBABILITY"))
+    values.escapeProbability = read("_ESCAPE_PROBABILITY");
+  const std::size_t n = values.radianceGain.size(), count = contents.baked.relightCount();
+  values.relightTransfer.resize(n * count);
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::vector<glm::vec3> channel = read("_TRANSFER_" + std::to_string(k));
+    if (channel.size() != n) fail(path, "glTF: the attributes have different counts");
+    for (std::size_t v = 0; v < n; ++v) values.relightTransfer[v * count + k] = channel[v];
   }
 }
 
@@ -333,12 +380,14 @@ BakedPlyContents readBakedGlb(const std::string& path) {
     if (extras != document["asset"].end() && extras->contains("sss")) {
       readSssExtras(path, extras->at("sss"), contents);
     }
+    if (contents.hasRelight) readRelightAttributes(path, document, bin, attributes, contents, values);
   } catch (const nlohmann::json::exception& e) {
     fail(path, std::string("glTF JSON: ") + e.what());
   }
   const std::size_t n = raw.positions.size();
   for (const auto* set : {&raw.normals, &values.irradiance, &values.exitance, &values.farExitance,
-                          &values.farExitSlope}) {
+                          &values.farExitSlope, &values.radianceGain, &values.exitancePerRadiance,
+                          &values.escapeProbability}) {
     if (!set->empty() && set->size() != n) {
       fail(path, "glTF: the attributes have different counts");
     }

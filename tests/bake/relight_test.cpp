@@ -17,6 +17,7 @@
 #include "bake/bake.h"
 #include "core/error.h"
 #include "core/relative_rms.h"
+#include "mesh/baked_glb.h"
 #include "mesh/baked_ply.h"
 #include "mesh/primitives.h"
 #include "support/tool_test.h"
@@ -161,6 +162,19 @@ TEST_F(Relight, RoundTripsThroughThePly) {
   const std::string path = file("relightable.ply");
   writeBakedPly(path, out_->baked);
   const BakedPlyContents read = readBakedPly(path);
+  ASSERT_TRUE(read.hasRelight);
+  EXPECT_EQ(read.baked.relightOrder, 3);
+  EXPECT_EQ(read.baked.relightTransfer, out_->baked.relightTransfer);
+  EXPECT_EQ(read.baked.radianceGain, out_->baked.radianceGain);
+  EXPECT_EQ(read.baked.exitancePerRadiance, out_->baked.exitancePerRadiance);
+  EXPECT_EQ(read.baked.escapeProbability, out_->baked.escapeProbability);
+  EXPECT_EQ(read.baked.relightTransport, out_->baked.relightTransport);
+}
+
+TEST_F(Relight, RoundTripsThroughTheGlb) {
+  const std::string path = file("relightable.glb");
+  writeBakedGlb(path, out_->baked);
+  const BakedPlyContents read = readBakedGlb(path);
   ASSERT_TRUE(read.hasRelight);
   EXPECT_EQ(read.baked.relightOrder, 3);
   EXPECT_EQ(read.baked.relightTransfer, out_->baked.relightTransfer);

@@ -80,7 +80,7 @@ void readInput(std::string_view target, std::string_view bytes, const std::strin
   } else if (target == "baked_ply") {
     checkRelightTransport(path, readBakedPly(path).baked);
   } else if (target == "baked_glb") {
-    readBakedGlb(path);
+    checkRelightTransport(path, readBakedGlb(path).baked);
   } else if (target == "ply" || target == "obj" || target == "off" || target == "stl" ||
              target == "gltf" || target == "glb") {
     MeshReport report;

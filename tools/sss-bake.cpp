@@ -12,8 +12,8 @@
 #include <CLI/CLI.hpp>
 
 #include "bake/bake.h"
-#include "bake/relight.h"
 #include "bake/bake_report_json.h"
+#include "bake/relight.h"
 #include "core/atomic_output.h"
 #include "core/batch.h"
 #include "core/cli.h"

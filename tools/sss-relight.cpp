@@ -19,8 +19,8 @@
 #include "envmap/environment.h"
 #include "envmap/orientation_options.h"
 #include "material/material.h"
-#include "mesh/triangle_mesh.h"
 #include "mesh/baked_mesh.h"
+#include "mesh/triangle_mesh.h"
 #include "nlohmann/json.hpp"
 
 namespace {
@@ -79,8 +79,8 @@ Relit relitMesh(const std::string& input, const sss::Cubemap& environment,
   baked.relightTransport.clear();
   baked.previewScale = 0.0;
   baked.extraComments.push_back(
-      "relit env=" + o.environment + " convention=" +
-      std::string(sss::kEquirectConventionNames.name(o.orientation.convention)) +
+      "relit env=" + o.environment +
+      " convention=" + std::string(sss::kEquirectConventionNames.name(o.orientation.convention)) +
       " rotate_deg=" + sss::format("%g", o.orientation.rotateDeg) +
       " compact_lights=" + std::to_string(relit.compactLights));
   return {std::move(baked), order, relit.compactLights};
@@ -114,8 +114,8 @@ void relightOne(const std::string& input, const std::string& output, const std::
   sss::writeBakedMesh(output, baked, report.dump());
   report["seconds"] = clock.seconds();
   writeReport(jsonPath, report);
-  sss::info("wrote " + output + " (" + std::to_string(baked.mesh.vertexCount()) +
-                " vertices) in " + sss::format("%.3f s", clock.seconds()),
+  sss::info("wrote " + output + " (" + std::to_string(baked.mesh.vertexCount()) + " vertices) in " +
+                sss::format("%.3f s", clock.seconds()),
             o.quiet);
 }
 
@@ -130,8 +130,7 @@ int main(int argc, char** argv) {
   RelightOptions o;
   std::string output, sky, jsonPath;
   std::vector<std::string> inputs;
-  app.add_option("baked", inputs, "Relightable bake, PLY or GLB; several with -o DIR/")
-      ->required();
+  app.add_option("baked", inputs, "Relightable bake, PLY or GLB; several with -o DIR/")->required();
   auto* environment = app.add_option_group("environment", "Exactly one: -e ENV or --sky");
   environment->add_option("-e,--env", o.environment,
                           "Environment: equirect, cross or cubemap-stack image");
@@ -172,9 +171,9 @@ int main(int argc, char** argv) {
           o.quiet);
     }
     sss::checkBakedMeshPath(output);
-    sss::checkOutputsAreNotInputs({{"-o", output}, {"--json", jsonPath}},
-                                  {{"the baked mesh", inputs.front()},
-                                   {"the environment", o.environment}});
+    sss::checkOutputsAreNotInputs(
+        {{"-o", output}, {"--json", jsonPath}},
+        {{"the baked mesh", inputs.front()}, {"the environment", o.environment}});
     relightOne(inputs.front(), output, jsonPath, environmentOf(o), o);
     return 0;
   });

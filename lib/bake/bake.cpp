@@ -423,14 +423,14 @@ RelightTransfer relightStage(const BakeScene& scene, const TransportInput& trans
                        .radianceNormal = radianceNormal,
                        .run = s.run});
   const Stopwatch clock;
-  const RelitLight own = relight(s.meshPath, {scene.mesh.meshMm, s.material, t}, scene.radiance,
-                                 s.run);
+  const RelitLight own =
+      relight(s.meshPath, {scene.mesh.meshMm, s.material, t}, scene.radiance, s.run);
   t.report.selfError = relativeRms(own.radianceNormal, radianceNormal);
   t.report.compactLights = own.compactLights;
   t.report.compactFluxShare = own.compactFluxShare;
   t.report.seconds += clock.seconds();
-  info("relightable transfer (order " + std::to_string(t.order) + "): " +
-           format("%.3f s", t.report.seconds) + ", relit under its own environment " +
+  info("relightable transfer (order " + std::to_string(t.order) +
+           "): " + format("%.3f s", t.report.seconds) + ", relit under its own environment " +
            percent(t.report.selfError) + " RMS from the bake",
        s.run.quiet);
   return t;
@@ -513,8 +513,8 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
                             : radianceOf(bounced.added, far, s.material.eta);
   const ModelErrorReport model =
       modelErrorStage(scene, radianceNormal, normal.vertexModel, interreflected, far);
-  RelightTransfer relight = relightStage(scene, transportIn, lighting, direct, bounced.report,
-                                         light, radianceNormal);
+  RelightTransfer relight =
+      relightStage(scene, transportIn, lighting, direct, bounced.report, light, radianceNormal);
 
   BakeOutput out;
   BakeReport& report = out.report;

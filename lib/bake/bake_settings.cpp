@@ -92,11 +92,13 @@ void validateBakeSettings(const BakeSettings& s) {
   checkTextureSettings(s.texture);
   checkRelightOrder(s.relightOrder);
   if (s.relightOrder >= 0 && s.method == BakeMethod::PathTrace)
-    throw Error("--relightable needs a diffusion method: the path tracer is not linear in a "
-                "stored transfer");
+    throw Error(
+        "--relightable needs a diffusion method: the path tracer is not linear in a "
+        "stored transfer");
   if (s.relightOrder >= 0 && s.texture.size > 0)
-    throw Error("--relightable with --texture: a relightable lightmap is not supported; bake the "
-                "transfer per vertex");
+    throw Error(
+        "--relightable with --texture: a relightable lightmap is not supported; bake the "
+        "transfer per vertex");
 }
 
 }  // namespace sss

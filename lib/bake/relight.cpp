@@ -160,8 +160,7 @@ class StoredTransportRun {
   }
   // B of E through the transport, its sums within `looseness` times the bake's tolerance; E of
   // either sign (SH light rings below zero), as the transport of its parts.
-  std::vector<glm::vec3> operator()(std::span<const glm::vec3> irradiance,
-                                    double looseness = 1.0) {
+  std::vector<glm::vec3> operator()(std::span<const glm::vec3> irradiance, double looseness = 1.0) {
     std::vector<glm::vec3> positive(irradiance.size()), negative(irradiance.size());
     bool anyNegative = false;
     for (std::size_t v = 0; v < irradiance.size(); ++v) {
@@ -231,9 +230,9 @@ RelightTransfer relightTransfer(const RelightInput& in) {
   RelightTransfer out;
   RelightReport& report = out.report;
   const TriangleMesh& m = in.meshMm;
-  const VisibilityTransfer transfer = visibilityTransfer(
-      m.positions, m.normals, m.triangles, in.eta,
-      {.order = in.order, .rays = in.rays, .entry = in.entry, .run = in.run});
+  const VisibilityTransfer transfer =
+      visibilityTransfer(m.positions, m.normals, m.triangles, in.eta,
+                         {.order = in.order, .rays = in.rays, .entry = in.entry, .run = in.run});
   report.transferSeconds = clock.seconds();
   out.relightTransfer = transportedTransfer(transfer, in.transport);
   report.transportSeconds = clock.seconds() - report.transferSeconds;
@@ -243,8 +242,7 @@ RelightTransfer relightTransfer(const RelightInput& in) {
   out.exitancePerRadiance = ratios(in.exitance, in.radianceNormal, 1.0f / exitScale);
   if (in.transport.energy.model == EnergyModel::Escape)
     out.escapeProbability = in.transport.energy.escape.probability;
-  out.relightTransport =
-      transportKey(in.transport, in.entry != nullptr, in.bounces, in.gatherRays);
+  out.relightTransport = transportKey(in.transport, in.entry != nullptr, in.bounces, in.gatherRays);
   report.order = in.order;
   report.coefficients = transfer.count;
   report.rays = in.rays;

@@ -49,12 +49,12 @@ inline constexpr int kRelightRays = 64;
 
 struct RelightInput {
   const TriangleMesh& meshMm;
-  const TransportInput& transport;  // linearTransportInput of the bake's transport
+  const TransportInput& transport;                 // linearTransportInput of the bake's transport
   const DirectionalAlbedoWeight* entry = nullptr;  // the transport's, null for diffuse entry
   float eta = 1.3f;
   int order = kDefaultRelightOrder;
   int rays = kRelightRays;
-  int bounces = 0;     // the bake's (interreflection.h), done again at relight time
+  int bounces = 0;      // the bake's (interreflection.h), done again at relight time
   int gatherRays = 64;  // the bounces' gather rays per vertex
   std::span<const glm::vec3> exitance;        // the bake's B (with its bounces)
   std::span<const glm::vec3> radianceNormal;  // its radiance along the normal
@@ -69,8 +69,8 @@ struct RelightReport {
   // Relative RMS of the radiance along the normal, relit under the bake's own environment
   // against the bake: what the split light and g cost there.
   double selfError = 0.0;
-  int compactLights = 0;           // in the bake's own environment
-  double compactFluxShare = 0.0;   // their share of its irradiance
+  int compactLights = 0;          // in the bake's own environment
+  double compactFluxShare = 0.0;  // their share of its irradiance
   double transferSeconds = 0.0, transportSeconds = 0.0, seconds = 0.0;
 };
 

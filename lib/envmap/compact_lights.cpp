@@ -50,8 +50,7 @@ CompactLightSplit splitCompactLights(const Cubemap& radiance, const CompactLight
   std::vector<Texel> bright = brightestTexels(radiance, o);
   const float cosCluster = float(std::cos(o.clusterDeg * M_PI / 180.0));
   std::vector<char> taken(bright.size(), 0);
-  for (std::size_t seed = 0; seed < bright.size() && int(out.lights.size()) < o.maxLights;
-       ++seed) {
+  for (std::size_t seed = 0; seed < bright.size() && int(out.lights.size()) < o.maxLights; ++seed) {
     if (taken[seed]) continue;
     const glm::vec3 axis = radiance.direction(bright[seed].face, bright[seed].x, bright[seed].y);
     DirectionalLight light;

@@ -35,8 +35,8 @@ struct DirectionalLight {
 
 struct CompactLightSplit {
   std::vector<DirectionalLight> lights;
-  Cubemap rest;               // the environment without them
-  double fluxShare = 0.0;     // the lights' share of the environment's irradiance (luminance)
+  Cubemap rest;            // the environment without them
+  double fluxShare = 0.0;  // the lights' share of the environment's irradiance (luminance)
 };
 
 CompactLightSplit splitCompactLights(const Cubemap& radiance,

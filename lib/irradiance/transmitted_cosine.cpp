@@ -71,8 +71,8 @@ glm::dvec3 TransmittedCosineKernel::weightedZonalCoefficient(
   for (int i = 0; i <= panels; ++i) {
     const double mu = static_cast<double>(i) / panels;
     const double w = (i == 0 || i == panels) ? 1.0 : (i % 2 ? 4.0 : 2.0);
-    sum += w * mu * fresnelTransmittance(static_cast<float>(mu), eta_) * legendre(l, mu) *
-           weight(mu);
+    sum +=
+        w * mu * fresnelTransmittance(static_cast<float>(mu), eta_) * legendre(l, mu) * weight(mu);
   }
   return 2.0 * M_PI * sum / (3.0 * panels);
 }

@@ -29,17 +29,17 @@ namespace sss {
 class DirectionalAlbedoWeight;  // material/directional_albedo_weight.h
 
 struct VisibilityTransferOptions {
-  int order = 3;  // SH bands 0..order: (order + 1)^2 coefficients
-  int rays = 64;  // per vertex, for the blocked part
+  int order = 3;                                   // SH bands 0..order: (order + 1)^2 coefficients
+  int rays = 64;                                   // per vertex, for the blocked part
   const DirectionalAlbedoWeight* entry = nullptr;  // null: w = 1
   RunContext run{};
 };
 
 struct VisibilityTransfer {
   int order = -1;
-  int count = 0;                         // (order + 1)^2
-  std::vector<glm::vec3> coefficients;   // [vertex * count + lm], per channel
-  double blockedFraction = 0.0;          // of all rays
+  int count = 0;                        // (order + 1)^2
+  std::vector<glm::vec3> coefficients;  // [vertex * count + lm], per channel
+  double blockedFraction = 0.0;         // of all rays
   std::span<const glm::vec3> at(std::size_t v) const {
     return {coefficients.data() + v * count, static_cast<std::size_t>(count)};
   }

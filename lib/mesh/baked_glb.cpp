@@ -309,7 +309,8 @@ void readSssExtras(const std::string& path, const Json& sss, BakedPlyContents& c
   }
 }
 
-// A relightable bake's attributes (addRelightAttributes), every one of them with extras.sss.relight.
+// A relightable bake's attributes (addRelightAttributes), every one of them with
+// extras.sss.relight.
 void readRelightAttributes(const std::string& path, const Json& document, const std::string& bin,
                            const Json& attributes, const BakedPlyContents& contents,
                            BakedVertexValues& values) {
@@ -380,7 +381,8 @@ BakedPlyContents readBakedGlb(const std::string& path) {
     if (extras != document["asset"].end() && extras->contains("sss")) {
       readSssExtras(path, extras->at("sss"), contents);
     }
-    if (contents.hasRelight) readRelightAttributes(path, document, bin, attributes, contents, values);
+    if (contents.hasRelight)
+      readRelightAttributes(path, document, bin, attributes, contents, values);
   } catch (const nlohmann::json::exception& e) {
     fail(path, std::string("glTF JSON: ") + e.what());
   }

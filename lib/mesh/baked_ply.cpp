@@ -180,7 +180,8 @@ struct BakedFields {
   // Bytes of one vertex record: position and normal, then the optional fields in order.
   std::size_t vertexBytes() const {
     return 24 + (irradiance ? 12 : 0) + (exitance ? 15 : 0) + (radianceNormal ? 12 : 0) +
-           (farField ? 24 : 0) + (relightCount > 0 ? 12 * (relightCount + 2) : 0) + (escape ? 12 : 0);
+           (farField ? 24 : 0) + (relightCount > 0 ? 12 * (relightCount + 2) : 0) +
+           (escape ? 12 : 0);
   }
 };
 
@@ -322,10 +323,10 @@ Keys sssKeys(const std::vector<std::string>& comments, std::vector<std::string>&
     const std::size_t eq = c.find('=');
     if (c.rfind("sss ", 0) == 0 && eq != std::string::npos && c.find(' ', 4) == std::string::npos) {
       const std::string key = c.substr(4, eq - 4);
-      static const char* const known[] = {"format",        "material", "sigma_a",
-                                          "sigma_s_prime", "eta",      "mm_per_unit",
-                                          "preview_scale", "checked",  "unscattered",
-                                          "relight_order", "relight_transport"};
+      static const char* const known[] = {
+          "format",      "material",      "sigma_a",          "sigma_s_prime",
+          "eta",         "mm_per_unit",   "preview_scale",    "checked",
+          "unscattered", "relight_order", "relight_transport"};
       if (std::find(std::begin(known), std::end(known), key) != std::end(known)) {
         keys[key] = c.substr(eq + 1);
         continue;

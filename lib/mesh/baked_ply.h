@@ -92,7 +92,9 @@ struct BakedMesh {
   std::vector<glm::vec3> radianceGain, exitancePerRadiance;
   std::vector<glm::vec3> escapeProbability;  // may be empty
   std::string relightTransport;              // bake/relight.h's key; one word
-  int relightCount() const { return relightOrder < 0 ? 0 : (relightOrder + 1) * (relightOrder + 1); }
+  int relightCount() const {
+    return relightOrder < 0 ? 0 : (relightOrder + 1) * (relightOrder + 1);
+  }
 };
 
 // What every baked-mesh writer checks first (one value per vertex or none, finite values, indices

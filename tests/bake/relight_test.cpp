@@ -123,7 +123,8 @@ TEST_F(Relight, StoresTheTransferAndReportsItsOwnEnvironment) {
 
 TEST_F(Relight, IsLinearInTheEnvironment) {
   const Cubemap a = gradient(glm::vec3(0.0f, 1.0f, 0.0f), glm::vec3(1.0f, 0.9f, 0.8f));
-  const Cubemap b = gradient(glm::normalize(glm::vec3(1.0f, -0.5f, 0.2f)), glm::vec3(0.3f, 0.5f, 0.9f));
+  const Cubemap b =
+      gradient(glm::normalize(glm::vec3(1.0f, -0.5f, 0.2f)), glm::vec3(0.3f, 0.5f, 0.9f));
   Cubemap sum = a;
   forEachTexel(32, [&](int f, int x, int y) { sum.at(f, x, y) += b.at(f, x, y); });
   const RelitLight ra = relit(a), rb = relit(b), rsum = relit(sum);
@@ -139,7 +140,8 @@ TEST_F(Relight, IsLinearInTheEnvironment) {
     sunAndSky.at(f, x, y) += a.sample(sun.direction(f, x, y));
   });
   Cubemap aFine(sun.size());
-  forEachTexel(sun.size(), [&](int f, int x, int y) { aFine.at(f, x, y) = a.sample(sun.direction(f, x, y)); });
+  forEachTexel(sun.size(),
+               [&](int f, int x, int y) { aFine.at(f, x, y) = a.sample(sun.direction(f, x, y)); });
   const RelitLight rs = relit(sun), ra2 = relit(aFine), rboth = relit(sunAndSky);
   std::vector<glm::vec3> both = rs.radianceNormal;
   for (std::size_t v = 0; v < both.size(); ++v) both[v] += ra2.radianceNormal[v];
@@ -222,7 +224,8 @@ TEST_F(Relight, RefusesBrokenFiles) {
   // A transport key that does not parse is refused when relighting.
   RelightTransfer broken = *transfer_;
   broken.relightTransport = "hierarchical,0.01";
-  EXPECT_THROW(relight("x.ply", {out_->baked.mesh, *material_, broken}, gradient(glm::vec3(0, 1, 0), glm::vec3(1)), {}),
+  EXPECT_THROW(relight("x.ply", {out_->baked.mesh, *material_, broken},
+                       gradient(glm::vec3(0, 1, 0), glm::vec3(1)), {}),
                Error);
 }
 

@@ -41,13 +41,16 @@ class SssRelightTool : public ::testing::Test {
     BakedMesh mesh;
     mesh.mesh = makeIcosphere(3, 10.0f);
     writeBakedPly(path("sphere.ply"), mesh);
-    const test::ToolRun r = test::runTool(
-        "sss-bake", path("sphere.ply") + " --sky elevation=40,azimuth=10 -m skin1 --mm-per-unit 1 "
-                    "--relightable 2 --far-field off --tolerance 0.03 -q -o " + path("baked.ply"),
-        Capture::StdoutAndStderr);
+    const test::ToolRun r =
+        test::runTool("sss-bake",
+                      path("sphere.ply") +
+                          " --sky elevation=40,azimuth=10 -m skin1 --mm-per-unit 1 "
+                          "--relightable 2 --far-field off --tolerance 0.03 -q -o " +
+                          path("baked.ply"),
+                      Capture::StdoutAndStderr);
     ASSERT_EQ(r.exitCode, 0) << r.output;
-    test::runTool("sss-bake", path("sphere.ply") + " --sky -m skin1 --mm-per-unit 1 -q -o " +
-                                  path("plain.ply"),
+    test::runTool("sss-bake",
+                  path("sphere.ply") + " --sky -m skin1 --mm-per-unit 1 -q -o " + path("plain.ply"),
                   Capture::StdoutAndStderr);
   }
   static std::string path(const std::string& name) { return (dir_ / name).string(); }
@@ -85,10 +88,12 @@ TEST_F(SssRelightTool, WritesWhatTheLibraryRelights) {
 }
 
 TEST_F(SssRelightTool, ARelightableGlbRelightsAsThePlyDoes) {
-  test::ToolRun r = test::runTool(
-      "sss-bake", path("sphere.ply") + " --sky elevation=40,azimuth=10 -m skin1 --mm-per-unit 1 "
-                  "--relightable 2 --far-field off --tolerance 0.03 -q -o " + path("baked.glb"),
-      Capture::StdoutAndStderr);
+  test::ToolRun r = test::runTool("sss-bake",
+                                  path("sphere.ply") +
+                                      " --sky elevation=40,azimuth=10 -m skin1 --mm-per-unit 1 "
+                                      "--relightable 2 --far-field off --tolerance 0.03 -q -o " +
+                                      path("baked.glb"),
+                                  Capture::StdoutAndStderr);
   ASSERT_EQ(r.exitCode, 0) << r.output;
   r = relight(path("baked.glb") + " --sky elevation=5,azimuth=90 -q -o " + path("from_glb.ply"));
   ASSERT_EQ(r.exitCode, 0) << r.output;

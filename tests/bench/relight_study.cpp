@@ -6,8 +6,9 @@
 // HDRs turned by 0, 90, 180 and 270 degrees about the up axis (--env-rotate), and a sun of 1
 // degree from the 8 diagonal directions (half of them from below, behind the object's base).
 // The fresh bakes' own noise: a second bake of the first light with another seed (row
-// "seed": sh_order -1, relative_rms and p95_relative between the two). Also the costs: the plain and the relightable bake's times, the files' bytes,
-// and relighting on the CPU (SH projection of the environment and the dot products).
+// "seed": sh_order -1, relative_rms and p95_relative between the two). Also the costs: the plain
+// and the relightable bake's times, the files' bytes, and relighting on the CPU (SH projection of
+// the environment and the dot products).
 //   relight_study OUT_DIR DATA_DIR [--quick] [--traced-off]
 // writes OUT_DIR/relight.csv and relight_cost.csv. --quick: the marble bunny alone, 2 HDRs and 2
 // suns; --traced-off: the far field and the unscattered light off in every bake.
@@ -33,8 +34,8 @@ namespace sss {
 namespace {
 
 constexpr int kStudyOrder = 6;
-const char* const kHdrs[] = {"forest",  "city",    "courtyard", "interior",
-                             "night",   "studio",  "sunrise",   "sunset"};
+const char* const kHdrs[] = {"forest", "city",   "courtyard", "interior",
+                             "night",  "studio", "sunrise",   "sunset"};
 
 struct Scene {
   std::string name;
@@ -86,8 +87,8 @@ std::vector<Light> lights(const std::string& dataDir, bool quick) {
   const int suns = quick ? 2 : 8;
   for (int k = 0; k < suns; ++k) {
     const glm::vec3 d = glm::normalize(glm::vec3(k & 1 ? 1 : -1, k & 2 ? 1 : -1, k & 4 ? 1 : -1));
-    const std::string name = std::string("sun_") + (d.x > 0 ? 'p' : 'm') + (d.y > 0 ? 'p' : 'm') +
-                             (d.z > 0 ? 'p' : 'm');
+    const std::string name =
+        std::string("sun_") + (d.x > 0 ? 'p' : 'm') + (d.y > 0 ? 'p' : 'm') + (d.z > 0 ? 'p' : 'm');
     out.push_back({"sun", name, 0, {study::sunEnvironment(d, 1.0, 256), {}}});
   }
   return out;
@@ -148,9 +149,9 @@ void runScene(const Scene& scene, const std::vector<Light>& lights, const std::s
   const double relightSeconds = relitClock.seconds();
   cost << scene.name << ',' << scene.meshMm.vertexCount() << ',' << plainSeconds << ','
        << relightableSeconds << ',' << bakeOut.report.relight.seconds << ','
-       << bakeOut.report.relight.selfError << ','
-       << std::filesystem::file_size(work + "/plain.ply") << ','
-       << std::filesystem::file_size(work + "/relightable.ply") << ',' << relightSeconds << '\n';
+       << bakeOut.report.relight.selfError << ',' << std::filesystem::file_size(work + "/plain.ply")
+       << ',' << std::filesystem::file_size(work + "/relightable.ply") << ',' << relightSeconds
+       << '\n';
   BakeSettings reseeded = plain;
   reseeded.run.seed = 2;
   const BakeOutput second = bake(reseeded, forest);
@@ -165,8 +166,9 @@ void runScene(const Scene& scene, const std::vector<Light>& lights, const std::s
       const RelitLight l =
           relight(meshPath, {scene.meshMm, material, t}, light.environment.radiance, {});
       csv << scene.name << ',' << light.kind << ',' << light.name << ',' << light.rotateDeg << ','
-          << t.order << ',' << l.compactLights << ',' << l.compactFluxShare << ',' << relativeRms(l.radianceNormal, fresh.baked.radianceNormal)
-          << ',' << percentile95(l.radianceNormal, fresh.baked.radianceNormal) << ','
+          << t.order << ',' << l.compactLights << ',' << l.compactFluxShare << ','
+          << relativeRms(l.radianceNormal, fresh.baked.radianceNormal) << ','
+          << percentile95(l.radianceNormal, fresh.baked.radianceNormal) << ','
           << fresh.report.errors.total << '\n';
     }
     csv.flush();
@@ -187,8 +189,10 @@ int main(int argc, char** argv) {
   bool quick = false;
   for (int i = 3; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--quick") quick = true;
-    else if (a == "--traced-off") tracedOff = true;
+    if (a == "--quick")
+      quick = true;
+    else if (a == "--traced-off")
+      tracedOff = true;
     else {
       std::fprintf(stderr, "relight_study: unknown option %s\n", argv[i]);
       return 2;
@@ -205,9 +209,8 @@ int main(int argc, char** argv) {
   if (!quick) {
     scenes.push_back({"bunny-skimmilk", scenes[0].meshMm, "skimmilk"});
     scenes.push_back({"sphere-skin1-180mm", makeIcosphere(4, 90.0f), "skin1"});
-    scenes.push_back(
-        {"dragon_res3-marble", study::loadScaled(data + "/meshes/dragon_res3.ply", 150.0),
-         "marble"});
+    scenes.push_back({"dragon_res3-marble",
+                      study::loadScaled(data + "/meshes/dragon_res3.ply", 150.0), "marble"});
   }
   const std::vector<Light> all = lights(data, quick);
   std::ofstream csv(out + "/relight.csv"), cost(out + "/relight_cost.csv");

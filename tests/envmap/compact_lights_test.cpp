@@ -2,8 +2,8 @@
 // where it is, with its flux; the flux is conserved; an even sky has none.
 #include <cmath>
 
-#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
+#include <glm/geometric.hpp>
 
 #include "core/luminance.h"
 #include "envmap/compact_lights.h"
@@ -49,7 +49,9 @@ TEST(CompactLights, FindsTheSunWithItsFlux) {
 TEST(CompactLights, TwoLampsAreTwoLights) {
   Cubemap map = skyWithSun(glm::vec3(0.0f, 1.0f, 0.0f), 1.5f, 128);
   const Cubemap second = skyWithSun(glm::vec3(1.0f, 0.0f, 0.0f), 1.5f, 128);
-  forEachTexel(128, [&](int f, int x, int y) { map.at(f, x, y) = glm::max(map.at(f, x, y), second.at(f, x, y)); });
+  forEachTexel(128, [&](int f, int x, int y) {
+    map.at(f, x, y) = glm::max(map.at(f, x, y), second.at(f, x, y));
+  });
   const CompactLightSplit split = splitCompactLights(map);
   ASSERT_EQ(split.lights.size(), 2u);
   EXPECT_NEAR(luminance(split.lights[0].irradiance), luminance(split.lights[1].irradiance),
@@ -58,7 +60,8 @@ TEST(CompactLights, TwoLampsAreTwoLights) {
 
 TEST(CompactLights, AnEvenSkyHasNone) {
   Cubemap map(64, glm::vec3(1.0f));
-  forEachTexel(64, [&](int f, int x, int y) { map.at(f, x, y) *= 1.0f + 0.5f * map.direction(f, x, y).z; });
+  forEachTexel(
+      64, [&](int f, int x, int y) { map.at(f, x, y) *= 1.0f + 0.5f * map.direction(f, x, y).z; });
   const CompactLightSplit split = splitCompactLights(map);
   EXPECT_TRUE(split.lights.empty());
   EXPECT_EQ(split.fluxShare, 0.0);

@@ -4,11 +4,11 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "bake/relight.h"
 #include "core/error.h"
 #include "envmap/environment.h"
 #include "image/image.h"  // NonFiniteTexelsError
 #include "mesh/baked_glb.h"
-#include "bake/relight.h"
 #include "mesh/baked_ply.h"
 #include "mesh/load_mesh.h"
 
@@ -56,9 +56,9 @@ bool isImageTarget(std::string_view target) {
 }  // namespace
 
 const std::vector<std::string>& targetNames() {
-  static const std::vector<std::string> names = {
-      "ply", "obj", "off", "stl", "environment", "baked_ply", "baked_glb", "gltf", "glb", "exr",
-      "hdr", "png"};
+  static const std::vector<std::string> names = {"ply",         "obj",       "off",       "stl",
+                                                 "environment", "baked_ply", "baked_glb", "gltf",
+                                                 "glb",         "exr",       "hdr",       "png"};
   return names;
 }
 

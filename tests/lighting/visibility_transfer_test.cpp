@@ -3,8 +3,8 @@
 // a floor beside a wall; the directional lights' irradiance against the geometry of the shadow.
 #include <cmath>
 
-#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
+#include <glm/geometric.hpp>
 
 #include "core/random.h"
 #include "core/sampling.h"
@@ -133,7 +133,7 @@ TEST(VisibilityTransfer, DirectionalLightIsShadowedByTheWall) {
       directionalIrradiance(mesh.positions, mesh.normals, mesh.triangles, kEta, nullptr,
                             std::span<const DirectionalLight>(&low, 1), {});
   for (std::size_t v = 0; v < 81; ++v) EXPECT_NEAR(f[v].x, lit, 1e-5f) << v;  // all lit
-  for (std::size_t v = 81; v < mesh.positions.size(); ++v) {  // the wall faces it
+  for (std::size_t v = 81; v < mesh.positions.size(); ++v) {                  // the wall faces it
     const float wallMu = std::sqrt(0.5f);
     EXPECT_NEAR(f[v].x, 2.0f * fresnelTransmittance(wallMu, kEta) * wallMu, 1e-5f) << v;
   }

@@ -315,22 +315,14 @@ int main(int argc, char** argv) {
   CLI::App app{"Bake per-vertex subsurface scattering (irradiance E and exitance B) into a PLY."};
   sss::BakeSettings s;
   MaterialOptions material;
-  std::string output, jsonPath, sky;
+  std::string output, jsonPath;
   std::vector<std::string> meshes;
   app.add_option("mesh", meshes,
                  "Input mesh (PLY, OBJ, OFF, STL, OM, glTF 2.0 .gltf/.glb); several with -o DIR/ "
                  "(one process)")
       ->required();
-  auto* environment = app.add_option_group("environment", "Exactly one: -e ENV or --sky");
-  environment->add_option("-e,--env", s.environment,
-                          "Environment: equirect, cross or cubemap-stack image");
-  auto* skyOption = environment
-                        ->add_option("--sky", sky,
-                                     "Procedural sun and sky instead of -e, optional spec "
-                                     "(elevation=45,azimuth=30,turbidity=3)")
-                        ->expected(0, 1)
-                        ->default_str("");
-  environment->require_option(1);
+  sss::cli::EnvironmentChoice environment;
+  sss::cli::addEnvironmentChoice(app, environment);
   app.add_option("-o,--output", output,
                  "Output baked mesh: .ply or .glb (glTF 2.0 binary), or a folder DIR/ (several "
                  "meshes: DIR/<stem>.ply)")
@@ -358,10 +350,10 @@ int main(int argc, char** argv) {
 
   return sss::runTool("sss-bake", app, argc, argv, [&]() -> int {
     checkUnitsGiven(meshes, s);
+    s.environment = environment.source();
     if (relightOption->count() > 0) s.relightOrder = relightOrderFrom(relightable);
     if (sss::isBatch(meshes, output)) {
       if (s.texture.size > 0) throw sss::UsageError("--texture bakes one mesh at a time");
-      if (skyOption->count() > 0) s.environment = sky.empty() ? "sky" : "sky:" + sky;
       s.material = materialFrom(material);
       return bakeBatch(meshes, output, jsonPath, s);
     }
@@ -380,7 +372,6 @@ int main(int argc, char** argv) {
     sss::checkOutputsAreNotInputs(
         {{"-o", output}, {"--json", jsonPath}, {"the exitance map", exitanceMap}},
         {{"the mesh", s.meshPath}, {"the environment", s.environment}});
-    if (skyOption->count() > 0) s.environment = sky.empty() ? "sky" : "sky:" + sky;
     s.material = materialFrom(material);
     const sss::Stopwatch clock;
     const sss::BakeOutput result = sss::bake(s);

@@ -128,19 +128,11 @@ int main(int argc, char** argv) {
       "preview colours). The bake itself comes from sss-bake MESH -e ENV --relightable -o "
       "NAME.ply."};
   RelightOptions o;
-  std::string output, sky, jsonPath;
+  std::string output, jsonPath;
   std::vector<std::string> inputs;
   app.add_option("baked", inputs, "Relightable bake, PLY or GLB; several with -o DIR/")->required();
-  auto* environment = app.add_option_group("environment", "Exactly one: -e ENV or --sky");
-  environment->add_option("-e,--env", o.environment,
-                          "Environment: equirect, cross or cubemap-stack image");
-  auto* skyOption = environment
-                        ->add_option("--sky", sky,
-                                     "Procedural sun and sky instead of -e, optional spec "
-                                     "(elevation=45,azimuth=30,turbidity=3)")
-                        ->expected(0, 1)
-                        ->default_str("");
-  environment->require_option(1);
+  sss::cli::EnvironmentChoice environment;
+  sss::cli::addEnvironmentChoice(app, environment);
   app.add_option("-o,--output", output,
                  "Output baked mesh: .ply or .glb, or a folder DIR/ (several inputs)")
       ->required();
@@ -154,7 +146,7 @@ int main(int argc, char** argv) {
       "  sss-relight a.ply b.ply --sky elevation=10,azimuth=200 -o relit/  # one process");
 
   return sss::runTool("sss-relight", app, argc, argv, [&]() -> int {
-    if (skyOption->count() > 0) o.environment = sky.empty() ? "sky" : "sky:" + sky;
+    o.environment = environment.source();
     if (sss::isBatch(inputs, output)) {
       if (!jsonPath.empty() && !sss::namesFolder(jsonPath))
         throw sss::UsageError("--json " + jsonPath +

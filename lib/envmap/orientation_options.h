@@ -1,6 +1,9 @@
 // --env-rotate and --env-convention, the same on every tool that reads an environment
-// (envmap/orientation.h). Header-only with CLI11: included by tools/ only, like core/cli.h.
+// (envmap/orientation.h), and the choice of -e ENV or --sky [SPEC] of the tools that take either.
+// Header-only with CLI11: included by tools/ only, like core/cli.h.
 #pragma once
+
+#include <string>
 
 #include <CLI/CLI.hpp>
 
@@ -19,6 +22,29 @@ inline void addOrientationOptions(CLI::App& app, EnvironmentOrientation& orienta
   addEnumOption(app, "--env-convention", orientation.convention, kEquirectConventionNames,
                 "The equirect image's convention: sss (centre towards -Z), blender and threejs "
                 "(centre towards +X), filament (cmgen, centre towards +Z)");
+}
+
+// -e ENV or --sky [SPEC], exactly one of them (sss-bake, sss-relight); after parsing, source()
+// is what loadEnvironment reads: the file, "sky" or "sky:<spec>".
+struct EnvironmentChoice {
+  std::string file, skySpec;
+  CLI::Option* sky = nullptr;
+  std::string source() const {
+    if (sky == nullptr || sky->count() == 0) return file;
+    return skySpec.empty() ? "sky" : "sky:" + skySpec;
+  }
+};
+
+inline void addEnvironmentChoice(CLI::App& app, EnvironmentChoice& choice) {
+  auto* group = app.add_option_group("environment", "Exactly one: -e ENV or --sky");
+  group->add_option("-e,--env", choice.file, "Environment: equirect, cross or cubemap-stack image");
+  choice.sky = group
+                   ->add_option("--sky", choice.skySpec,
+                                "Procedural sun and sky instead of -e, optional spec "
+                                "(elevation=45,azimuth=30,turbidity=3)")
+                   ->expected(0, 1)
+                   ->default_str("");
+  group->require_option(1);
 }
 
 }  // namespace sss::cli

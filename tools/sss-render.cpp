@@ -13,6 +13,7 @@
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
+#include "bake/relight.h"
 #include "core/atomic_output.h"
 #include "core/batch.h"
 #include "core/cli.h"
@@ -52,6 +53,7 @@ struct Arguments {
   glm::vec3 up{0.0f, 1.0f, 0.0f};
   int samples = 4, frames = 0, warmup = 3, envSize = 0, threads = 0;
   bool verbose = false, quiet = false;
+  bool relight = true;  // a relightable bake is relit under -e (--no-relight: drawn as baked)
 };
 
 glm::vec3 parseXyz(const std::string& text) {
@@ -85,19 +87,48 @@ std::optional<glm::vec3> parseBackground(const std::string& text) {
 // The mesh as drawn: its file contents, the shading taken from the bake, and its bounds.
 struct LoadedMesh {
   BakedPlyContents contents;
+  bool relit = false;  // a relightable bake relit under the environment
   ShadingParameters shading;
   RenderMesh renderMesh;
   BoundingSphere bounds;
 };
 
+// A relightable bake (sss-bake --relightable) relit under the environment drawn around it
+// (bake/relight.h, on the CPU): B and the radiance along the normal replaced, the far field's
+// values (its bake environment's) dropped. Returns whether it relit.
+bool relightUnder(const Arguments& a, const Cubemap& radiance, BakedPlyContents& contents) {
+  if (!a.relight || !contents.hasRelight || a.request.mode == ShadingMode::Brdf) return false;
+  if (!contents.hasMaterial) fail(a.input, "relightable bake without its material comments");
+  BakedMesh& baked = contents.baked;
+  TriangleMesh meshMm = baked.mesh;
+  scalePositions(meshMm, baked.mmPerUnit);
+  const Material material{.name = baked.materialName,
+                          .sigmaA = baked.sigmaA,
+                          .sigmaSPrime = baked.sigmaSPrime,
+                          .eta = baked.eta};
+  const RelightTransfer transfer = relightTransferOf(baked);
+  RelitLight relit = relight(a.input, {meshMm, material, transfer}, radiance,
+                             {.threads = a.threads, .quiet = true});
+  baked.exitance = std::move(relit.exitance);
+  baked.radianceNormal = std::move(relit.radianceNormal);
+  baked.farExitance.clear();
+  baked.farExitSlope.clear();
+  contents.hasFarField = false;
+  info("relit under " + a.environment + " (" + std::to_string(relit.compactLights) +
+           " compact lights)",
+       a.quiet);
+  return true;
+}
+
 // Reads the baked mesh; names what the asked mode needs and the file lacks, and the defaults
-// taken for what the file does not record.
-LoadedMesh loadMesh(const Arguments& a) {
+// taken for what the file does not record. A relightable bake is relit under `radiance`.
+LoadedMesh loadMesh(const Arguments& a, const Cubemap& radiance) {
   LoadedMesh m;
   m.contents = readBakedMesh(a.input);
   if (!a.quiet) {
     for (const std::string& w : m.contents.report.warnings) warn(a.input + ": " + w);
   }
+  m.relit = relightUnder(a, radiance, m.contents);
   const std::string missing = missingBakedValues(m.contents, a.request.mode);
   if (!missing.empty()) {
     fail(a.input, "missing " + missing +
@@ -269,6 +300,7 @@ void writeReport(const Arguments& a, const LoadedMesh& mesh, const Environment& 
                              {"total", total.milliseconds()}}}};
   report["environment_convention"] = kEquirectConventionNames.name(a.orientation.convention);
   report["environment_rotate_deg"] = a.orientation.rotateDeg;
+  report["relit"] = mesh.relit;
   if (!env.irradianceReason.empty()) report["irradiance"] = env.irradianceReason;
   if (a.frames > 0) report["frames"] = framesJson(timings, a.warmup);
   writeFileAtomically(a.jsonPath, report.dump(2) + "\n");
@@ -294,12 +326,16 @@ int renderOne(const Arguments& a, const GlContext& context, EnvironmentCache& en
   ms.context = contextMs;
 
   Stopwatch stage;
-  const LoadedMesh mesh = loadMesh(a);
+  const Cubemap& radiance = environments.radiance();
+  ms.environment = stage.milliseconds();
+
+  stage.restart();
+  const LoadedMesh mesh = loadMesh(a, radiance);
   ms.load = stage.milliseconds();
 
   stage.restart();
   const Environment& env = environments.lighting(mesh.shading.eta);
-  ms.environment = stage.milliseconds();
+  ms.environment += stage.milliseconds();
 
   stage.restart();
   if (frame.samples > context.maxSamples()) {
@@ -462,6 +498,8 @@ void addFrameOptions(CLI::App& app, Arguments& a) {
   app.add_option("--warmup", a.warmup, "Untimed frames before --frames")
       ->check(CLI::Range(0, 1000));
   cli::addThreadsOption(app, a.threads);
+  app.add_flag("!--no-relight", a.relight,
+               "Draw a relightable bake (sss-bake --relightable) as baked, not relit under -e");
   app.add_flag("-v,--verbose", a.verbose, "Print the EGL path and the GL vendor/renderer/version");
   cli::addQuietFlag(app, a.quiet);
 }

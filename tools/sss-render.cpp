@@ -52,6 +52,7 @@ struct Arguments {
   std::optional<glm::vec3> eye, target;
   glm::vec3 up{0.0f, 1.0f, 0.0f};
   int samples = 4, frames = 0, warmup = 3, envSize = 0, threads = 0;
+  int lightTurntable = 0;  // > 0: frames with the environment turning a full circle
   bool verbose = false, quiet = false;
   bool relight = true;  // a relightable bake is relit under -e (--no-relight: drawn as baked)
 };
@@ -313,6 +314,71 @@ void describeContext(const GlContext& context) {
   info("GL_VERSION: " + context.glVersion(), false);
 }
 
+RenderedImage readBackOf(Renderer& renderer) {
+  renderer.draw();
+  return renderer.readBack();
+}
+
+// --light-turntable's frame k: OUT_<kkk>.ext beside OUT.
+std::string turntableFramePath(const std::string& output, int k) {
+  const std::size_t dot = output.find_last_of('.');
+  char number[16];
+  std::snprintf(number, sizeof number, "_%03d", k);
+  return output.substr(0, dot) + number + output.substr(dot);
+}
+
+// The frames side by side, ceil(sqrt(n)) a row, in one image (the contact sheet).
+RenderedImage contactSheet(const std::vector<RenderedImage>& frames) {
+  const int n = int(frames.size()), columns = int(std::ceil(std::sqrt(double(n))));
+  const int rows = (n + columns - 1) / columns, w = frames[0].width, h = frames[0].height;
+  RenderedImage sheet;
+  sheet.width = w * columns;
+  sheet.height = h * rows;
+  sheet.linear = frames[0].linear;
+  const auto tile = [&](const auto& pixels, auto& out) {
+    const std::size_t channels = pixels(0).size() / (std::size_t(w) * h);
+    out.assign(std::size_t(sheet.width) * sheet.height * channels, 0);
+    for (int k = 0; k < n; ++k)
+      for (int y = 0; y < h; ++y) {
+        const auto& from = pixels(k);
+        const std::size_t row = std::size_t(w) * channels;
+        std::copy_n(from.begin() + std::ptrdiff_t(y * row), row,
+                    out.begin() + std::ptrdiff_t(((k / columns) * h + y) *
+                                                     std::size_t(sheet.width) * channels +
+                                                 (k % columns) * row));
+      }
+  };
+  if (sheet.linear)
+    tile([&](int k) -> const std::vector<float>& { return frames[k].linearRgb; }, sheet.linearRgb);
+  else
+    tile([&](int k) -> const std::vector<uint8_t>& { return frames[k].srgb8; }, sheet.srgb8);
+  return sheet;
+}
+
+// --light-turntable N: frame k with the environment turned 360 k / N degrees past --env-rotate,
+// a relightable bake relit under each (a plain bake keeps its light: the background and the
+// reflections turn), each to OUT_<kkk>.ext, and OUT the contact sheet of them.
+void writeLightTurntable(const Arguments& a, Renderer& renderer, RenderedImage first) {
+  std::vector<RenderedImage> frames{std::move(first)};
+  for (int k = 1; k < a.lightTurntable; ++k) {
+    Arguments turned = a;
+    turned.orientation.rotateDeg = a.orientation.rotateDeg + 360.0 * k / a.lightTurntable;
+    turned.quiet = true;
+    EnvironmentCache environment(turned);
+    const LoadedMesh mesh = loadMesh(turned, environment.radiance());
+    const Environment& env = environment.lighting(mesh.shading.eta);
+    renderer.setMesh(mesh.renderMesh);
+    renderer.setEnvironment(env.radiance, env.irradiance.empty() ? nullptr : &env.irradiance);
+    frames.push_back(readBackOf(renderer));
+  }
+  for (int k = 0; k < a.lightTurntable; ++k)
+    writeRenderedImage(turntableFramePath(a.output, k), frames[k]);
+  writeRenderedImage(a.output, contactSheet(frames));
+  info("wrote " + std::to_string(a.lightTurntable) + " frames " + turntableFramePath(a.output, 0) +
+           " ... and their contact sheet " + a.output,
+       a.quiet);
+}
+
 // One mesh (a.input) into a.output (and a.jsonPath) with the shared context and environment.
 int renderOne(const Arguments& a, const GlContext& context, EnvironmentCache& environments,
               double contextMs) {
@@ -352,8 +418,11 @@ int renderOne(const Arguments& a, const GlContext& context, EnvironmentCache& en
   ms.setup = stage.milliseconds();
 
   stage.restart();
-  renderer.draw();
-  const RenderedImage image = renderer.readBack();
+  if (a.lightTurntable > 0) {
+    writeLightTurntable(a, renderer, readBackOf(renderer));
+    return 0;
+  }
+  const RenderedImage image = readBackOf(renderer);
   ms.render = stage.milliseconds();
   FrameTimings timings;
   if (a.frames > 0) {
@@ -498,6 +567,10 @@ void addFrameOptions(CLI::App& app, Arguments& a) {
   app.add_option("--warmup", a.warmup, "Untimed frames before --frames")
       ->check(CLI::Range(0, 1000));
   cli::addThreadsOption(app, a.threads);
+  app.add_option("--light-turntable", a.lightTurntable,
+                 "Render N frames with the environment turning a full circle (a relightable bake "
+                 "relit in each): OUT_000.png ... and OUT, their contact sheet")
+      ->check(CLI::Range(1, 360));
   app.add_flag("!--no-relight", a.relight,
                "Draw a relightable bake (sss-bake --relightable) as baked, not relit under -e");
   app.add_flag("-v,--verbose", a.verbose, "Print the EGL path and the GL vendor/renderer/version");

@@ -13,6 +13,7 @@
 #include "bake/relight.h"
 #include "core/relative_rms.h"
 #include "envmap/environment.h"
+#include "image/image.h"
 #include "material/material.h"
 #include "mesh/baked_glb.h"
 #include "mesh/baked_ply.h"
@@ -115,6 +116,40 @@ TEST_F(SssRelightTool, WritesGlbAndBatches) {
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_TRUE(std::filesystem::exists(path("out/baked.ply")));
   EXPECT_TRUE(std::filesystem::exists(path("out/second.ply")));
+}
+
+TEST_F(SssRelightTool, SssRenderRelightsAsSssRelightDoes) {
+  const auto render = [&](const std::string& args) {
+    return test::runTool("sss-render", args + " --size 64x64 -q", Capture::StdoutAndStderr);
+  };
+  // sss-render takes -e only: the sky as a radiance cubemap file, for both tools.
+  const std::string sky = " --sky elevation=10,azimuth=250";
+  const std::string env = path("sky.exr");
+  ASSERT_EQ(
+      test::runTool("sss-irrmap", sky + " --radiance " + env + " -o " + path("irr.exr") + " -q",
+                    Capture::StdoutAndStderr)
+          .exitCode,
+      0);
+  ASSERT_EQ(relight(path("baked.ply") + " -e " + env + " -q -o " + path("relit_env.ply")).exitCode,
+            0);
+  test::ToolRun r = render(path("baked.ply") + " -e " + env + " -o " + path("a.png"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  r = render(path("relit_env.ply") + " -e " + env + " -o " + path("b.png"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_EQ(test::readFile(path("a.png")), test::readFile(path("b.png")));
+  r = render(path("baked.ply") + " -e " + env + " --no-relight -o " + path("c.png"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(test::readFile(path("a.png")), test::readFile(path("c.png")));
+  // The turntable: N frames and their contact sheet.
+  r = render(path("baked.ply") + " -e " + env + " --light-turntable 3 -o " + path("turn.png"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  for (const char* frame : {"turn_000.png", "turn_001.png", "turn_002.png"})
+    EXPECT_TRUE(std::filesystem::exists(path(frame))) << frame;
+  EXPECT_EQ(test::readFile(path("turn_000.png")), test::readFile(path("a.png")));
+  EXPECT_NE(test::readFile(path("turn_001.png")), test::readFile(path("a.png")));
+  const ImageRgb sheet = readImage(path("turn.png"));
+  EXPECT_EQ(sheet.width, 128);
+  EXPECT_EQ(sheet.height, 128);
 }
 
 TEST_F(SssRelightTool, RefusesWithOneClearLine) {

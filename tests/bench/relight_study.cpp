@@ -9,9 +9,10 @@
 // "seed": sh_order -1, relative_rms and p95_relative between the two). Also the costs: the plain
 // and the relightable bake's times, the files' bytes, and relighting on the CPU (SH projection of
 // the environment and the dot products).
-//   relight_study OUT_DIR DATA_DIR [--quick] [--traced-off]
+//   relight_study OUT_DIR DATA_DIR [--quick] [--skip-large] [--traced-off]
 // writes OUT_DIR/relight.csv and relight_cost.csv. --quick: the marble bunny alone, 2 HDRs and 2
-// suns; --traced-off: the far field and the unscattered light off in every bake.
+// suns; --skip-large: without dragon_res3; --traced-off: the far field and the unscattered light
+// off in every bake.
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -186,11 +187,13 @@ int main(int argc, char** argv) {
     return 2;
   }
   const std::string out = argv[1], data = argv[2];
-  bool quick = false;
+  bool quick = false, skipLarge = false;
   for (int i = 3; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--quick")
       quick = true;
+    else if (a == "--skip-large")
+      skipLarge = true;
     else if (a == "--traced-off")
       tracedOff = true;
     else {
@@ -209,8 +212,9 @@ int main(int argc, char** argv) {
   if (!quick) {
     scenes.push_back({"bunny-skimmilk", scenes[0].meshMm, "skimmilk"});
     scenes.push_back({"sphere-skin1-180mm", makeIcosphere(4, 90.0f), "skin1"});
-    scenes.push_back({"dragon_res3-marble",
-                      study::loadScaled(data + "/meshes/dragon_res3.ply", 150.0), "marble"});
+    if (!skipLarge)
+      scenes.push_back({"dragon_res3-marble",
+                        study::loadScaled(data + "/meshes/dragon_res3.ply", 150.0), "marble"});
   }
   const std::vector<Light> all = lights(data, quick);
   std::ofstream csv(out + "/relight.csv"), cost(out + "/relight_cost.csv");

@@ -400,8 +400,9 @@ BakeErrorReport errorReport(const BakeReport& r, const ModelErrorReport& model, 
 }
 
 // Stage 10b (--relightable): the SH transfer of B through the transport the bounces use, and
-// the ratios that make the radiance along the normal of it (relight.h); then the bake relit
-// under its own environment, against itself.
+// the ratios that make the radiance along the normal of it (relight.h; g from the bake's own E
+// through the same transport and bounces); then the bake relit under its own environment,
+// against itself.
 RelightTransfer relightStage(const BakeScene& scene, const TransportInput& transportIn,
                              const VertexLighting& lighting, const VertexExitance& direct,
                              const InterreflectionReport& bounces, const BakedLight& light,
@@ -423,8 +424,10 @@ RelightTransfer relightStage(const BakeScene& scene, const TransportInput& trans
                        .radianceNormal = radianceNormal,
                        .run = s.run});
   const Stopwatch clock;
-  const RelitLight own =
-      relight(s.meshPath, {scene.mesh.meshMm, s.material, t}, scene.radiance, s.run);
+  const RelightableMesh mesh{scene.mesh.meshMm, s.material, t};
+  t.radianceGain = radianceGainOf(s.meshPath, mesh, scene.radiance, lighting.transportIrradiance(),
+                                  radianceNormal, s.run);
+  const RelitLight own = relight(s.meshPath, mesh, scene.radiance, s.run);
   t.report.selfError = relativeRms(own.radianceNormal, radianceNormal);
   t.report.compactLights = own.compactLights;
   t.report.compactFluxShare = own.compactFluxShare;

@@ -238,7 +238,6 @@ RelightTransfer relightTransfer(const RelightInput& in) {
   report.transportSeconds = clock.seconds() - report.transferSeconds;
   const float exitScale = float(normalExitRadianceScale(in.eta));
   out.order = in.order;
-  out.radianceGain = ratios(in.radianceNormal, in.exitance, exitScale);
   out.exitancePerRadiance = ratios(in.exitance, in.radianceNormal, 1.0f / exitScale);
   if (in.transport.energy.model == EnergyModel::Escape)
     out.escapeProbability = in.transport.energy.escape.probability;
@@ -261,27 +260,37 @@ std::vector<glm::vec3> transferredExitance(std::span<const glm::vec3> transfer, 
   return out;
 }
 
+// What relight() and radianceGainOf() share: the key parsed, the entry weight and the transport.
+struct RelightContext {
+  RelightContext(const std::string& path, const RelightableMesh& bake, const Cubemap& environment,
+                 const RunContext& run)
+      : stored(parseTransportKey(path, bake.transfer.relightTransport,
+                                 bake.transfer.escapeProbability.size())),
+        weight(bake.material),
+        entry(stored.entry == EntryModel::Directional ? &weight : nullptr),
+        transportRun(bake, stored, environment, run) {}
+  StoredTransport stored;
+  DirectionalAlbedoWeight weight;
+  const DirectionalAlbedoWeight* entry;
+  StoredTransportRun transportRun;
+};
+
 RelitLight relight(const std::string& path, const RelightableMesh& bake, const Cubemap& environment,
                    const RunContext& run) {
   const RelightTransfer& t = bake.transfer;
-  const StoredTransport stored =
-      parseTransportKey(path, t.relightTransport, t.escapeProbability.size());
-  const DirectionalAlbedoWeight weight(bake.material);
-  const DirectionalAlbedoWeight* entry =
-      stored.entry == EntryModel::Directional ? &weight : nullptr;
-  StoredTransportRun transportRun(bake, stored, environment, run);
+  RelightContext c(path, bake, environment, run);
   const CompactLightSplit split = splitCompactLights(environment);
   const SphericalHarmonics sh = SphericalHarmonics::project(split.rest, t.order, run.threads);
   std::vector<glm::vec3> b = transferredExitance(t.relightTransfer, t.order, sh);
   if (!split.lights.empty()) {
     const TriangleMesh& m = bake.meshMm;
     const std::vector<glm::vec3> e = directionalIrradiance(
-        m.positions, m.normals, m.triangles, float(bake.material.eta), entry, split.lights, run);
-    const std::vector<glm::vec3> compact = transportRun(e);
+        m.positions, m.normals, m.triangles, float(bake.material.eta), c.entry, split.lights, run);
+    const std::vector<glm::vec3> compact = c.transportRun(e);
     for (std::size_t v = 0; v < b.size(); ++v) b[v] += compact[v];
   }
-  if (stored.bounces > 0)
-    b = bounced(bake, stored, entry, environment, transportRun, std::move(b), run);
+  if (c.stored.bounces > 0)
+    b = bounced(bake, c.stored, c.entry, environment, c.transportRun, std::move(b), run);
   RelitLight out;
   out.radianceNormal = std::move(b);
   out.exitance.resize(out.radianceNormal.size());
@@ -293,6 +302,18 @@ RelitLight relight(const std::string& path, const RelightableMesh& bake, const C
   out.compactLights = int(split.lights.size());
   out.compactFluxShare = split.fluxShare;
   return out;
+}
+
+std::vector<glm::vec3> radianceGainOf(const std::string& path, const RelightableMesh& bake,
+                                      const Cubemap& environment,
+                                      std::span<const glm::vec3> ownIrradiance,
+                                      std::span<const glm::vec3> radianceNormal,
+                                      const RunContext& run) {
+  RelightContext c(path, bake, environment, run);
+  std::vector<glm::vec3> b = c.transportRun(ownIrradiance);
+  if (c.stored.bounces > 0)
+    b = bounced(bake, c.stored, c.entry, environment, c.transportRun, std::move(b), run);
+  return ratios(radianceNormal, b, float(normalExitRadianceScale(float(bake.material.eta))));
 }
 
 void checkRelightTransport(const std::string& path, const BakedMesh& baked) {

@@ -9,10 +9,12 @@
 // "seed": sh_order -1, relative_rms and p95_relative between the two). Also the costs: the plain
 // and the relightable bake's times, the files' bytes, and relighting on the CPU (SH projection of
 // the environment and the dot products).
-//   relight_study OUT_DIR DATA_DIR [--quick] [--skip-large] [--traced-off]
+//   relight_study OUT_DIR DATA_DIR [--quick] [--skip-large] [--only SCENE] [--traced-off]
 // writes OUT_DIR/relight.csv and relight_cost.csv. --quick: the marble bunny alone, 2 HDRs and 2
 // suns; --skip-large: without dragon_res3; --traced-off: the far field and the unscattered light
 // off in every bake.
+#include <unistd.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -188,12 +190,15 @@ int main(int argc, char** argv) {
   }
   const std::string out = argv[1], data = argv[2];
   bool quick = false, skipLarge = false;
+  std::string only;  // --only SCENE: that scene alone
   for (int i = 3; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--quick")
       quick = true;
     else if (a == "--skip-large")
       skipLarge = true;
+    else if (a == "--only" && i + 1 < argc)
+      only = argv[++i];
     else if (a == "--traced-off")
       tracedOff = true;
     else {
@@ -202,8 +207,7 @@ int main(int argc, char** argv) {
     }
   }
   const std::string work =
-      (std::filesystem::temp_directory_path() /
-       ("sss-relight-study-" + std::string(tracedOff ? "traced-off" : "defaults")))
+      (std::filesystem::temp_directory_path() / ("sss-relight-study-" + std::to_string(::getpid())))
           .string();
   std::filesystem::create_directories(work);
   std::filesystem::create_directories(out);
@@ -216,6 +220,7 @@ int main(int argc, char** argv) {
       scenes.push_back({"dragon_res3-marble",
                         study::loadScaled(data + "/meshes/dragon_res3.ply", 150.0), "marble"});
   }
+  if (!only.empty()) std::erase_if(scenes, [&](const Scene& scene) { return scene.name != only; });
   const std::vector<Light> all = lights(data, quick);
   std::ofstream csv(out + "/relight.csv"), cost(out + "/relight_cost.csv");
   csv << "scene,kind,light,rotate_deg,sh_order,compact_lights,compact_flux_share,relative_rms,"

@@ -72,6 +72,9 @@ slow+='|GaussianSumFit\.MeetsToleranceForEveryPresetAndProfile'
 slow+='|VisibilityNoiseModel\.PredictsTheMeasuredErrorOfB'
 slow+='|Concurrency\.TwoBakesIntoOneOutputLeaveOneWholeBake'
 slow+='|Concurrency\.TwoMeshesBakedIntoOneFolderComeOutAsAlone'
+# sss-relight and sss-render's relighting as binaries (44 s checked): what they run is under the
+# sanitizers in relight_test (lib/bake/relight.h) and the readers' fuzz targets.
+slow+='|SssRelightTool\..*'
 # And install_test and deb_test (tests/install): they check what `cmake --install` and `cpack`
 # lay out and run the installed tools once on quick settings, code that the tools' own tests run
 # under the sanitizers. And browser_test (tests/browser): what it checks is a browser drawing our

@@ -154,7 +154,7 @@ void runScene(const Scene& scene, const std::vector<Light>& lights, const std::s
        << relightableSeconds << ',' << bakeOut.report.relight.seconds << ','
        << bakeOut.report.relight.selfError << ',' << std::filesystem::file_size(work + "/plain.ply")
        << ',' << std::filesystem::file_size(work + "/relightable.ply") << ',' << relightSeconds
-       << '\n';
+       << std::endl;  // a run cut short keeps its scenes' lines
   BakeSettings reseeded = plain;
   reseeded.run.seed = 2;
   const BakeOutput second = bake(reseeded, forest);

@@ -54,17 +54,9 @@ Relit relitMesh(const std::string& input, const sss::Cubemap& environment,
   sss::BakedPlyContents contents = sss::readBakedMesh(input);
   if (!contents.hasRelight)
     sss::fail(input, "not a relightable bake (no relight_order): run sss-bake --relightable");
-  if (!contents.hasMaterial) sss::fail(input, "relightable bake without its material comments");
   sss::BakedMesh baked = std::move(contents.baked);
-  sss::TriangleMesh meshMm = baked.mesh;
-  sss::scalePositions(meshMm, baked.mmPerUnit);
-  const sss::Material material{.name = baked.materialName,
-                               .sigmaA = baked.sigmaA,
-                               .sigmaSPrime = baked.sigmaSPrime,
-                               .eta = baked.eta};
-  const sss::RelightTransfer transfer = sss::relightTransferOf(baked);
-  sss::RelitLight relit = sss::relight(input, {meshMm, material, transfer}, environment,
-                                       {.threads = o.threads, .quiet = true});
+  sss::RelitLight relit =
+      sss::relightBakedMesh(input, baked, environment, {.threads = o.threads, .quiet = true});
   const int order = baked.relightOrder;
   baked.exitance = std::move(relit.exitance);
   baked.radianceNormal = std::move(relit.radianceNormal);

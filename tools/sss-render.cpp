@@ -99,17 +99,9 @@ struct LoadedMesh {
 // values (its bake environment's) dropped. Returns whether it relit.
 bool relightUnder(const Arguments& a, const Cubemap& radiance, BakedPlyContents& contents) {
   if (!a.relight || !contents.hasRelight || a.request.mode == ShadingMode::Brdf) return false;
-  if (!contents.hasMaterial) fail(a.input, "relightable bake without its material comments");
   BakedMesh& baked = contents.baked;
-  TriangleMesh meshMm = baked.mesh;
-  scalePositions(meshMm, baked.mmPerUnit);
-  const Material material{.name = baked.materialName,
-                          .sigmaA = baked.sigmaA,
-                          .sigmaSPrime = baked.sigmaSPrime,
-                          .eta = baked.eta};
-  const RelightTransfer transfer = relightTransferOf(baked);
-  RelitLight relit = relight(a.input, {meshMm, material, transfer}, radiance,
-                             {.threads = a.threads, .quiet = true});
+  RelitLight relit =
+      relightBakedMesh(a.input, baked, radiance, {.threads = a.threads, .quiet = true});
   baked.exitance = std::move(relit.exitance);
   baked.radianceNormal = std::move(relit.radianceNormal);
   baked.farExitance.clear();

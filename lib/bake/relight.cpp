@@ -13,6 +13,7 @@
 #include "core/tool.h"
 #include "lighting/visibility_transfer.h"
 #include "material/directional_albedo_weight.h"
+#include "material/material.h"
 #include "material/profile_factory.h"
 #include "mesh/triangle_mesh.h"
 #include "optics/fresnel.h"
@@ -319,6 +320,19 @@ std::vector<glm::vec3> radianceGainOf(const std::string& path, const Relightable
 void checkRelightTransport(const std::string& path, const BakedMesh& baked) {
   if (baked.relightOrder >= 0)
     parseTransportKey(path, baked.relightTransport, baked.escapeProbability.size());
+}
+
+RelitLight relightBakedMesh(const std::string& path, const BakedMesh& baked,
+                            const Cubemap& environment, const RunContext& run) {
+  if (baked.materialName.empty()) fail(path, "relightable bake without its material comments");
+  TriangleMesh meshMm = baked.mesh;
+  scalePositions(meshMm, baked.mmPerUnit);
+  const Material material{.name = baked.materialName,
+                          .sigmaA = baked.sigmaA,
+                          .sigmaSPrime = baked.sigmaSPrime,
+                          .eta = baked.eta};
+  const RelightTransfer transfer = relightTransferOf(baked);
+  return relight(path, {meshMm, material, transfer}, environment, run);
 }
 
 RelightTransfer relightTransferOf(const BakedMesh& baked) {

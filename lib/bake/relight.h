@@ -123,6 +123,11 @@ std::vector<glm::vec3> transferredExitance(std::span<const glm::vec3> transfer, 
 // key parses (what relight() checks first; the readers check the rest).
 void checkRelightTransport(const std::string& path, const BakedMesh& baked);
 
+// A relightable bake as a file holds it (its units and material comments) relit under
+// `environment`: relight() on its mesh in mm. Throws Error naming `path` without a material.
+RelitLight relightBakedMesh(const std::string& path, const BakedMesh& baked,
+                            const Cubemap& environment, const RunContext& run);
+
 // A relightable BakedMesh's fields as relight() takes them (copies).
 RelightTransfer relightTransferOf(const BakedMesh& baked);
 

@@ -148,6 +148,22 @@ TEST_F(Relight, IsLinearInTheEnvironment) {
   EXPECT_LT(relativeRms(rboth.radianceNormal, both), 0.01);
 }
 
+TEST_F(Relight, SameResultForAnyThreadCount) {
+  const Cubemap sky = loadBakeEnvironment(settingsFor(mesh_, kSky, 45.0)).radiance;
+  const RelitLight one = relight("bumpy.ply", bakeMesh(), sky, {.seed = 3, .threads = 1});
+  const RelitLight two = relight("bumpy.ply", bakeMesh(), sky, {.seed = 3, .threads = 2});
+  EXPECT_EQ(one.radianceNormal, two.radianceNormal);
+  EXPECT_EQ(one.exitance, two.exitance);
+  BakeSettings s = settingsFor(mesh_, kSky);
+  s.relightOrder = 1;
+  s.run.threads = 1;
+  const BakeOutput single = bake(s);
+  s.run.threads = 2;
+  const BakeOutput dual = bake(s);
+  EXPECT_EQ(single.baked.relightTransfer, dual.baked.relightTransfer);
+  EXPECT_EQ(single.baked.radianceGain, dual.baked.radianceGain);
+}
+
 TEST_F(Relight, ATurnedEnvironmentMatchesAFreshBakeUnderIt) {
   for (double rotate : {90.0, 200.0}) {
     const BakeSettings s = settingsFor(mesh_, kSky, rotate);

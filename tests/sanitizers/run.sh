@@ -56,6 +56,7 @@ statistical+='|Visibility\.TheRatioEstimatorIsUnbiasedAndQuieterBesideAWall'
 # they run (the pilot, the escape walks, the far field; one thread in several stage tests) runs
 # under the sanitizers in the other bake and far-field tests.
 policy='BakeTool\.SameOutputForOneAndTwoThreads|FarField\.SameResultForAnyThreadCount'
+policy+='|Relight\.SameResultForAnyThreadCount'
 policy+='|BakeTool\.EnergyModelFollowsTheObjectSize|FarField\.UniformLightKeepsBEqualToEP'
 policy+='|BakeTool\.AutoSamplesFollowTheTolerance'
 # And the slowest accuracy checks and process races (9-17 s each under ASan, ~95 s summed,

@@ -1,7 +1,5 @@
 // sss-relight: a relightable bake (sss-bake --relightable) under another environment, on the
 // CPU, without baking again (bake/relight.h; docs/tools/sss-relight.md).
-#include <fstream>
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -78,19 +76,6 @@ Relit relitMesh(const std::string& input, const sss::Cubemap& environment,
   return {std::move(baked), order, relit.compactLights};
 }
 
-// The report as JSON at `path` (none when empty), through a temporary renamed into place.
-void writeReport(const std::string& path, const nlohmann::json& report) {
-  if (path.empty()) return;
-  sss::AtomicOutput output(path);
-  {
-    std::ofstream file(output.tempPath());
-    file << report.dump(2) << "\n";
-    file.close();
-    if (!file) sss::fail(path, "cannot write the JSON report");
-  }
-  output.commit();
-}
-
 void relightOne(const std::string& input, const std::string& output, const std::string& jsonPath,
                 const sss::Cubemap& environment, const RelightOptions& o) {
   const sss::Stopwatch clock;
@@ -105,7 +90,7 @@ void relightOne(const std::string& input, const std::string& output, const std::
                            {"vertices", baked.mesh.vertexCount()}};
   sss::writeBakedMesh(output, baked, report.dump());
   report["seconds"] = clock.seconds();
-  writeReport(jsonPath, report);
+  if (!jsonPath.empty()) sss::writeFileAtomically(jsonPath, report.dump(2) + "\n");
   sss::info("wrote " + output + " (" + std::to_string(baked.mesh.vertexCount()) + " vertices) in " +
                 sss::format("%.3f s", clock.seconds()),
             o.quiet);

@@ -350,16 +350,19 @@ RenderedImage contactSheet(const std::vector<RenderedImage>& frames) {
 // --light-turntable N: frame k with the environment turned 360 k / N degrees past --env-rotate,
 // a relightable bake relit under each (a plain bake keeps its light: the background and the
 // reflections turn), each to OUT_<kkk>.ext, and OUT the contact sheet of them.
-void writeLightTurntable(const Arguments& a, Renderer& renderer, RenderedImage first) {
+// The mesh read once (`mesh`, the first frame's) is relit again from its transfer for each frame.
+void writeLightTurntable(const Arguments& a, const LoadedMesh& mesh, Renderer& renderer,
+                         RenderedImage first) {
   std::vector<RenderedImage> frames{std::move(first)};
   for (int k = 1; k < a.lightTurntable; ++k) {
     Arguments turned = a;
     turned.orientation.rotateDeg = a.orientation.rotateDeg + 360.0 * k / a.lightTurntable;
     turned.quiet = true;
     EnvironmentCache environment(turned);
-    const LoadedMesh mesh = loadMesh(turned, environment.radiance());
+    BakedPlyContents contents = mesh.contents;
+    if (relightUnder(turned, environment.radiance(), contents))
+      renderer.setMesh(renderMeshFor(contents.baked, a.request.mode, mesh.shading.farField));
     const Environment& env = environment.lighting(mesh.shading.eta);
-    renderer.setMesh(mesh.renderMesh);
     renderer.setEnvironment(env.radiance, env.irradiance.empty() ? nullptr : &env.irradiance);
     frames.push_back(readBackOf(renderer));
   }
@@ -411,7 +414,7 @@ int renderOne(const Arguments& a, const GlContext& context, EnvironmentCache& en
 
   stage.restart();
   if (a.lightTurntable > 0) {
-    writeLightTurntable(a, renderer, readBackOf(renderer));
+    writeLightTurntable(a, mesh, renderer, readBackOf(renderer));
     return 0;
   }
   const RenderedImage image = readBackOf(renderer);

@@ -415,7 +415,6 @@ RelightTransfer relightStage(const BakeScene& scene, const TransportInput& trans
       relightTransfer({.meshMm = scene.mesh.meshMm,
                        .transport = linear,
                        .entry = lighting.entryWeighted.empty() ? nullptr : &scene.entryWeight,
-                       .eta = float(s.material.eta),
                        .order = s.relightOrder,
                        .rays = kRelightRays,
                        .bounces = bounces.enabled ? bounces.bounces : 0,
@@ -424,10 +423,11 @@ RelightTransfer relightStage(const BakeScene& scene, const TransportInput& trans
                        .radianceNormal = radianceNormal,
                        .run = s.run});
   const Stopwatch clock;
-  const RelightableMesh mesh{scene.mesh.meshMm, s.material, t};
-  t.radianceGain = radianceGainOf(s.meshPath, mesh, scene.radiance, lighting.transportIrradiance(),
-                                  radianceNormal, s.run);
-  const RelitLight own = relight(s.meshPath, mesh, scene.radiance, s.run);
+  OwnEnvironmentRelight ownRelight =
+      relightOwnEnvironment(s.meshPath, {scene.mesh.meshMm, s.material, t}, scene.radiance,
+                            lighting.transportIrradiance(), radianceNormal, s.run);
+  t.radianceGain = std::move(ownRelight.radianceGain);
+  const RelitLight& own = ownRelight.relit;
   t.report.selfError = relativeRms(own.radianceNormal, radianceNormal);
   t.report.compactLights = own.compactLights;
   t.report.compactFluxShare = own.compactFluxShare;

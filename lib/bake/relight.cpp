@@ -1,10 +1,10 @@
 #include "bake/relight.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <memory>
 #include <numeric>
+#include <optional>
 
 #include "core/error.h"
 #include "core/format.h"
@@ -23,39 +23,40 @@ namespace sss {
 
 namespace {
 
-// Basis function k's irradiance per vertex, split into its parts >= 0: E = positive - negative.
-struct SignedIrradiance {
-  std::vector<glm::vec3> positive, negative;
+// B of light of either sign (an SH basis function, or SH light ringing below zero) through a
+// transport that takes light >= 0: the transport of its positive part less that of its negative
+// part (the second only where there is one).
+template <class NonNegativeTransport>
+std::vector<glm::vec3> transportOfEitherSign(std::span<const glm::vec3> irradiance,
+                                             NonNegativeTransport&& nonNegative) {
+  std::vector<glm::vec3> positive(irradiance.size()), negative(irradiance.size());
   bool anyNegative = false;
-};
-
-SignedIrradiance basisIrradiance(const VisibilityTransfer& transfer, int k) {
-  const std::size_t n = transfer.coefficients.size() / transfer.count;
-  SignedIrradiance e{std::vector<glm::vec3>(n), std::vector<glm::vec3>(n)};
-  for (std::size_t v = 0; v < n; ++v) {
-    const glm::vec3 t = transfer.at(v)[k];
-    e.positive[v] = glm::max(t, glm::vec3(0.0f));
-    e.negative[v] = glm::max(-t, glm::vec3(0.0f));
-    e.anyNegative = e.anyNegative || e.negative[v] != glm::vec3(0.0f);
+  for (std::size_t v = 0; v < irradiance.size(); ++v) {
+    positive[v] = glm::max(irradiance[v], glm::vec3(0.0f));
+    negative[v] = glm::max(-irradiance[v], glm::vec3(0.0f));
+    anyNegative = anyNegative || negative[v] != glm::vec3(0.0f);
   }
-  return e;
+  std::vector<glm::vec3> b = nonNegative(std::span<const glm::vec3>(positive));
+  if (anyNegative) {
+    const std::vector<glm::vec3> minus = nonNegative(std::span<const glm::vec3>(negative));
+    for (std::size_t v = 0; v < b.size(); ++v) b[v] -= minus[v];
+  }
+  return b;
 }
 
 // Step 2: B per basis function through the bake's transport, at [vertex * count + k].
 std::vector<glm::vec3> transportedTransfer(const VisibilityTransfer& transfer,
                                            const TransportInput& transportIn) {
   const std::size_t n = transfer.coefficients.size() / transfer.count;
-  std::vector<glm::vec3> out(transfer.coefficients.size());
+  std::vector<glm::vec3> out(transfer.coefficients.size()), basis(n);
   TransportInput in = transportIn;
+  const auto nonNegative = [&](std::span<const glm::vec3> e) {
+    in.irradiance = e;
+    return transport(in).exitance;
+  };
   for (int k = 0; k < transfer.count; ++k) {
-    const SignedIrradiance e = basisIrradiance(transfer, k);
-    in.irradiance = e.positive;
-    std::vector<glm::vec3> b = transport(in).exitance;
-    if (e.anyNegative) {
-      in.irradiance = e.negative;
-      const std::vector<glm::vec3> minus = transport(in).exitance;
-      for (std::size_t v = 0; v < n; ++v) b[v] -= minus[v];
-    }
+    for (std::size_t v = 0; v < n; ++v) basis[v] = transfer.at(v)[k];
+    const std::vector<glm::vec3> b = transportOfEitherSign(basis, nonNegative);
     for (std::size_t v = 0; v < n; ++v) out[v * transfer.count + k] = b[v];
   }
   return out;
@@ -78,19 +79,13 @@ std::vector<glm::vec3> ratios(std::span<const glm::vec3> numerator,
 // The transport as one word: method,tolerance,profile,energy,R_r,R_g,R_b,entry,bounces,rays
 // (shortest round-trip numbers; entry: directional or diffuse; bounces: the bake's count, 0 for
 // none; rays: the gather's per vertex).
-std::string number(double x) {
-  char buffer[32];
-  const auto r = std::to_chars(buffer, buffer + sizeof buffer, x);
-  return std::string(buffer, r.ptr);
-}
-
 std::string transportKey(const TransportInput& in, bool directionalEntry, int bounces,
                          int gatherRays) {
   const glm::dvec3 r = in.energy.halfSpaceAlbedo;
   return std::string(kDiffusionMethodNames.name(diffusionMethodOf(in.method))) + "," +
-         number(in.diffusionTolerance) + "," + in.profile.name() + "," +
-         kEnergyModelNames.name(in.energy.model) + "," + number(r.x) + "," + number(r.y) + "," +
-         number(r.z) + "," +
+         shortestDecimal(in.diffusionTolerance) + "," + in.profile.name() + "," +
+         kEnergyModelNames.name(in.energy.model) + "," + shortestDecimal(r.x) + "," +
+         shortestDecimal(r.y) + "," + shortestDecimal(r.z) + "," +
          kEntryModelNames.name(directionalEntry ? EntryModel::Directional : EntryModel::Diffuse) +
          "," + std::to_string(bounces) + "," + std::to_string(gatherRays);
 }
@@ -116,9 +111,7 @@ StoredTransport parseTransportKey(const std::string& path, const std::string& ke
   }
   const auto real = [&](const std::string& text) {
     double x = 0.0;
-    const auto r = std::from_chars(text.data(), text.data() + text.size(), x);
-    if (r.ec != std::errc() || r.ptr != text.data() + text.size() || !std::isfinite(x) || x < 0)
-      fail(path, "bad relight_transport '" + key + "'");
+    if (!parseDecimal(text, x) || x < 0) fail(path, "bad relight_transport '" + key + "'");
     return x;
   };
   if (f.size() != 10) fail(path, "bad relight_transport '" + key + "'");
@@ -160,21 +153,10 @@ class StoredTransportRun {
     run_.quiet = true;
   }
   // B of E through the transport, its sums within `looseness` times the bake's tolerance; E of
-  // either sign (SH light rings below zero), as the transport of its parts.
+  // either sign (SH light rings below zero).
   std::vector<glm::vec3> operator()(std::span<const glm::vec3> irradiance, double looseness = 1.0) {
-    std::vector<glm::vec3> positive(irradiance.size()), negative(irradiance.size());
-    bool anyNegative = false;
-    for (std::size_t v = 0; v < irradiance.size(); ++v) {
-      positive[v] = glm::max(irradiance[v], glm::vec3(0.0f));
-      negative[v] = glm::max(-irradiance[v], glm::vec3(0.0f));
-      anyNegative = anyNegative || negative[v] != glm::vec3(0.0f);
-    }
-    std::vector<glm::vec3> b = nonNegative(positive, looseness);
-    if (anyNegative) {
-      const std::vector<glm::vec3> minus = nonNegative(negative, looseness);
-      for (std::size_t v = 0; v < b.size(); ++v) b[v] -= minus[v];
-    }
-    return b;
+    return transportOfEitherSign(
+        irradiance, [&](std::span<const glm::vec3> e) { return nonNegative(e, looseness); });
   }
 
  private:
@@ -203,27 +185,6 @@ class StoredTransportRun {
   RunContext run_;
 };
 
-// The bake's bounces (interreflection.h) on the relit direct B: the gather under `environment`,
-// its increments through the stored transport, the bake's own count of bounces. The gather's
-// share of E sets only the increments' precision: E is estimated as B / R.
-std::vector<glm::vec3> bounced(const RelightableMesh& bake, const StoredTransport& t,
-                               const DirectionalAlbedoWeight* entry, const Cubemap& environment,
-                               StoredTransportRun& transportRun, std::vector<glm::vec3> direct,
-                               const RunContext& run) {
-  const TriangleMesh& m = bake.meshMm;
-  const InterreflectionGather gather(m.positions, m.normals, m.triangles, environment,
-                                     float(bake.material.eta),
-                                     {.rays = t.gatherRays, .entry = entry, .run = run});
-  std::vector<glm::vec3> light(direct.size());
-  const glm::vec3 albedo = glm::max(glm::vec3(t.albedo), glm::vec3(1e-6f));
-  for (std::size_t v = 0; v < light.size(); ++v) light[v] = direct[v] / albedo;
-  const auto increment = [&](std::span<const glm::vec3> e, double looseness) {
-    return transportRun(e, looseness);
-  };
-  return iterateInterreflection(gather, light, std::move(direct), increment, t.bounces, 0.0)
-      .exitance;
-}
-
 }  // namespace
 
 RelightTransfer relightTransfer(const RelightInput& in) {
@@ -231,13 +192,14 @@ RelightTransfer relightTransfer(const RelightInput& in) {
   RelightTransfer out;
   RelightReport& report = out.report;
   const TriangleMesh& m = in.meshMm;
+  const float eta = float(in.transport.material.eta);
   const VisibilityTransfer transfer =
-      visibilityTransfer(m.positions, m.normals, m.triangles, in.eta,
+      visibilityTransfer(m.positions, m.normals, m.triangles, eta,
                          {.order = in.order, .rays = in.rays, .entry = in.entry, .run = in.run});
   report.transferSeconds = clock.seconds();
   out.relightTransfer = transportedTransfer(transfer, in.transport);
   report.transportSeconds = clock.seconds() - report.transferSeconds;
-  const float exitScale = float(normalExitRadianceScale(in.eta));
+  const float exitScale = float(normalExitRadianceScale(eta));
   out.order = in.order;
   out.exitancePerRadiance = ratios(in.exitance, in.radianceNormal, 1.0f / exitScale);
   if (in.transport.energy.model == EnergyModel::Escape)
@@ -261,60 +223,124 @@ std::vector<glm::vec3> transferredExitance(std::span<const glm::vec3> transfer, 
   return out;
 }
 
-// What relight() and radianceGainOf() share: the key parsed, the entry weight and the transport.
-struct RelightContext {
+namespace {
+
+// What one relighting under one environment builds once: the key parsed, the entry weight, the
+// transport with its sums, and the bounces' gather (traced when first needed).
+class RelightContext {
+ public:
   RelightContext(const std::string& path, const RelightableMesh& bake, const Cubemap& environment,
                  const RunContext& run)
-      : stored(parseTransportKey(path, bake.transfer.relightTransport,
-                                 bake.transfer.escapeProbability.size())),
-        weight(bake.material),
-        entry(stored.entry == EntryModel::Directional ? &weight : nullptr),
-        transportRun(bake, stored, environment, run) {}
-  StoredTransport stored;
-  DirectionalAlbedoWeight weight;
-  const DirectionalAlbedoWeight* entry;
-  StoredTransportRun transportRun;
+      : bake_(bake),
+        environment_(environment),
+        run_(run),
+        stored_(parseTransportKey(path, bake.transfer.relightTransport,
+                                  bake.transfer.escapeProbability.size())),
+        weight_(bake.material),
+        entry_(stored_.entry == EntryModel::Directional ? &weight_ : nullptr),
+        transportRun_(bake, stored_, environment, run) {}
+
+  // B of E through the stored transport (E of either sign).
+  std::vector<glm::vec3> transport(std::span<const glm::vec3> irradiance) {
+    return transportRun_(irradiance);
+  }
+
+  // The bake's bounces (interreflection.h) on a direct B: the gather under the environment, its
+  // increments through the stored transport, the bake's own count of bounces (none: B as it is).
+  // The gather's share of E sets only the increments' precision: E is estimated as B / R.
+  std::vector<glm::vec3> bounced(std::vector<glm::vec3> direct) {
+    if (stored_.bounces <= 0) return direct;
+    std::vector<glm::vec3> light(direct.size());
+    const glm::vec3 albedo = glm::max(glm::vec3(stored_.albedo), glm::vec3(1e-6f));
+    for (std::size_t v = 0; v < light.size(); ++v) light[v] = direct[v] / albedo;
+    const auto increment = [&](std::span<const glm::vec3> e, double looseness) {
+      return transportRun_(e, looseness);
+    };
+    return iterateInterreflection(gather(), light, std::move(direct), increment, stored_.bounces,
+                                  0.0)
+        .exitance;
+  }
+
+  // B of the environment before g: its compact lights with their shadows and its smooth rest
+  // through the transfer, then the bounces.
+  std::vector<glm::vec3> relitExitance(CompactLightSplit& split) {
+    const RelightTransfer& t = bake_.transfer;
+    split = splitCompactLights(environment_);
+    const SphericalHarmonics sh = SphericalHarmonics::project(split.rest, t.order, run_.threads);
+    std::vector<glm::vec3> b = transferredExitance(t.relightTransfer, t.order, sh);
+    if (!split.lights.empty()) {
+      const TriangleMesh& m = bake_.meshMm;
+      const std::vector<glm::vec3> e =
+          directionalIrradiance(m.positions, m.normals, m.triangles, float(bake_.material.eta),
+                                entry_, split.lights, run_);
+      const std::vector<glm::vec3> compact = transport(e);
+      for (std::size_t v = 0; v < b.size(); ++v) b[v] += compact[v];
+    }
+    return bounced(std::move(b));
+  }
+
+ private:
+  const InterreflectionGather& gather() {
+    if (!gather_) {
+      const TriangleMesh& m = bake_.meshMm;
+      gather_.emplace(
+          m.positions, m.normals, m.triangles, environment_, float(bake_.material.eta),
+          InterreflectionOptions{.rays = stored_.gatherRays, .entry = entry_, .run = run_});
+    }
+    return *gather_;
+  }
+
+  const RelightableMesh& bake_;
+  const Cubemap& environment_;
+  RunContext run_;
+  StoredTransport stored_;
+  DirectionalAlbedoWeight weight_;
+  const DirectionalAlbedoWeight* entry_;
+  StoredTransportRun transportRun_;
+  std::optional<InterreflectionGather> gather_;
 };
 
-RelitLight relight(const std::string& path, const RelightableMesh& bake, const Cubemap& environment,
-                   const RunContext& run) {
-  const RelightTransfer& t = bake.transfer;
-  RelightContext c(path, bake, environment, run);
-  const CompactLightSplit split = splitCompactLights(environment);
-  const SphericalHarmonics sh = SphericalHarmonics::project(split.rest, t.order, run.threads);
-  std::vector<glm::vec3> b = transferredExitance(t.relightTransfer, t.order, sh);
-  if (!split.lights.empty()) {
-    const TriangleMesh& m = bake.meshMm;
-    const std::vector<glm::vec3> e = directionalIrradiance(
-        m.positions, m.normals, m.triangles, float(bake.material.eta), c.entry, split.lights, run);
-    const std::vector<glm::vec3> compact = c.transportRun(e);
-    for (std::size_t v = 0; v < b.size(); ++v) b[v] += compact[v];
-  }
-  if (c.stored.bounces > 0)
-    b = bounced(bake, c.stored, c.entry, environment, c.transportRun, std::move(b), run);
+// The radiance along the normal (B times g, light below zero none: the SH light's ringing where
+// the bake is dark) and B of it (times b).
+RelitLight withGain(std::vector<glm::vec3> exitance, std::span<const glm::vec3> gain,
+                    std::span<const glm::vec3> exitancePerRadiance,
+                    const CompactLightSplit& split) {
   RelitLight out;
-  out.radianceNormal = std::move(b);
+  out.radianceNormal = std::move(exitance);
   out.exitance.resize(out.radianceNormal.size());
   for (std::size_t v = 0; v < out.radianceNormal.size(); ++v) {
-    // Light below zero (the SH light's ringing where the bake is dark) is no light.
-    out.radianceNormal[v] = glm::max(out.radianceNormal[v], glm::vec3(0.0f)) * t.radianceGain[v];
-    out.exitance[v] = out.radianceNormal[v] * t.exitancePerRadiance[v];
+    out.radianceNormal[v] = glm::max(out.radianceNormal[v], glm::vec3(0.0f)) * gain[v];
+    out.exitance[v] = out.radianceNormal[v] * exitancePerRadiance[v];
   }
   out.compactLights = int(split.lights.size());
   out.compactFluxShare = split.fluxShare;
   return out;
 }
 
-std::vector<glm::vec3> radianceGainOf(const std::string& path, const RelightableMesh& bake,
-                                      const Cubemap& environment,
-                                      std::span<const glm::vec3> ownIrradiance,
-                                      std::span<const glm::vec3> radianceNormal,
-                                      const RunContext& run) {
+}  // namespace
+
+RelitLight relight(const std::string& path, const RelightableMesh& bake, const Cubemap& environment,
+                   const RunContext& run) {
   RelightContext c(path, bake, environment, run);
-  std::vector<glm::vec3> b = c.transportRun(ownIrradiance);
-  if (c.stored.bounces > 0)
-    b = bounced(bake, c.stored, c.entry, environment, c.transportRun, std::move(b), run);
-  return ratios(radianceNormal, b, float(normalExitRadianceScale(float(bake.material.eta))));
+  CompactLightSplit split;
+  std::vector<glm::vec3> b = c.relitExitance(split);
+  return withGain(std::move(b), bake.transfer.radianceGain, bake.transfer.exitancePerRadiance,
+                  split);
+}
+
+OwnEnvironmentRelight relightOwnEnvironment(const std::string& path, const RelightableMesh& bake,
+                                            const Cubemap& environment,
+                                            std::span<const glm::vec3> ownIrradiance,
+                                            std::span<const glm::vec3> radianceNormal,
+                                            const RunContext& run) {
+  RelightContext c(path, bake, environment, run);
+  OwnEnvironmentRelight out;
+  out.radianceGain = ratios(radianceNormal, c.bounced(c.transport(ownIrradiance)),
+                            float(normalExitRadianceScale(float(bake.material.eta))));
+  CompactLightSplit split;
+  std::vector<glm::vec3> b = c.relitExitance(split);
+  out.relit = withGain(std::move(b), out.radianceGain, bake.transfer.exitancePerRadiance, split);
+  return out;
 }
 
 void checkRelightTransport(const std::string& path, const BakedMesh& baked) {

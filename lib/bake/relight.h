@@ -21,10 +21,10 @@
 //      the sums take light >= 0.
 // g carries the exit model and what the traced far field and the unscattered light change, in the
 // proportion the bake's own environment gave them: the bake's radiance along the normal over its
-// own light through the same transport and bounces (radianceGainOf). That is the approximation
-// that docs/relighting.md measures. The transport is stored as a key (method, tolerance, profile,
-// energy model, half-space albedo, entry, bounces, gather rays) and the escape probability per
-// vertex, so that sss-relight rebuilds it.
+// own light through the same transport and bounces (relightOwnEnvironment). That is the
+// approximation that docs/relighting.md measures. The transport is stored as a key (method,
+// tolerance, profile, energy model, half-space albedo, entry, bounces, gather rays) and the escape
+// probability per vertex, so that sss-relight rebuilds it.
 #pragma once
 
 #include <span>
@@ -52,7 +52,6 @@ struct RelightInput {
   const TriangleMesh& meshMm;
   const TransportInput& transport;                 // linearTransportInput of the bake's transport
   const DirectionalAlbedoWeight* entry = nullptr;  // the transport's, null for diffuse entry
-  float eta = 1.3f;
   int order = kDefaultRelightOrder;
   int rays = kRelightRays;
   int bounces = 0;      // the bake's (interreflection.h), done again at relight time
@@ -105,15 +104,20 @@ struct RelitLight {
 RelitLight relight(const std::string& path, const RelightableMesh& bake, const Cubemap& environment,
                    const RunContext& run);
 
-// g (step 4 of the file's comment): the bake's radiance along the normal over its own light
-// through the stored transport and bounces: E as the bake's rays measured it, not through the SH
-// transfer, so that g holds the exit model and the traced stages but not the transfer's
-// truncation. `bake.transfer`'s radianceGain is not read.
-std::vector<glm::vec3> radianceGainOf(const std::string& path, const RelightableMesh& bake,
-                                      const Cubemap& environment,
-                                      std::span<const glm::vec3> ownIrradiance,
-                                      std::span<const glm::vec3> radianceNormal,
-                                      const RunContext& run);
+// The bake relit under its own environment, and g (step 4 of the file's comment) for it: the
+// bake's radiance along the normal over its own light through the stored transport and bounces
+// (E as the bake's rays measured it, not through the SH transfer, so that g holds the exit model
+// and the traced stages but not the transfer's truncation). `bake.transfer`'s radianceGain is
+// not read. One transport and one gather serve both.
+struct OwnEnvironmentRelight {
+  std::vector<glm::vec3> radianceGain;
+  RelitLight relit;  // with that g
+};
+OwnEnvironmentRelight relightOwnEnvironment(const std::string& path, const RelightableMesh& bake,
+                                            const Cubemap& environment,
+                                            std::span<const glm::vec3> ownIrradiance,
+                                            std::span<const glm::vec3> radianceNormal,
+                                            const RunContext& run);
 
 // sum_k T_k L_k per vertex over the bands both have (B of the smooth light, before g).
 std::vector<glm::vec3> transferredExitance(std::span<const glm::vec3> transfer, int order,

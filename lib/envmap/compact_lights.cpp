@@ -16,8 +16,14 @@ struct Texel {
   float luminance;  // of the radiance
 };
 
-// The texels above the contrast, brightest first, until they cover the solid angle allowed.
-std::vector<Texel> brightestTexels(const Cubemap& radiance, const CompactLightOptions& o) {
+// The texels above the contrast, brightest first, until they cover the solid angle allowed; and
+// the map's irradiance (luminance, sum of L dw).
+struct BrightTexels {
+  std::vector<Texel> texels;
+  double flux = 0.0;
+};
+
+BrightTexels brightestTexels(const Cubemap& radiance, const CompactLightOptions& o) {
   double flux = 0.0, solidAngle = 0.0;
   std::vector<Texel> all;
   forEachTexel(radiance.size(), [&](int f, int x, int y) {
@@ -39,7 +45,7 @@ std::vector<Texel> brightestTexels(const Cubemap& radiance, const CompactLightOp
     if (covered > allowed) break;
   }
   all.resize(kept);
-  return all;
+  return {std::move(all), flux};
 }
 
 }  // namespace
@@ -47,7 +53,8 @@ std::vector<Texel> brightestTexels(const Cubemap& radiance, const CompactLightOp
 CompactLightSplit splitCompactLights(const Cubemap& radiance, const CompactLightOptions& o) {
   CompactLightSplit out;
   out.rest = radiance;
-  std::vector<Texel> bright = brightestTexels(radiance, o);
+  const BrightTexels selected = brightestTexels(radiance, o);
+  const std::vector<Texel>& bright = selected.texels;
   const float cosCluster = float(std::cos(o.clusterDeg * M_PI / 180.0));
   std::vector<char> taken(bright.size(), 0);
   for (std::size_t seed = 0; seed < bright.size() && int(out.lights.size()) < o.maxLights; ++seed) {
@@ -70,12 +77,9 @@ CompactLightSplit splitCompactLights(const Cubemap& radiance, const CompactLight
     light.direction = glm::length(weighted) > 0.0 ? glm::vec3(glm::normalize(weighted)) : axis;
     out.lights.push_back(light);
   }
-  double total = 0.0, lights = 0.0;
-  forEachTexel(radiance.size(), [&](int f, int x, int y) {
-    total += double(luminance(radiance.at(f, x, y))) * radiance.solidAngle(f, x, y);
-  });
+  double lights = 0.0;
   for (const DirectionalLight& l : out.lights) lights += luminance(l.irradiance);
-  out.fluxShare = total > 0.0 ? lights / total : 0.0;
+  out.fluxShare = selected.flux > 0.0 ? lights / selected.flux : 0.0;
   return out;
 }
 

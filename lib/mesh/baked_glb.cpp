@@ -297,7 +297,7 @@ void readSssExtras(const std::string& path, const Json& sss, BakedPlyContents& c
   }
   if (const auto r = sss.find("relight"); r != sss.end()) {
     const int order = r->at("order").get<int>();
-    if (order < 0 || order > 16) fail(path, "glTF extras: bad relight order");
+    if (order < 0 || order > kMaxStoredRelightOrder) fail(path, "glTF extras: bad relight order");
     baked.relightOrder = order;
     baked.relightTransport = r->at("transport").get<std::string>();
     contents.hasRelight = true;

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <bit>
-#include <charconv>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -11,6 +10,7 @@
 #include "core/atomic_output.h"
 #include "core/error.h"
 #include "core/file_extension.h"
+#include "core/format.h"
 #include "core/srgb.h"
 #include "mesh/ply_format.h"
 #include "optics/exit_lobe.h"
@@ -23,29 +23,15 @@ static_assert(std::endian::native == std::endian::little,
               "the baked PLY writer copies floats as little-endian bytes");
 
 constexpr int kFormatVersion = 1;
-// The highest relight order a file may declare (irradiance/spherical_harmonics.h's kMaxOrder).
-constexpr int kMaxRelightOrder = 16;
-
-// Shortest text that reads back to the same double.
-std::string number(double x) {
-  char buffer[32];
-  const auto r = std::to_chars(buffer, buffer + sizeof buffer, x);
-  return std::string(buffer, r.ptr);
-}
 
 std::string triple(const glm::dvec3& v) {
-  return number(v.x) + "," + number(v.y) + "," + number(v.z);
-}
-
-bool parseNumber(std::string_view text, double& x) {
-  const auto r = std::from_chars(text.data(), text.data() + text.size(), x);
-  return r.ec == std::errc() && r.ptr == text.data() + text.size() && std::isfinite(x);
+  return shortestDecimal(v.x) + "," + shortestDecimal(v.y) + "," + shortestDecimal(v.z);
 }
 
 bool parseTriple(std::string_view text, glm::dvec3& v) {
   for (int i = 0; i < 3; ++i) {
     const std::size_t comma = i < 2 ? text.find(',') : text.size();
-    if (comma == std::string_view::npos || !parseNumber(text.substr(0, comma), v[i])) return false;
+    if (comma == std::string_view::npos || !parseDecimal(text.substr(0, comma), v[i])) return false;
     text.remove_prefix(i < 2 ? comma + 1 : comma);
   }
   return true;
@@ -99,7 +85,8 @@ void checkFarField(const std::string& path, const BakedMesh& baked, std::size_t 
       const double k = baked.farExitSlope[i][c];
       if (k < ExitLobe::kMinSlope || k > ExitLobe::kMaxSlope)
         fail(path, "far_exit_slope of vertex " + std::to_string(i) + " is outside [" +
-                       number(ExitLobe::kMinSlope) + ", " + number(ExitLobe::kMaxSlope) + "]");
+                       shortestDecimal(ExitLobe::kMinSlope) + ", " +
+                       shortestDecimal(ExitLobe::kMaxSlope) + "]");
     }
 }
 
@@ -112,9 +99,9 @@ void checkRelight(const std::string& path, const BakedMesh& baked, std::size_t n
       fail(path, "has relight transfer values without relight_order");
     return;
   }
-  if (baked.relightOrder > kMaxRelightOrder)
+  if (baked.relightOrder > kMaxStoredRelightOrder)
     fail(path, "relight_order " + std::to_string(baked.relightOrder) + " is above " +
-                   std::to_string(kMaxRelightOrder));
+                   std::to_string(kMaxStoredRelightOrder));
   checkVertexValues(path, baked.relightTransfer, n * baked.relightCount(), "transfer");
   if (baked.relightTransfer.size() != n * baked.relightCount())
     fail(path, "relight_order " + std::to_string(baked.relightOrder) + " without its transfer");
@@ -193,10 +180,10 @@ void appendComments(std::string& out, const BakedMesh& baked, const BakedFields&
     out += "comment sss material=" + baked.materialName + "\n";
     out += "comment sss sigma_a=" + triple(baked.sigmaA) + "\n";
     out += "comment sss sigma_s_prime=" + triple(baked.sigmaSPrime) + "\n";
-    out += "comment sss eta=" + number(baked.eta) + "\n";
+    out += "comment sss eta=" + shortestDecimal(baked.eta) + "\n";
   }
-  out += "comment sss mm_per_unit=" + number(baked.mmPerUnit) + "\n";
-  if (fields.exitance) out += "comment sss preview_scale=" + number(scale) + "\n";
+  out += "comment sss mm_per_unit=" + shortestDecimal(baked.mmPerUnit) + "\n";
+  if (fields.exitance) out += "comment sss preview_scale=" + shortestDecimal(scale) + "\n";
   if (baked.meshChecked) out += "comment sss checked=1\n";
   if (baked.unscatteredTraced) out += "comment sss unscattered=1\n";
   if (baked.relightOrder >= 0)
@@ -345,7 +332,7 @@ void readKeys(const std::string& path, Keys& keys, BakedPlyContents& result) {
   };
   if (keys.count("format")) {
     double version = 0;
-    if (!parseNumber(keys["format"], version)) bad("format");
+    if (!parseDecimal(keys["format"], version)) bad("format");
     if (version > kFormatVersion) {
       fail(path, "baked PLY format " + keys["format"] + " is newer than this program reads (" +
                      std::to_string(kFormatVersion) + ")");
@@ -361,15 +348,15 @@ void readKeys(const std::string& path, Keys& keys, BakedPlyContents& result) {
     baked.materialName = keys["material"];
     if (!parseTriple(keys["sigma_a"], baked.sigmaA)) bad("sigma_a");
     if (!parseTriple(keys["sigma_s_prime"], baked.sigmaSPrime)) bad("sigma_s_prime");
-    if (!parseNumber(keys["eta"], baked.eta)) bad("eta");
+    if (!parseDecimal(keys["eta"], baked.eta)) bad("eta");
   }
   if (keys.count("mm_per_unit")) {
     result.hasUnits = true;
-    if (!parseNumber(keys["mm_per_unit"], baked.mmPerUnit) || baked.mmPerUnit <= 0) {
+    if (!parseDecimal(keys["mm_per_unit"], baked.mmPerUnit) || baked.mmPerUnit <= 0) {
       bad("mm_per_unit");
     }
   }
-  if (keys.count("preview_scale") && !parseNumber(keys["preview_scale"], baked.previewScale)) {
+  if (keys.count("preview_scale") && !parseDecimal(keys["preview_scale"], baked.previewScale)) {
     bad("preview_scale");
   }
   if (keys.count("checked")) {
@@ -382,8 +369,8 @@ void readKeys(const std::string& path, Keys& keys, BakedPlyContents& result) {
   }
   if (keys.count("relight_order")) {
     double order = -1;
-    if (!parseNumber(keys["relight_order"], order) || order != std::floor(order) || order < 0 ||
-        order > kMaxRelightOrder)
+    if (!parseDecimal(keys["relight_order"], order) || order != std::floor(order) || order < 0 ||
+        order > kMaxStoredRelightOrder)
       bad("relight_order");
     baked.relightOrder = static_cast<int>(order);
     result.hasRelight = true;
@@ -418,13 +405,15 @@ std::vector<glm::vec3> readChannels(const std::string& path, const ply::PlyMesh&
 // A relightable bake's transfer0.. and exitance_per_radiance, all of them with relight_order.
 void readRelight(const std::string& path, const ply::PlyMesh& ply, BakedPlyContents& result,
                  BakedVertexValues& values) {
-  bool ratio = false, gain = false, escape = false, first = false;
+  bool ratio = false, gain = false, escape = false;
   values.exitancePerRadiance = readChannels(path, ply, "exitance_per_radiance", ratio);
   values.radianceGain = readChannels(path, ply, "radiance_gain", gain);
   values.escapeProbability = readChannels(path, ply, "escape_probability", escape);
-  readChannels(path, ply, "transfer0", first);
   if (!result.hasRelight) {
-    if (ratio || gain || escape || first)
+    const bool transfer = ply.vertexScalars.count("transfer0_r") ||
+                          ply.vertexScalars.count("transfer0_g") ||
+                          ply.vertexScalars.count("transfer0_b");
+    if (ratio || gain || escape || transfer)
       fail(path, "has relight transfer values without relight_order");
     return;
   }

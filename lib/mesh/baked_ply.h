@@ -63,6 +63,10 @@
 
 namespace sss {
 
+// The highest relight order a baked file may declare (the readers' bound;
+// irradiance/spherical_harmonics.h's kMaxOrder).
+inline constexpr int kMaxStoredRelightOrder = 16;
+
 struct BakedMesh {
   TriangleMesh mesh;
   std::vector<glm::vec3> irradiance;      // E per vertex (empty: not written/not present)

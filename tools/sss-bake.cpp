@@ -270,7 +270,11 @@ int relightOrderFrom(const std::string& text) {
       throw sss::UsageError("--relightable " + sss::escapeControl(text) +
                             ": the SH order must be a whole number");
   }
-  sss::checkRelightOrder(order);
+  try {
+    sss::checkRelightOrder(order);
+  } catch (const sss::Error& e) {
+    throw sss::UsageError(e.what());  // a nonsense option, like the others' checks
+  }
   return order;
 }
 

@@ -229,6 +229,18 @@ TEST_F(Relight, RefusesBrokenFiles) {
       EXPECT_NE(std::string(e.what()).find("bad.ply"), std::string::npos) << e.what();
     }
   }
+  // A GLB whose extras declare more coefficients than its attributes hold.
+  writeBakedGlb(file("good.glb"), out_->baked);
+  test::writeText(file("bad.glb"),
+                  edited(test::readFile(file("good.glb")), "\"order\":3", "\"order\":4"));
+  try {
+    readBakedGlb(file("bad.glb"));
+    ADD_FAILURE() << "order 4 without _TRANSFER_16";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.glb: glTF: a relightable bake without _TRANSFER_16"),
+              std::string::npos)
+        << e.what();
+  }
   // A transport key that does not parse is refused when relighting.
   RelightTransfer broken = *transfer_;
   broken.relightTransport = "hierarchical,0.01";

@@ -152,6 +152,30 @@ TEST_F(SssRelightTool, SssRenderRelightsAsSssRelightDoes) {
   EXPECT_EQ(sheet.height, 128);
 }
 
+TEST_F(SssRelightTool, SssBakeRefusesNonsenseRelightOptions) {
+  const struct {
+    std::string args;
+    int exitCode;
+    std::string message;
+  } cases[] = {
+      {"--relightable x", 2, "--relightable x: the SH order must be a whole number"},
+      {"--relightable 9", 2, "--relightable 9: the SH order must be in [0, 8]"},
+      {"--relightable -2", 2, "the SH order must be in [0, 8]"},
+      {"--relightable --method pathtrace", 1, "--relightable needs a diffusion method"},
+  };
+  for (const auto& c : cases) {
+    const test::ToolRun r =
+        test::runTool("sss-bake",
+                      path("sphere.ply") + " --sky -m skin1 --mm-per-unit 1 -q " + c.args + " -o " +
+                          path("refused.ply"),
+                      Capture::StdoutAndStderr);
+    EXPECT_EQ(r.exitCode, c.exitCode) << c.args << ": " << r.output;
+    EXPECT_NE(r.output.find(c.message), std::string::npos) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    EXPECT_FALSE(std::filesystem::exists(path("refused.ply"))) << c.args;
+  }
+}
+
 TEST_F(SssRelightTool, RefusesWithOneClearLine) {
   const std::string before = test::readFile(path("baked.ply"));
   test::ToolRun r = relight(path("plain.ply") + " --sky -q -o " + path("x.ply"));

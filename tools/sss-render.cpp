@@ -88,20 +88,22 @@ std::optional<glm::vec3> parseBackground(const std::string& text) {
 // The mesh as drawn: its file contents, the shading taken from the bake, and its bounds.
 struct LoadedMesh {
   BakedPlyContents contents;
-  bool relit = false;  // a relightable bake relit under the environment
+  // A relightable bake relit under the environment, by this (kept for a light turntable's frames).
+  std::unique_ptr<BakedMeshRelighter> relighter;
   ShadingParameters shading;
   RenderMesh renderMesh;
   BoundingSphere bounds;
 };
 
-// A relightable bake (sss-bake --relightable) relit under the environment drawn around it
-// (bake/relight.h, on the CPU): B and the radiance along the normal replaced, the far field's
-// values (its bake environment's) dropped. Returns whether it relit.
-bool relightUnder(const Arguments& a, const Cubemap& radiance, BakedPlyContents& contents) {
-  if (!a.relight || !contents.hasRelight || a.request.mode == ShadingMode::Brdf) return false;
+// Whether the bake is relightable (sss-bake --relightable) and to be relit under -e.
+bool relights(const Arguments& a, const BakedPlyContents& contents) {
+  return a.relight && contents.hasRelight && a.request.mode != ShadingMode::Brdf;
+}
+
+// The bake's light replaced by `relit` (bake/relight.h, on the CPU): B and the radiance along
+// the normal, the far field's values (its bake environment's) dropped.
+void takeRelitLight(const Arguments& a, RelitLight relit, BakedPlyContents& contents) {
   BakedMesh& baked = contents.baked;
-  RelitLight relit =
-      relightBakedMesh(a.input, baked, radiance, {.threads = a.threads, .quiet = true});
   baked.exitance = std::move(relit.exitance);
   baked.radianceNormal = std::move(relit.radianceNormal);
   baked.farExitance.clear();
@@ -110,7 +112,18 @@ bool relightUnder(const Arguments& a, const Cubemap& radiance, BakedPlyContents&
   info("relit under " + a.environment + " (" + std::to_string(relit.compactLights) +
            " compact lights)",
        a.quiet);
-  return true;
+}
+
+// A relightable bake relit under the environment drawn around it, by the relighter returned
+// (null: not relit), which a light turntable's frames reuse.
+std::unique_ptr<BakedMeshRelighter> relightUnder(const Arguments& a, const Cubemap& radiance,
+                                                 BakedPlyContents& contents) {
+  if (!relights(a, contents)) return nullptr;
+  auto relighter = std::make_unique<BakedMeshRelighter>(
+      a.input, contents.baked, RunContext{.threads = a.threads, .quiet = true},
+      a.lightTurntable > 1);
+  takeRelitLight(a, relighter->relight(radiance), contents);
+  return relighter;
 }
 
 // Reads the baked mesh; names what the asked mode needs and the file lacks, and the defaults
@@ -121,7 +134,7 @@ LoadedMesh loadMesh(const Arguments& a, const Cubemap& radiance) {
   if (!a.quiet) {
     for (const std::string& w : m.contents.report.warnings) warn(a.input + ": " + w);
   }
-  m.relit = relightUnder(a, radiance, m.contents);
+  m.relighter = relightUnder(a, radiance, m.contents);
   const std::string missing = missingBakedValues(m.contents, a.request.mode);
   if (!missing.empty()) {
     fail(a.input, "missing " + missing +
@@ -293,7 +306,7 @@ void writeReport(const Arguments& a, const LoadedMesh& mesh, const Environment& 
                              {"total", total.milliseconds()}}}};
   report["environment_convention"] = kEquirectConventionNames.name(a.orientation.convention);
   report["environment_rotate_deg"] = a.orientation.rotateDeg;
-  report["relit"] = mesh.relit;
+  report["relit"] = mesh.relighter != nullptr;
   if (!env.irradianceReason.empty()) report["irradiance"] = env.irradianceReason;
   if (a.frames > 0) report["frames"] = framesJson(timings, a.warmup);
   writeFileAtomically(a.jsonPath, report.dump(2) + "\n");
@@ -350,7 +363,8 @@ RenderedImage contactSheet(const std::vector<RenderedImage>& frames) {
 // --light-turntable N: frame k with the environment turned 360 k / N degrees past --env-rotate,
 // a relightable bake relit under each (a plain bake keeps its light: the background and the
 // reflections turn), each to OUT_<kkk>.ext, and OUT the contact sheet of them.
-// The mesh read once (`mesh`, the first frame's) is relit again from its transfer for each frame.
+// The mesh read once (`mesh`, the first frame's) is relit again from its transfer for each frame
+// by the first frame's relighter (bake/relight.h, RelightSession: its rays traced once).
 void writeLightTurntable(const Arguments& a, const LoadedMesh& mesh, Renderer& renderer,
                          RenderedImage first) {
   std::vector<RenderedImage> frames{std::move(first)};
@@ -359,9 +373,11 @@ void writeLightTurntable(const Arguments& a, const LoadedMesh& mesh, Renderer& r
     turned.orientation.rotateDeg = a.orientation.rotateDeg + 360.0 * k / a.lightTurntable;
     turned.quiet = true;
     EnvironmentCache environment(turned);
-    BakedPlyContents contents = mesh.contents;
-    if (relightUnder(turned, environment.radiance(), contents))
+    if (mesh.relighter) {
+      BakedPlyContents contents = mesh.contents;
+      takeRelitLight(turned, mesh.relighter->relight(environment.radiance()), contents);
       renderer.setMesh(renderMeshFor(contents.baked, a.request.mode, mesh.shading.farField));
+    }
     const Environment& env = environment.lighting(mesh.shading.eta);
     renderer.setEnvironment(env.radiance, env.irradiance.empty() ? nullptr : &env.irradiance);
     frames.push_back(readBackOf(renderer));

@@ -139,11 +139,9 @@ StoredTransport parseTransportKey(const std::string& path, const std::string& ke
 // The bake's linear transport, rebuilt from what the file stores.
 class StoredTransportRun {
  public:
-  StoredTransportRun(const RelightableMesh& bake, const StoredTransport& t,
-                     const Cubemap& environment, const RunContext& run)
+  StoredTransportRun(const RelightableMesh& bake, const StoredTransport& t, const RunContext& run)
       : bake_(bake),
         stored_(t),
-        environment_(environment),
         profile_(makeProfile(t.profile, bake.material)),
         areas_(vertexAreas(bake.meshMm)),
         run_(run) {
@@ -153,18 +151,22 @@ class StoredTransportRun {
     run_.quiet = true;
   }
   // B of E through the transport, its sums within `looseness` times the bake's tolerance; E of
-  // either sign (SH light rings below zero).
-  std::vector<glm::vec3> operator()(std::span<const glm::vec3> irradiance, double looseness = 1.0) {
-    return transportOfEitherSign(
-        irradiance, [&](std::span<const glm::vec3> e) { return nonNegative(e, looseness); });
+  // either sign (SH light rings below zero). (`environment`: TransportInput's, which the
+  // diffusion sums do not read.)
+  std::vector<glm::vec3> operator()(std::span<const glm::vec3> irradiance,
+                                    const Cubemap& environment, double looseness = 1.0) {
+    return transportOfEitherSign(irradiance, [&](std::span<const glm::vec3> e) {
+      return nonNegative(e, environment, looseness);
+    });
   }
 
  private:
-  std::vector<glm::vec3> nonNegative(std::span<const glm::vec3> irradiance, double looseness) {
+  std::vector<glm::vec3> nonNegative(std::span<const glm::vec3> irradiance,
+                                     const Cubemap& environment, double looseness) {
     TransportInput in{.meshMm = bake_.meshMm,
                       .areasMm2 = areas_,
                       .irradiance = irradiance,
-                      .radiance = environment_,
+                      .radiance = environment,
                       .material = bake_.material,
                       .profile = *profile_,
                       .energy = plan_,
@@ -177,7 +179,6 @@ class StoredTransportRun {
 
   const RelightableMesh& bake_;
   const StoredTransport& stored_;
-  const Cubemap& environment_;
   std::unique_ptr<DiffusionProfile> profile_;
   std::vector<float> areas_;
   EnergyPlan plan_;
@@ -223,26 +224,35 @@ std::vector<glm::vec3> transferredExitance(std::span<const glm::vec3> transfer, 
   return out;
 }
 
-namespace {
+namespace {}  // namespace
 
-// What one relighting under one environment builds once: the key parsed, the entry weight, the
-// transport with its sums, and the bounces' gather (traced when first needed).
-class RelightContext {
+// What relighting builds once for any number of environments: the key parsed, the entry weight,
+// the transport with its sums, the compact lights' shadow rays and the bounces' gather (both
+// built when first needed; the gather's mirrored sky swapped for each environment).
+class RelightSession::Context {
  public:
-  RelightContext(const std::string& path, const RelightableMesh& bake, const Cubemap& environment,
-                 const RunContext& run)
+  Context(const std::string& path, const RelightableMesh& bake, const RunContext& run,
+          bool reusable)
       : bake_(bake),
-        environment_(environment),
         run_(run),
+        reusable_(reusable),
         stored_(parseTransportKey(path, bake.transfer.relightTransport,
                                   bake.transfer.escapeProbability.size())),
         weight_(bake.material),
         entry_(stored_.entry == EntryModel::Directional ? &weight_ : nullptr),
-        transportRun_(bake, stored_, environment, run) {}
+        transportRun_(bake_, stored_, run),
+        shadows_(bake.meshMm.positions, bake.meshMm.normals, bake.meshMm.triangles,
+                 float(bake.material.eta), entry_, run) {}
+
+  // The environment the next calls relight under (the gather's mirrored sky follows it).
+  void lightWith(const Cubemap& environment) {
+    environment_ = &environment;
+    if (gather_) gather_->setSky(environment);
+  }
 
   // B of E through the stored transport (E of either sign).
   std::vector<glm::vec3> transport(std::span<const glm::vec3> irradiance) {
-    return transportRun_(irradiance);
+    return transportRun_(irradiance, *environment_);
   }
 
   // The bake's bounces (interreflection.h) on a direct B: the gather under the environment, its
@@ -254,7 +264,7 @@ class RelightContext {
     const glm::vec3 albedo = glm::max(glm::vec3(stored_.albedo), glm::vec3(1e-6f));
     for (std::size_t v = 0; v < light.size(); ++v) light[v] = direct[v] / albedo;
     const auto increment = [&](std::span<const glm::vec3> e, double looseness) {
-      return transportRun_(e, looseness);
+      return transportRun_(e, *environment_, looseness);
     };
     return iterateInterreflection(gather(), light, std::move(direct), increment, stored_.bounces,
                                   0.0)
@@ -265,15 +275,11 @@ class RelightContext {
   // through the transfer, then the bounces.
   std::vector<glm::vec3> relitExitance(CompactLightSplit& split) {
     const RelightTransfer& t = bake_.transfer;
-    split = splitCompactLights(environment_);
+    split = splitCompactLights(*environment_);
     const SphericalHarmonics sh = SphericalHarmonics::project(split.rest, t.order, run_.threads);
     std::vector<glm::vec3> b = transferredExitance(t.relightTransfer, t.order, sh);
     if (!split.lights.empty()) {
-      const TriangleMesh& m = bake_.meshMm;
-      const std::vector<glm::vec3> e =
-          directionalIrradiance(m.positions, m.normals, m.triangles, float(bake_.material.eta),
-                                entry_, split.lights, run_);
-      const std::vector<glm::vec3> compact = transport(e);
+      const std::vector<glm::vec3> compact = transport(shadows_.irradiance(split.lights));
       for (std::size_t v = 0; v < b.size(); ++v) b[v] += compact[v];
     }
     return bounced(std::move(b));
@@ -284,21 +290,26 @@ class RelightContext {
     if (!gather_) {
       const TriangleMesh& m = bake_.meshMm;
       gather_.emplace(
-          m.positions, m.normals, m.triangles, environment_, float(bake_.material.eta),
-          InterreflectionOptions{.rays = stored_.gatherRays, .entry = entry_, .run = run_});
+          m.positions, m.normals, m.triangles, *environment_, float(bake_.material.eta),
+          InterreflectionOptions{
+              .rays = stored_.gatherRays, .entry = entry_, .run = run_, .keepMirrors = reusable_});
     }
     return *gather_;
   }
 
-  const RelightableMesh& bake_;
-  const Cubemap& environment_;
+  const RelightableMesh bake_;  // references to the caller's mesh, material and transfer
   RunContext run_;
+  bool reusable_;
   StoredTransport stored_;
   DirectionalAlbedoWeight weight_;
   const DirectionalAlbedoWeight* entry_;
   StoredTransportRun transportRun_;
+  DirectionalShadows shadows_;
   std::optional<InterreflectionGather> gather_;
+  const Cubemap* environment_ = nullptr;
 };
+
+namespace {
 
 // The radiance along the normal (B times g, light below zero none: the SH light's ringing where
 // the bake is dark) and B of it (times b).
@@ -319,13 +330,23 @@ RelitLight withGain(std::vector<glm::vec3> exitance, std::span<const glm::vec3> 
 
 }  // namespace
 
+RelightSession::RelightSession(const std::string& path, const RelightableMesh& bake,
+                               const RunContext& run, bool reusable)
+    : bake_(bake), context_(std::make_unique<Context>(path, bake, run, reusable)) {}
+
+RelightSession::~RelightSession() = default;
+
+RelitLight RelightSession::relight(const Cubemap& environment) {
+  context_->lightWith(environment);
+  CompactLightSplit split;
+  std::vector<glm::vec3> b = context_->relitExitance(split);
+  return withGain(std::move(b), bake_.transfer.radianceGain, bake_.transfer.exitancePerRadiance,
+                  split);
+}
+
 RelitLight relight(const std::string& path, const RelightableMesh& bake, const Cubemap& environment,
                    const RunContext& run) {
-  RelightContext c(path, bake, environment, run);
-  CompactLightSplit split;
-  std::vector<glm::vec3> b = c.relitExitance(split);
-  return withGain(std::move(b), bake.transfer.radianceGain, bake.transfer.exitancePerRadiance,
-                  split);
+  return RelightSession(path, bake, run, false).relight(environment);
 }
 
 OwnEnvironmentRelight relightOwnEnvironment(const std::string& path, const RelightableMesh& bake,
@@ -333,7 +354,8 @@ OwnEnvironmentRelight relightOwnEnvironment(const std::string& path, const Relig
                                             std::span<const glm::vec3> ownIrradiance,
                                             std::span<const glm::vec3> radianceNormal,
                                             const RunContext& run) {
-  RelightContext c(path, bake, environment, run);
+  RelightSession::Context c(path, bake, run, false);
+  c.lightWith(environment);
   OwnEnvironmentRelight out;
   out.radianceGain = ratios(radianceNormal, c.bounced(c.transport(ownIrradiance)),
                             float(normalExitRadianceScale(float(bake.material.eta))));
@@ -348,17 +370,35 @@ void checkRelightTransport(const std::string& path, const BakedMesh& baked) {
     parseTransportKey(path, baked.relightTransport, baked.escapeProbability.size());
 }
 
+namespace {
+
+const BakedMesh& withMaterial(const std::string& path, const BakedMesh& baked) {
+  if (baked.materialName.empty()) fail(path, "relightable bake without its material comments");
+  return baked;
+}
+
+TriangleMesh meshInMm(const BakedMesh& baked) {
+  TriangleMesh m = baked.mesh;
+  scalePositions(m, baked.mmPerUnit);
+  return m;
+}
+
+}  // namespace
+
+BakedMeshRelighter::BakedMeshRelighter(const std::string& path, const BakedMesh& baked,
+                                       const RunContext& run, bool reusable)
+    : meshMm_(meshInMm(withMaterial(path, baked))),
+      material_{.name = baked.materialName,
+                .sigmaA = baked.sigmaA,
+                .sigmaSPrime = baked.sigmaSPrime,
+                .eta = baked.eta},
+      transfer_(relightTransferOf(baked)),
+      bake_{meshMm_, material_, transfer_},
+      session_(path, bake_, run, reusable) {}
+
 RelitLight relightBakedMesh(const std::string& path, const BakedMesh& baked,
                             const Cubemap& environment, const RunContext& run) {
-  if (baked.materialName.empty()) fail(path, "relightable bake without its material comments");
-  TriangleMesh meshMm = baked.mesh;
-  scalePositions(meshMm, baked.mmPerUnit);
-  const Material material{.name = baked.materialName,
-                          .sigmaA = baked.sigmaA,
-                          .sigmaSPrime = baked.sigmaSPrime,
-                          .eta = baked.eta};
-  const RelightTransfer transfer = relightTransferOf(baked);
-  return relight(path, {meshMm, material, transfer}, environment, run);
+  return BakedMeshRelighter(path, baked, run, false).relight(environment);
 }
 
 RelightTransfer relightTransferOf(const BakedMesh& baked) {

@@ -27,6 +27,7 @@
 // probability per vertex, so that sss-relight rebuilds it.
 #pragma once
 
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -37,7 +38,9 @@
 #include "core/run_context.h"
 #include "envmap/compact_lights.h"
 #include "irradiance/spherical_harmonics.h"
+#include "material/material.h"
 #include "mesh/baked_ply.h"
+#include "mesh/triangle_mesh.h"
 
 namespace sss {
 
@@ -104,6 +107,27 @@ struct RelitLight {
 RelitLight relight(const std::string& path, const RelightableMesh& bake, const Cubemap& environment,
                    const RunContext& run);
 
+// relight() under any number of environments (a light turntable; one bake, N environments): what
+// does not depend on the light is built once (the transport key parsed, the profile and its
+// weight sums, the compact lights' shadow rays, the bounces' gather rays, whose mirrored sky is
+// swapped for each environment). Each relight is relight()'s under the same environment, bit for
+// bit. Throws Error naming `path` on a transport key it cannot read. Keeps references to `bake`'s
+// mesh, material and transfer.
+class RelightSession {
+ public:
+  // reusable false: for one environment (the gather keeps no mirror directions: less memory).
+  RelightSession(const std::string& path, const RelightableMesh& bake, const RunContext& run,
+                 bool reusable = true);
+  ~RelightSession();
+  RelitLight relight(const Cubemap& environment);
+
+  class Context;  // relight.cpp
+
+ private:
+  const RelightableMesh bake_;
+  std::unique_ptr<Context> context_;
+};
+
 // The bake relit under its own environment, and g (step 4 of the file's comment) for it: the
 // bake's radiance along the normal over its own light through the stored transport and bounces
 // (E as the bake's rays measured it, not through the SH transfer, so that g holds the exit model
@@ -127,8 +151,24 @@ std::vector<glm::vec3> transferredExitance(std::span<const glm::vec3> transfer, 
 // key parses (what relight() checks first; the readers check the rest).
 void checkRelightTransport(const std::string& path, const BakedMesh& baked);
 
-// A relightable bake as a file holds it (its units and material comments) relit under
-// `environment`: relight() on its mesh in mm. Throws Error naming `path` without a material.
+// A relightable bake as a file holds it (its units and material comments), relit under any
+// number of environments: a RelightSession on its mesh in mm. Throws Error naming `path` without
+// a material or on a transport key it cannot read. Copies what it needs of `baked`.
+class BakedMeshRelighter {
+ public:
+  BakedMeshRelighter(const std::string& path, const BakedMesh& baked, const RunContext& run,
+                     bool reusable = true);
+  RelitLight relight(const Cubemap& environment) { return session_.relight(environment); }
+
+ private:
+  TriangleMesh meshMm_;
+  Material material_;
+  RelightTransfer transfer_;
+  RelightableMesh bake_;
+  RelightSession session_;
+};
+
+// BakedMeshRelighter for one environment.
 RelitLight relightBakedMesh(const std::string& path, const BakedMesh& baked,
                             const Cubemap& environment, const RunContext& run);
 

@@ -113,19 +113,40 @@ std::vector<glm::vec3> directionalIrradiance(std::span<const glm::vec3> position
                                              const DirectionalAlbedoWeight* entry,
                                              std::span<const DirectionalLight> lights,
                                              const RunContext& run) {
-  std::vector<glm::vec3> e(positions.size(), glm::vec3(0.0f));
-  if (lights.empty() || positions.empty()) return e;
-  const VertexFacets facets = lightFacets(positions, normals, triangles);
-  const TriangleScene scene(positions, triangles, TriangleSceneOptions::surfaceRays(run.threads));
-  const float extent = boundsOf(positions).longestSide();
-  parallelFor(positions.size(), run.threads, 256, [&](std::size_t begin, std::size_t end) {
+  return DirectionalShadows(positions, normals, triangles, eta, entry, run).irradiance(lights);
+}
+
+DirectionalShadows::DirectionalShadows(std::span<const glm::vec3> positions,
+                                       std::span<const glm::vec3> normals,
+                                       std::span<const glm::uvec3> triangles, float eta,
+                                       const DirectionalAlbedoWeight* entry, const RunContext& run)
+    : positions_(positions),
+      normals_(normals),
+      triangles_(triangles),
+      eta_(eta),
+      entry_(entry),
+      run_(run),
+      facets_(lightFacets(positions, normals, triangles)) {}
+
+DirectionalShadows::~DirectionalShadows() = default;
+
+std::vector<glm::vec3> DirectionalShadows::irradiance(std::span<const DirectionalLight> lights) {
+  std::vector<glm::vec3> e(positions_.size(), glm::vec3(0.0f));
+  if (lights.empty() || positions_.empty()) return e;
+  if (!scene_)
+    scene_ = std::make_unique<TriangleScene>(positions_, triangles_,
+                                             TriangleSceneOptions::surfaceRays(run_.threads));
+  const float extent = boundsOf(positions_).longestSide();
+  parallelFor(positions_.size(), run_.threads, 256, [&](std::size_t begin, std::size_t end) {
     for (std::size_t v = begin; v < end; ++v) {
-      const float offset = surfaceRayOffset(positions[v], extent);
+      const float offset = surfaceRayOffset(positions_[v], extent);
       for (const DirectionalLight& light : lights) {
-        const FacetIntake intake = facetIntake(facets, v, normals[v], light.direction, eta, entry);
+        const FacetIntake intake =
+            facetIntake(facets_, v, normals_[v], light.direction, eta_, entry_);
         if (intake.transmitted <= 0.0f) continue;
-        if (scene.occluded(positions[v] + offset * normals[v], light.direction, offset)) continue;
-        e[v] += light.irradiance * (entry ? intake.entryWeighted : glm::vec3(intake.transmitted));
+        if (scene_->occluded(positions_[v] + offset * normals_[v], light.direction, offset))
+          continue;
+        e[v] += light.irradiance * (entry_ ? intake.entryWeighted : glm::vec3(intake.transmitted));
       }
     }
   });

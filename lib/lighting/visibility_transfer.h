@@ -16,6 +16,7 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -23,10 +24,12 @@
 
 #include "core/run_context.h"
 #include "envmap/compact_lights.h"
+#include "mesh/triangle_mesh.h"
 
 namespace sss {
 
 class DirectionalAlbedoWeight;  // material/directional_albedo_weight.h
+class TriangleScene;            // raytrace/triangle_scene.h
 
 struct VisibilityTransferOptions {
   int order = 3;                                   // SH bands 0..order: (order + 1)^2 coefficients
@@ -60,5 +63,26 @@ std::vector<glm::vec3> directionalIrradiance(std::span<const glm::vec3> position
                                              const DirectionalAlbedoWeight* entry,
                                              std::span<const DirectionalLight> lights,
                                              const RunContext& run);
+
+// directionalIrradiance for any number of sets of lights on one mesh: the facets built once, the
+// shadow rays' scene when first needed (a relit turntable, bake/relight.h). Keeps references to
+// the mesh's arrays and to `entry`.
+class DirectionalShadows {
+ public:
+  DirectionalShadows(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
+                     std::span<const glm::uvec3> triangles, float eta,
+                     const DirectionalAlbedoWeight* entry, const RunContext& run);
+  ~DirectionalShadows();
+  std::vector<glm::vec3> irradiance(std::span<const DirectionalLight> lights);
+
+ private:
+  std::span<const glm::vec3> positions_, normals_;
+  std::span<const glm::uvec3> triangles_;
+  float eta_;
+  const DirectionalAlbedoWeight* entry_;
+  RunContext run_;
+  VertexFacets facets_;
+  std::unique_ptr<TriangleScene> scene_;
+};
 
 }  // namespace sss

@@ -28,6 +28,10 @@ namespace {
 // interreflection"). The bias is a reflected sun's patch blurred by the texels' width.
 constexpr int kMirrorSkyFaceSize = 8;
 
+Cubemap mirrorSkyOf(const Cubemap& radiance) {
+  return radiance.size() > kMirrorSkyFaceSize ? radiance.resized(kMirrorSkyFaceSize) : radiance;
+}
+
 // Where a ray meets the mesh, as the gather needs it: the hit triangle's vertices and barycentric
 // weights, the smooth normal there and the cosine between it and the way back along the ray.
 struct SurfaceHit {
@@ -75,20 +79,20 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
                             TriangleSceneOptions::surfaceRays(options.run.threads));
   const float extent = boundsOf(positions).longestSide();
   const float exitScale = float(exitRadianceScale(eta));
-  const Cubemap mirrorSky =
-      radiance.size() > kMirrorSkyFaceSize ? radiance.resized(kMirrorSkyFaceSize) : radiance;
+  const Cubemap mirrorSky = mirrorSkyOf(radiance);
   const DirectionalAlbedoWeight diffuse;
   const DirectionalAlbedoWeight& weight = options.entry ? *options.entry : diffuse;
   const uint32_t rays = uint32_t(options.rays);
   const float perRay = 1.0f / float(options.rays);
   const VertexFacets facets = lightFacets(positions, normals, triangles);
   std::vector<std::vector<Hit>> perVertex(n);
+  std::vector<std::vector<Mirror>> perVertexMirrors(options.keepMirrors ? n : 0);
   std::atomic<uint64_t> blocked{0};
   // The light leaving a hit towards where the ray came from: its exit radiance from B, and the
   // sky it mirrors; where the mirror direction meets the object again, the light leaving that
   // second hit instead (its exit radiance and its mirrored sky: one specular bounce more, which
   // keeps a white furnace at 1 up to third-order mirror paths).
-  const auto addHit = [&](std::vector<Hit>& hits, const SurfaceHit& h, const glm::vec3& incoming,
+  const auto addHit = [&](uint32_t v, const SurfaceHit& h, const glm::vec3& incoming,
                           const glm::vec3& throughput, bool followMirror) {
     const bool sameRay = !followMirror;  // the second hit continues the first's ray
     const glm::vec3 mirror = incoming + 2.0f * h.mu * h.normal;
@@ -99,9 +103,11 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
                                                  h.point + offset * h.faceNormal, mirror, offset)
                                   : SurfaceHit{};
     const bool open = !followMirror || (!second.hit && glm::dot(mirror, h.faceNormal) > 0.0f);
-    hits.push_back({h.vertices, h.barycentric,
-                    throughput * fresnelTransmittance(h.mu, eta) * exitScale,
-                    open ? throughput * fr * mirrorSky.sample(mirror) : glm::vec3(0.0f), sameRay});
+    const glm::vec3 mirrorWeight = open ? throughput * fr : glm::vec3(0.0f);
+    perVertex[v].push_back(
+        {h.vertices, h.barycentric, throughput * fresnelTransmittance(h.mu, eta) * exitScale,
+         open ? mirrorWeight * mirrorSky.sample(mirror) : glm::vec3(0.0f), sameRay});
+    if (options.keepMirrors) perVertexMirrors[v].push_back({mirror, mirrorWeight});
     return std::make_pair(second, mirror);
   };
   std::vector<uint32_t> traced = options.vertices;
@@ -132,9 +138,9 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
         ++count;
         if (!first.valid) continue;
         const glm::vec3 entry = perRay / intake.cosinePdf * intake.entryWeighted;
-        const auto [second, mirror] = addHit(perVertex[v], first, w, entry, true);
+        const auto [second, mirror] = addHit(v, first, w, entry, true);
         if (second.valid)
-          addHit(perVertex[v], second, mirror, entry * fresnelDielectric(first.mu, eta), false);
+          addHit(v, second, mirror, entry * fresnelDielectric(first.mu, eta), false);
       }
     }
     blocked += count;
@@ -143,8 +149,23 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
   for (std::size_t v = 0; v < n; ++v) offsets_[v + 1] = offsets_[v] + uint32_t(perVertex[v].size());
   hits_.reserve(offsets_[n]);
   for (auto& hits : perVertex) hits_.insert(hits_.end(), hits.begin(), hits.end());
+  if (options.keepMirrors) {
+    mirrors_.reserve(offsets_[n]);
+    for (auto& m : perVertexMirrors) mirrors_.insert(mirrors_.end(), m.begin(), m.end());
+  }
   rays_ = options.rays;
   blockedFraction_ = double(blocked) / double(std::max<std::size_t>(traced.size() * rays, 1));
+}
+
+void InterreflectionGather::setSky(const Cubemap& radiance) {
+  if (mirrors_.size() != hits_.size())
+    fail("", "interreflection: setSky needs a gather that kept its mirrors");
+  const Cubemap mirrorSky = mirrorSkyOf(radiance);
+  for (std::size_t k = 0; k < hits_.size(); ++k) {
+    const Mirror& m = mirrors_[k];
+    hits_[k].reflection =
+        m.weight != glm::vec3(0.0f) ? m.weight * mirrorSky.sample(m.direction) : glm::vec3(0.0f);
+  }
 }
 
 std::vector<glm::vec3> InterreflectionGather::gather(std::span<const glm::vec3> exitance,

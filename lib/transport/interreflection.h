@@ -46,6 +46,10 @@ struct InterreflectionOptions {
   // Only these vertices trace rays (a pilot, estimateMissingInterreflection); the others gather
   // nothing. Empty: every vertex.
   std::vector<uint32_t> vertices{};
+  // Keep each hit's mirror direction, so that setSky can put another environment in the mirrored
+  // sky (the rays do not depend on the light: one gather serves every environment a relightable
+  // bake is relit under). 24 bytes more per hit.
+  bool keepMirrors = false;
 };
 
 class InterreflectionGather {
@@ -65,6 +69,9 @@ class InterreflectionGather {
                                 bool mirrored = true) const;
   // Of the rays traced, the fraction that met the object.
   double blockedFraction() const { return blockedFraction_; }
+  // The mirrored sky of `radiance` instead of the one built with: the same values as a gather
+  // built under `radiance`. Needs InterreflectionOptions::keepMirrors.
+  void setSky(const Cubemap& radiance);
 
  private:
   struct Hit {
@@ -74,9 +81,14 @@ class InterreflectionGather {
     glm::vec3 reflection;  // pi / N F_t(mu) w(mu) F_r(mu_h) L_env(r)
     bool sameRay;          // the mirror bounce of the hit before it: one ray's light with it
   };
+  struct Mirror {
+    glm::vec3 direction;  // of the mirror bounce at the hit
+    glm::vec3 weight;     // pi / N F_t(mu) w(mu) F_r(mu_h), 0 where the mirror meets the object
+  };
   int rays_ = 0;
   std::vector<uint32_t> offsets_;  // hits of vertex v: [offsets_[v], offsets_[v + 1])
   std::vector<Hit> hits_;
+  std::vector<Mirror> mirrors_;  // per hit, with keepMirrors
   double blockedFraction_ = 0.0;
 };
 

@@ -148,6 +148,26 @@ TEST_F(Relight, IsLinearInTheEnvironment) {
   EXPECT_LT(relativeRms(rboth.radianceNormal, both), 0.01);
 }
 
+// One session for several environments (sss-render's light turntable): each relight is what a
+// relight of its own gives, bit for bit, in any order, the same environment twice included. The
+// fixture's bake has bounces, so the gather's rays (traced once) and its swapped sky count.
+TEST_F(Relight, ASessionRelightsEachEnvironmentAsARelightOfItsOwn) {
+  std::vector<std::string> key{""};  // method,tolerance,...,entry,bounces,rays (relight.h)
+  for (const char c : transfer_->relightTransport) c == ',' ? key.emplace_back() : key.back() += c;
+  ASSERT_EQ(key.size(), 10u);
+  ASSERT_NE(key[8], "0");  // bounces
+  const Cubemap sun = loadBakeEnvironment(settingsFor(mesh_, kSky)).radiance;
+  const Cubemap turned = loadBakeEnvironment(settingsFor(mesh_, kSky, 120.0)).radiance;
+  const Cubemap sky = gradient(glm::vec3(0.0f, 0.0f, 1.0f), glm::vec3(0.4f, 0.6f, 0.9f));
+  RelightSession session("bumpy.ply", bakeMesh(), {.seed = 3, .threads = 2, .quiet = true});
+  for (const Cubemap* env : {&sun, &turned, &sky, &sun}) {
+    const RelitLight fromSession = session.relight(*env), own = relit(*env);
+    EXPECT_EQ(fromSession.radianceNormal, own.radianceNormal);
+    EXPECT_EQ(fromSession.exitance, own.exitance);
+    EXPECT_EQ(fromSession.compactLights, own.compactLights);
+  }
+}
+
 TEST_F(Relight, SameResultForAnyThreadCount) {
   const Cubemap sky = loadBakeEnvironment(settingsFor(mesh_, kSky, 45.0)).radiance;
   const RelitLight one = relight("bumpy.ply", bakeMesh(), sky, {.seed = 3, .threads = 1});

@@ -10,6 +10,7 @@
 #include <span>
 #include <vector>
 
+#include "core/error.h"
 #include "core/relative_rms.h"
 #include "envmap/cubemap.h"
 #include "lighting/visibility.h"
@@ -233,6 +234,31 @@ TEST(Interreflection, SummingTheIncrementsEqualsIteratingTheWholeTransport) {
       moved = std::max(moved, double(b[v][c] / b0[v][c]));
     }
   EXPECT_GT(moved, 1.2);  // the bounces matter in the pit
+}
+
+// A relight session (bake/relight.h) traces the gather's rays once and swaps the sky they mirror
+// per environment: the gather must then be what one built under that sky is, bit for bit, and
+// differ from the first sky's (the mirrored sky counts in the pit).
+TEST(Interreflection, SwappedSkyGathersAsAGatherBuiltUnderIt) {
+  const PitUnderSky scene;
+  const auto& [mesh, sky, eta, direct] = scene;
+  Cubemap other(16, glm::vec3(0.1f, 0.2f, 0.1f));
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 16; ++x) other.at(int(CubeFace::NegX), x, y) = glm::vec3(9.0f, 1.0f, 5.0f);
+  InterreflectionOptions options;
+  options.rays = 16;
+  options.keepMirrors = true;
+  InterreflectionGather swapped(mesh.positions, mesh.normals, mesh.triangles, sky, eta, options);
+  const std::vector<glm::vec3> first = swapped.gather(direct);
+  swapped.setSky(other);
+  const InterreflectionGather fresh(mesh.positions, mesh.normals, mesh.triangles, other, eta,
+                                    options);
+  EXPECT_EQ(swapped.gather(direct), fresh.gather(direct));
+  EXPECT_GT(relativeRms(first, fresh.gather(direct)), 0.01);
+  options.keepMirrors = false;
+  InterreflectionGather kept(mesh.positions, mesh.normals, mesh.triangles, sky, eta, options);
+  EXPECT_EQ(kept.gather(direct), first);  // keeping the mirrors changes nothing
+  EXPECT_THROW(kept.setSky(other), Error);
 }
 
 // With bounces, the JSON's interreflection error is the gather's noise, measured from a replica of

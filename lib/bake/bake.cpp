@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <optional>
 #include <span>
 #include <utility>
@@ -163,6 +164,9 @@ struct Interreflection {
   std::vector<glm::vec3> exitance;    // B with it
   std::vector<glm::vec3> added;       // B - B_direct, whose radiance the model error counts
   InterreflectionReport report;
+  // The gather's rays, kept for the relightable stage (which relights under the same environment
+  // with the same rays), else null.
+  std::shared_ptr<InterreflectionGather> gather;
 };
 
 // Stage 7 with bounces: the gather iterated with the transport (iterateInterreflection) until
@@ -176,8 +180,9 @@ Interreflection bounce(const BakeScene& scene, const TransportInput& transportIn
   const TriangleMesh& m = scene.mesh.meshMm;
   const InterreflectionOptions options = interreflectionOptions(scene, lighting);
   const float eta = float(s.material.eta);
-  const InterreflectionGather gather(m.positions, m.normals, m.triangles, scene.radiance, eta,
-                                     options);
+  const auto kept = std::make_shared<InterreflectionGather>(m.positions, m.normals, m.triangles,
+                                                            scene.radiance, eta, options);
+  const InterreflectionGather& gather = *kept;
   EnergyWeightSums wholeEscapeSums;
   TransportInput in = linearTransportInput(transportIn, direct, wholeEscapeSums);
   const auto increment = [&](std::span<const glm::vec3> e, double looseness) {
@@ -215,6 +220,7 @@ Interreflection bounce(const BakeScene& scene, const TransportInput& transportIn
   report.remaining = r.remaining;
   report.blockedFraction = gather.blockedFraction();
   report.seconds = clock.seconds();
+  if (s.relightOrder >= 0) out.gather = kept;
   return out;
 }
 
@@ -405,8 +411,9 @@ BakeErrorReport errorReport(const BakeReport& r, const ModelErrorReport& model, 
 // against itself.
 RelightTransfer relightStage(const BakeScene& scene, const TransportInput& transportIn,
                              const VertexLighting& lighting, const VertexExitance& direct,
-                             const InterreflectionReport& bounces, const BakedLight& light,
+                             const Interreflection& bounced, const BakedLight& light,
                              std::span<const glm::vec3> radianceNormal) {
+  const InterreflectionReport& bounces = bounced.report;
   const BakeSettings& s = scene.settings;
   if (s.relightOrder < 0 || !scene.diffusion()) return {};
   EnergyWeightSums wholeEscapeSums;
@@ -425,7 +432,7 @@ RelightTransfer relightStage(const BakeScene& scene, const TransportInput& trans
   const Stopwatch clock;
   OwnEnvironmentRelight ownRelight =
       relightOwnEnvironment(s.meshPath, {scene.mesh.meshMm, s.material, t}, scene.radiance,
-                            lighting.transportIrradiance(), radianceNormal, s.run);
+                            lighting.transportIrradiance(), radianceNormal, s.run, bounced.gather);
   t.radianceGain = std::move(ownRelight.radianceGain);
   const RelitLight& own = ownRelight.relit;
   t.report.selfError = relativeRms(own.radianceNormal, radianceNormal);
@@ -517,7 +524,7 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
   const ModelErrorReport model =
       modelErrorStage(scene, radianceNormal, normal.vertexModel, interreflected, far);
   RelightTransfer relight =
-      relightStage(scene, transportIn, lighting, direct, bounced.report, light, radianceNormal);
+      relightStage(scene, transportIn, lighting, direct, bounced, light, radianceNormal);
 
   BakeOutput out;
   BakeReport& report = out.report;

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <memory>
 #include <numeric>
-#include <optional>
 
 #include "core/error.h"
 #include "core/format.h"
@@ -244,6 +243,9 @@ class RelightSession::Context {
         shadows_(bake.meshMm.positions, bake.meshMm.normals, bake.meshMm.triangles,
                  float(bake.material.eta), entry_, run) {}
 
+  // Rays already traced under the current environment, with the stored transport's options.
+  void useGather(std::shared_ptr<InterreflectionGather> gather) { gather_ = std::move(gather); }
+
   // The environment the next calls relight under (the gather's mirrored sky follows it).
   void lightWith(const Cubemap& environment) {
     environment_ = &environment;
@@ -289,7 +291,7 @@ class RelightSession::Context {
   const InterreflectionGather& gather() {
     if (!gather_) {
       const TriangleMesh& m = bake_.meshMm;
-      gather_.emplace(
+      gather_ = std::make_shared<InterreflectionGather>(
           m.positions, m.normals, m.triangles, *environment_, float(bake_.material.eta),
           InterreflectionOptions{
               .rays = stored_.gatherRays, .entry = entry_, .run = run_, .keepMirrors = reusable_});
@@ -305,7 +307,7 @@ class RelightSession::Context {
   const DirectionalAlbedoWeight* entry_;
   StoredTransportRun transportRun_;
   DirectionalShadows shadows_;
-  std::optional<InterreflectionGather> gather_;
+  std::shared_ptr<InterreflectionGather> gather_;
   const Cubemap* environment_ = nullptr;
 };
 
@@ -353,9 +355,11 @@ OwnEnvironmentRelight relightOwnEnvironment(const std::string& path, const Relig
                                             const Cubemap& environment,
                                             std::span<const glm::vec3> ownIrradiance,
                                             std::span<const glm::vec3> radianceNormal,
-                                            const RunContext& run) {
+                                            const RunContext& run,
+                                            std::shared_ptr<InterreflectionGather> gather) {
   RelightSession::Context c(path, bake, run, false);
   c.lightWith(environment);
+  if (gather) c.useGather(std::move(gather));
   OwnEnvironmentRelight out;
   out.radianceGain = ratios(radianceNormal, c.bounced(c.transport(ownIrradiance)),
                             float(normalExitRadianceScale(float(bake.material.eta))));

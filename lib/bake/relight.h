@@ -45,6 +45,7 @@
 namespace sss {
 
 class Cubemap;                  // envmap/cubemap.h
+class InterreflectionGather;    // transport/interreflection.h
 class DirectionalAlbedoWeight;  // material/directional_albedo_weight.h
 
 // --relightable's order when none is given, and the rays per vertex of its transfer.
@@ -132,7 +133,8 @@ class RelightSession {
 // bake's radiance along the normal over its own light through the stored transport and bounces
 // (E as the bake's rays measured it, not through the SH transfer, so that g holds the exit model
 // and the traced stages but not the transfer's truncation). `bake.transfer`'s radianceGain is
-// not read. One transport and one gather serve both.
+// not read. One transport and one gather serve both: `gather`, when given, is the bake's own
+// (traced under `environment` with the stored transport's rays and entry), else one is traced.
 struct OwnEnvironmentRelight {
   std::vector<glm::vec3> radianceGain;
   RelitLight relit;  // with that g
@@ -141,7 +143,8 @@ OwnEnvironmentRelight relightOwnEnvironment(const std::string& path, const Relig
                                             const Cubemap& environment,
                                             std::span<const glm::vec3> ownIrradiance,
                                             std::span<const glm::vec3> radianceNormal,
-                                            const RunContext& run);
+                                            const RunContext& run,
+                                            std::shared_ptr<InterreflectionGather> gather = {});
 
 // sum_k T_k L_k per vertex over the bands both have (B of the smooth light, before g).
 std::vector<glm::vec3> transferredExitance(std::span<const glm::vec3> transfer, int order,

@@ -14,6 +14,7 @@
 #include "material/directional_albedo_weight.h"
 #include "material/material.h"
 #include "material/profile_factory.h"
+#include "mesh/quantized_transfer.h"
 #include "mesh/triangle_mesh.h"
 #include "optics/fresnel.h"
 #include "transport/interreflection.h"
@@ -197,7 +198,9 @@ RelightTransfer relightTransfer(const RelightInput& in) {
       visibilityTransfer(m.positions, m.normals, m.triangles, eta,
                          {.order = in.order, .rays = in.rays, .entry = in.entry, .run = in.run});
   report.transferSeconds = clock.seconds();
-  out.relightTransfer = transportedTransfer(transfer, in.transport);
+  // As the files store it, so that the bake relit here is the bake relit from its file.
+  out.relightTransfer =
+      storedTransfer("", transportedTransfer(transfer, in.transport), std::size_t(transfer.count));
   report.transportSeconds = clock.seconds() - report.transferSeconds;
   const float exitScale = float(normalExitRadianceScale(eta));
   out.order = in.order;

@@ -10,10 +10,10 @@
 //   B = B_direct and the bake's bounces on it (interreflection.h),   L_n = g B,   B_out = b L_n,
 //
 // T_k (k = l (l + 1) + m, l <= order) the exitance B of SH basis function k through the bake's
-// linear transport, L_k the SH coefficients of the environment without its compact lights,
-// E_compact their transmitted irradiance with shadows, g the bake's own ratio of its radiance
-// along the normal to its B, and b its B / L_n. T is built from what is linear and
-// light-independent in the pipeline:
+// linear transport (to the precision the files store: mesh/quantized_transfer.h), L_k the SH
+// coefficients of the environment without its compact lights, E_compact their transmitted
+// irradiance with shadows, g the bake's own ratio of its radiance along the normal to its B, and b
+// its B / L_n. T is built from what is linear and light-independent in the pipeline:
 //   1. the transmitted-cosine transfer with the mesh's shadows and the directional entry
 //      (lighting/visibility_transfer.h), one irradiance per basis function;
 //   2. each through the bake's transport (the diffusion sum of Li & Guo Eq. 7 with the energy

@@ -15,6 +15,7 @@
 #include "core/tool.h"
 #include "mesh/glb_builder.h"
 #include "mesh/glb_chunks.h"
+#include "mesh/quantized_transfer.h"
 #include "optics/exit_lobe.h"
 #include "optics/fresnel.h"
 
@@ -26,8 +27,10 @@ static_assert(std::endian::native == std::endian::little,
 
 using Json = nlohmann::ordered_json;
 
-constexpr int kFormatVersion = 1;
-constexpr int kFloat = 5126, kUnsignedInt = 5125, kUnsignedShort = 5123, kUnsignedByte = 5121;
+// 2: a relightable bake's transfer quantized (quantized_transfer.h); other bakes are written as 1.
+constexpr int kFormatVersion = 2;
+constexpr int kFloat = 5126, kUnsignedInt = 5125, kUnsignedShort = 5123, kShort = 5122,
+              kUnsignedByte = 5121;
 constexpr int kTriangles = 4;
 
 std::uint32_t getU32(const char* p) {
@@ -81,7 +84,9 @@ DisplayColors displayColors(const std::string& path, const BakedMesh& baked) {
 }
 
 Json sssExtras(const BakedMesh& baked, const Json& color, const std::string& reportJson) {
-  Json sss = {{"format", kFormatVersion}, {"position_unit", "m"}, {"mm_per_unit", baked.mmPerUnit}};
+  Json sss = {{"format", baked.relightOrder >= 0 ? kFormatVersion : 1},
+              {"position_unit", "m"},
+              {"mm_per_unit", baked.mmPerUnit}};
   if (!baked.materialName.empty()) {
     const glm::dvec3 &a = baked.sigmaA, &s = baked.sigmaSPrime;
     sss["material"] = {{"name", baked.materialName},
@@ -99,15 +104,19 @@ Json sssExtras(const BakedMesh& baked, const Json& color, const std::string& rep
   return sss;
 }
 
-// A relightable bake's per-vertex values as custom attributes: _TRANSFER_<k> (k < (order + 1)^2),
-// _RADIANCE_GAIN, _EXITANCE_PER_RADIANCE and, with the escape model, _ESCAPE_PROBABILITY; the
-// order and the transport key go to extras.sss.relight.
-void addRelightAttributes(GlbBinary& bin, const BakedMesh& baked, Json& attributes) {
+// A relightable bake's per-vertex values as custom attributes: _TRANSFER_SCALE and _TRANSFER_<k>
+// (k < (order + 1)^2, normalized SHORT: quantized_transfer.h), _RADIANCE_GAIN,
+// _EXITANCE_PER_RADIANCE and, with the escape model, _ESCAPE_PROBABILITY; the order and the
+// transport key go to extras.sss.relight.
+void addRelightAttributes(const std::string& path, GlbBinary& bin, const BakedMesh& baked,
+                          Json& attributes) {
   const std::size_t n = baked.mesh.vertexCount(), count = baked.relightCount();
+  const QuantizedTransfer transfer = quantizeTransfer(path, baked.relightTransfer, count);
+  attributes["_TRANSFER_SCALE"] = bin.addVec3(transfer.scale, false);
   for (std::size_t k = 0; k < count; ++k) {
-    std::vector<glm::vec3> channel(n);
-    for (std::size_t v = 0; v < n; ++v) channel[v] = baked.relightTransfer[v * count + k];
-    attributes["_TRANSFER_" + std::to_string(k)] = bin.addVec3(channel, false);
+    std::vector<std::array<int16_t, 3>> channel(n);
+    for (std::size_t v = 0; v < n; ++v) channel[v] = transfer.values[v * count + k];
+    attributes["_TRANSFER_" + std::to_string(k)] = bin.addNormalizedShortVec3(channel);
   }
   attributes["_RADIANCE_GAIN"] = bin.addVec3(baked.radianceGain, false);
   attributes["_EXITANCE_PER_RADIANCE"] = bin.addVec3(baked.exitancePerRadiance, false);
@@ -116,8 +125,8 @@ void addRelightAttributes(GlbBinary& bin, const BakedMesh& baked, Json& attribut
 }
 
 // The glTF JSON for the primitive whose attributes `bin` holds.
-Json gltfDocument(const BakedMesh& baked, GlbBinary& bin, const DisplayColors& colors,
-                  const std::string& reportJson) {
+Json gltfDocument(const std::string& path, const BakedMesh& baked, GlbBinary& bin,
+                  const DisplayColors& colors, const std::string& reportJson) {
   const double metresPerUnit = baked.mmPerUnit / 1000.0;
   std::vector<glm::vec3> metres;
   metres.reserve(baked.mesh.positions.size());
@@ -128,7 +137,7 @@ Json gltfDocument(const BakedMesh& baked, GlbBinary& bin, const DisplayColors& c
   if (!baked.exitance.empty()) attributes["COLOR_0"] = bin.addVec3(colors.colors, false);
   if (!baked.irradiance.empty()) attributes["_IRRADIANCE"] = bin.addVec3(baked.irradiance, false);
   if (!baked.exitance.empty()) attributes["_EXITANCE"] = bin.addVec3(baked.exitance, false);
-  if (baked.relightOrder >= 0) addRelightAttributes(bin, baked, attributes);
+  if (baked.relightOrder >= 0) addRelightAttributes(path, bin, baked, attributes);
   if (!baked.farExitance.empty()) {
     attributes["_FAR_EXITANCE"] = bin.addVec3(baked.farExitance, false);
     attributes["_FAR_EXIT_SLOPE"] = bin.addVec3(baked.farExitSlope, false);
@@ -168,7 +177,7 @@ void writeBakedGlb(const std::string& path, const BakedMesh& baked, const std::s
   GlbBinary bin;
   Json document;
   try {
-    document = gltfDocument(baked, bin, colors, reportJson);
+    document = gltfDocument(path, baked, bin, colors, reportJson);
   } catch (const nlohmann::json::exception& e) {
     fail(path, std::string("cannot encode the glTF JSON: ") + e.what());
   }
@@ -219,6 +228,7 @@ AccessorSpan accessorSpan(const std::string& path, const Json& document, const s
   const std::uint64_t componentSize = span.componentType == kFloat           ? 4
                                       : span.componentType == kUnsignedInt   ? 4
                                       : span.componentType == kUnsignedShort ? 2
+                                      : span.componentType == kShort         ? 2
                                       : span.componentType == kUnsignedByte  ? 1
                                                                              : 0;
   if (componentSize == 0) fail(path, where + " has an unsupported componentType");
@@ -249,6 +259,22 @@ std::vector<glm::vec3> readVec3(const std::string& path, const Json& document,
   std::vector<glm::vec3> values(span.count);
   for (std::uint64_t i = 0; i < span.count; ++i)
     std::memcpy(&values[i], span.data + i * span.stride, 12);
+  return values;
+}
+
+// A normalized SHORT VEC3 attribute's integers (GlbBinary::addNormalizedShortVec3).
+std::vector<std::array<int16_t, 3>> readNormalizedShortVec3(const std::string& path,
+                                                            const Json& document,
+                                                            const std::string& bin,
+                                                            std::uint64_t accessor,
+                                                            const char* what) {
+  const AccessorSpan span = accessorSpan(path, document, bin, accessor, "VEC3", what);
+  const Json& a = element(path, document, "accessors", accessor);
+  if (span.componentType != kShort || !a.value("normalized", false))
+    fail(path, std::string("glTF: ") + what + " is not normalized SHORT");
+  std::vector<std::array<int16_t, 3>> values(span.count);
+  for (std::uint64_t i = 0; i < span.count; ++i)
+    std::memcpy(values[i].data(), span.data + i * span.stride, 6);
   return values;
 }
 
@@ -323,12 +349,35 @@ void readRelightAttributes(const std::string& path, const Json& document, const 
   if (attributes.contains("_ESCAPE_PROBABILITY"))
     values.escapeProbability = read("_ESCAPE_PROBABILITY");
   const std::size_t n = values.radianceGain.size(), count = contents.baked.relightCount();
-  values.relightTransfer.resize(n * count);
-  for (std::size_t k = 0; k < count; ++k) {
-    const std::vector<glm::vec3> channel = read("_TRANSFER_" + std::to_string(k));
-    if (channel.size() != n) fail(path, "glTF: the attributes have different counts");
-    for (std::size_t v = 0; v < n; ++v) values.relightTransfer[v * count + k] = channel[v];
+  if (!attributes.contains("_TRANSFER_SCALE")) {  // floats, as written before the quantized form
+    values.relightTransfer.resize(n * count);
+    for (std::size_t k = 0; k < count; ++k) {
+      const std::vector<glm::vec3> channel = read("_TRANSFER_" + std::to_string(k));
+      if (channel.size() != n) fail(path, "glTF: the attributes have different counts");
+      for (std::size_t v = 0; v < n; ++v) values.relightTransfer[v * count + k] = channel[v];
+    }
+    return;
   }
+  QuantizedTransfer transfer;
+  transfer.scale = read("_TRANSFER_SCALE");
+  if (transfer.scale.size() != n) fail(path, "glTF: the attributes have different counts");
+  checkTransferScales(path, transfer.scale);
+  transfer.values.resize(n * count);
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::string name = "_TRANSFER_" + std::to_string(k);
+    if (!attributes.contains(name)) fail(path, "glTF: a relightable bake without " + name);
+    const std::vector<std::array<int16_t, 3>> channel = readNormalizedShortVec3(
+        path, document, bin, index(path, attributes, name.c_str()), name.c_str());
+    if (channel.size() != n) fail(path, "glTF: the attributes have different counts");
+    for (std::size_t v = 0; v < n; ++v) {
+      for (const int16_t q : channel[v])
+        if (q < -kTransferSteps || q > kTransferSteps)
+          fail(path,
+               "glTF: " + name + " has a step count beyond " + std::to_string(kTransferSteps));
+      transfer.values[v * count + k] = channel[v];
+    }
+  }
+  values.relightTransfer = dequantizeTransfer(transfer, count);
 }
 
 }  // namespace

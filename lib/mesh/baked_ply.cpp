@@ -13,6 +13,7 @@
 #include "core/format.h"
 #include "core/srgb.h"
 #include "mesh/ply_format.h"
+#include "mesh/quantized_transfer.h"
 #include "optics/exit_lobe.h"
 
 namespace sss {
@@ -22,7 +23,10 @@ namespace {
 static_assert(std::endian::native == std::endian::little,
               "the baked PLY writer copies floats as little-endian bytes");
 
-constexpr int kFormatVersion = 1;
+// 2: a relightable bake's transfer quantized (quantized_transfer.h); other bakes are written as 1,
+// which they still are.
+constexpr int kFormatVersion = 2;
+constexpr int kQuantizedTransferVersion = 2;
 
 std::string triple(const glm::dvec3& v) {
   return shortestDecimal(v.x) + "," + shortestDecimal(v.y) + "," + shortestDecimal(v.z);
@@ -167,7 +171,7 @@ struct BakedFields {
   // Bytes of one vertex record: position and normal, then the optional fields in order.
   std::size_t vertexBytes() const {
     return 24 + (irradiance ? 12 : 0) + (exitance ? 15 : 0) + (radianceNormal ? 12 : 0) +
-           (farField ? 24 : 0) + (relightCount > 0 ? 12 * (relightCount + 2) : 0) +
+           (farField ? 24 : 0) + (relightCount > 0 ? 12 + 6 * relightCount + 24 : 0) +
            (escape ? 12 : 0);
   }
 };
@@ -175,7 +179,8 @@ struct BakedFields {
 // The "comment sss" lines: format version, material, scale and flags, then the caller's.
 void appendComments(std::string& out, const BakedMesh& baked, const BakedFields& fields,
                     double scale) {
-  out += "comment sss format=" + std::to_string(kFormatVersion) + "\n";
+  out += "comment sss format=" +
+         std::to_string(baked.relightOrder >= 0 ? kQuantizedTransferVersion : 1) + "\n";
   if (!baked.materialName.empty()) {
     out += "comment sss material=" + baked.materialName + "\n";
     out += "comment sss sigma_a=" + triple(baked.sigmaA) + "\n";
@@ -213,9 +218,13 @@ void appendVertexProperties(std::string& out, std::size_t vertices, const BakedF
         "property float far_exitance_r\nproperty float far_exitance_g\n"
         "property float far_exitance_b\nproperty float far_exit_slope_r\n"
         "property float far_exit_slope_g\nproperty float far_exit_slope_b\n";
+  if (fields.relightCount > 0)
+    out +=
+        "property float transfer_scale_r\nproperty float transfer_scale_g\n"
+        "property float transfer_scale_b\n";
   for (int k = 0; k < fields.relightCount; ++k)
     for (const char* c : {"_r", "_g", "_b"})
-      out += "property float transfer" + std::to_string(k) + c + "\n";
+      out += "property short transfer" + std::to_string(k) + c + "\n";
   for (const char* name : {"radiance_gain", "exitance_per_radiance", "escape_probability"}) {
     if (fields.relightCount == 0 || (std::string(name) == "escape_probability" && !fields.escape))
       continue;
@@ -224,9 +233,10 @@ void appendVertexProperties(std::string& out, std::size_t vertices, const BakedF
   }
 }
 
-// Vertex i's record: floats, and the exitance's 8-bit sRGB preview colour at `scale`.
+// Vertex i's record: floats, the exitance's 8-bit sRGB preview colour at `scale` and the
+// quantized transfer.
 void appendVertex(std::string& out, const BakedMesh& baked, const BakedFields& fields, double scale,
-                  std::size_t i) {
+                  const QuantizedTransfer& transfer, std::size_t i) {
   for (int k = 0; k < 3; ++k) put(out, baked.mesh.positions[i][k]);
   for (int k = 0; k < 3; ++k) put(out, baked.mesh.normals[i][k]);
   if (fields.irradiance) {
@@ -246,8 +256,10 @@ void appendVertex(std::string& out, const BakedMesh& baked, const BakedFields& f
     for (int k = 0; k < 3; ++k) put(out, baked.farExitSlope[i][k]);
   }
   const std::size_t count = static_cast<std::size_t>(fields.relightCount);
+  if (count > 0)
+    for (int k = 0; k < 3; ++k) put(out, transfer.scale[i][k]);
   for (std::size_t t = i * count; t < (i + 1) * count; ++t)
-    for (int k = 0; k < 3; ++k) put(out, baked.relightTransfer[t][k]);
+    for (int k = 0; k < 3; ++k) put(out, transfer.values[t][k]);
   if (count > 0) {
     for (int k = 0; k < 3; ++k) put(out, baked.radianceGain[i][k]);
     for (int k = 0; k < 3; ++k) put(out, baked.exitancePerRadiance[i][k]);
@@ -293,8 +305,10 @@ void writeBakedPly(const std::string& path, const BakedMesh& baked) {
   out += "element face " + std::to_string(mesh.triangles.size()) + "\n";
   out += "property list uchar int vertex_indices\nend_header\n";
 
+  const QuantizedTransfer transfer =
+      quantizeTransfer(path, baked.relightTransfer, std::size_t(fields.relightCount));
   out.reserve(out.size() + nv * fields.vertexBytes() + mesh.triangles.size() * 13);
-  for (std::size_t i = 0; i < nv; ++i) appendVertex(out, baked, fields, scale, i);
+  for (std::size_t i = 0; i < nv; ++i) appendVertex(out, baked, fields, scale, transfer, i);
   appendFaces(out, mesh.triangles);
   writeAtomically(path, out);
 }
@@ -402,9 +416,22 @@ std::vector<glm::vec3> readChannels(const std::string& path, const ply::PlyMesh&
   return values;
 }
 
-// A relightable bake's transfer0.. and exitance_per_radiance, all of them with relight_order.
-void readRelight(const std::string& path, const ply::PlyMesh& ply, BakedPlyContents& result,
-                 BakedVertexValues& values) {
+// A stored transfer coefficient: an integer of at most kTransferSteps (a short property).
+std::array<int16_t, 3> transferSteps(const std::string& path, const std::string& name,
+                                     const glm::vec3& q) {
+  std::array<int16_t, 3> out{};
+  for (int c = 0; c < 3; ++c) {
+    if (!(std::abs(q[c]) <= float(kTransferSteps)) || q[c] != std::floor(q[c]))
+      fail(path, name + " is not a 16-bit step count of at most " + std::to_string(kTransferSteps));
+    out[c] = int16_t(q[c]);
+  }
+  return out;
+}
+
+// A relightable bake's transfer_scale, transfer0.. and exitance_per_radiance, all of them with
+// relight_order.
+void readRelight(const std::string& path, const ply::PlyMesh& ply, int formatVersion,
+                 BakedPlyContents& result, BakedVertexValues& values) {
   bool ratio = false, gain = false, escape = false;
   values.exitancePerRadiance = readChannels(path, ply, "exitance_per_radiance", ratio);
   values.radianceGain = readChannels(path, ply, "radiance_gain", gain);
@@ -421,14 +448,31 @@ void readRelight(const std::string& path, const ply::PlyMesh& ply, BakedPlyConte
     fail(path, "relight_order without radiance_gain_r/g/b and exitance_per_radiance_r/g/b");
   const int count = result.baked.relightCount();
   const std::size_t n = values.exitancePerRadiance.size();
-  values.relightTransfer.resize(n * count);
+  // Quantized (quantized_transfer.h) with transfer_scale; floats in format 1.
+  bool scaled = false;
+  QuantizedTransfer quantized;
+  quantized.scale = readChannels(path, ply, "transfer_scale", scaled);
+  if (scaled != (formatVersion >= kQuantizedTransferVersion))
+    fail(path, scaled
+                   ? "transfer_scale_r/g/b in a format " + std::to_string(formatVersion) + " file"
+                   : "relight_order without transfer_scale_r/g/b");
+  checkTransferScales(path, quantized.scale);
+  std::vector<glm::vec3> floats(scaled ? 0 : n * count);
+  quantized.values.resize(scaled ? n * count : 0);
   for (int k = 0; k < count; ++k) {
     bool present = false;
     const std::string name = "transfer" + std::to_string(k);
     const std::vector<glm::vec3> channel = readChannels(path, ply, name, present);
     if (!present) fail(path, "relight_order without " + name + "_r/g/b");
-    for (std::size_t i = 0; i < n; ++i) values.relightTransfer[i * count + k] = channel[i];
+    for (std::size_t i = 0; i < n; ++i) {
+      if (scaled)
+        quantized.values[i * count + k] = transferSteps(path, name, channel[i]);
+      else
+        floats[i * count + k] = channel[i];
+    }
   }
+  values.relightTransfer =
+      scaled ? dequantizeTransfer(quantized, std::size_t(count)) : std::move(floats);
 }
 
 }  // namespace
@@ -458,7 +502,9 @@ BakedPlyContents readBakedPly(const std::string& path) {
   if (hasFarExitance != hasFarSlope)
     fail(path, "has far_exitance without far_exit_slope or the other way round");
   result.hasFarField = hasFarExitance;
-  readRelight(path, ply, result, values);
+  double version = 1.0;  // checked by readKeys
+  if (keys.count("format")) parseDecimal(keys["format"], version);
+  readRelight(path, ply, int(version), result, values);
 
   cleanBakedMesh(path, ply::takeMesh(ply, result.report), values, result);
   return result;

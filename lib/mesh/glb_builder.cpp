@@ -16,7 +16,7 @@ namespace {
 
 static_assert(std::endian::native == std::endian::little, "GLB is little-endian: bytes are copied");
 
-using gltf::kFloat, gltf::kUnsignedInt;
+using gltf::kFloat, gltf::kShort, gltf::kUnsignedInt;
 constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963;
 
 void putU32(std::string& out, std::uint32_t v) {
@@ -52,6 +52,20 @@ int GlbBinary::addVec3(const std::vector<glm::vec3>& values, bool withBounds) {
     accessor["max"] = {hi.x, hi.y, hi.z};
   }
   accessors_.push_back(accessor);
+  return static_cast<int>(accessors_.size()) - 1;
+}
+
+int GlbBinary::addNormalizedShortVec3(const std::vector<std::array<int16_t, 3>>& values) {
+  std::vector<std::array<int16_t, 4>> padded(values.size());
+  for (std::size_t i = 0; i < values.size(); ++i)
+    padded[i] = {values[i][0], values[i][1], values[i][2], 0};
+  const int view = addView(padded.data(), padded.size() * 8, kArrayBuffer);
+  bufferViews_[view]["byteStride"] = 8;
+  accessors_.push_back({{"bufferView", view},
+                        {"componentType", kShort},
+                        {"normalized", true},
+                        {"count", values.size()},
+                        {"type", "VEC3"}});
   return static_cast<int>(accessors_.size()) - 1;
 }
 

@@ -4,7 +4,9 @@
 // (baked_glb.h, lightmapped_glb.h); glb_chunks.h reads the container back.
 #pragma once
 
+#include <array>
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -24,6 +26,9 @@ class GlbBinary {
   // accessor's index.
   int addVec3(const std::vector<glm::vec3>& values, bool withBounds);
   int addVec2(const std::vector<glm::vec2>& values);
+  // A normalized SHORT VEC3 vertex attribute (value q / 32767), each element padded to 8 bytes
+  // (byteStride 8: vertex attributes are 4-byte aligned, section 3.6.2.4).
+  int addNormalizedShortVec3(const std::vector<std::array<int16_t, 3>>& values);
   // Triangle corners as unsigned int indices.
   int addIndices(const std::vector<glm::uvec3>& triangles);
 

@@ -235,7 +235,9 @@ TEST_F(Relight, RefusesBrokenFiles) {
       {order, "relight_order=9", "relight_order without transfer16_r/g/b"},
       {order, "relight_order=x", "bad 'comment sss relight_order=x'"},
       {order, "relight_orderz=3", "bad 'comment sss relight_transport="},
-      {"property float transfer15_b", "property float transfer15_q", "transfer15_r/g/b"},
+      {"property short transfer15_b", "property short transfer15_q", "transfer15_r/g/b"},
+      {"property float transfer_scale_g", "property float transfer_scale_q",
+       "transfer_scale_r/g/b"},
       {key, "relight_transport=a b", "bad"},
   };
   for (const auto& c : cases) {

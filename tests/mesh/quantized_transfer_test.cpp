@@ -1,0 +1,148 @@
+// The relightable bake's stored transfer (mesh/quantized_transfer.h): within half a step of 2^-13
+// of each vertex's largest coefficient, exact when stored again, and what the baked PLY and GLB
+// carry (16-bit steps, half the bytes of floats) read back bit for bit; the float transfer of the
+// files written before it still reads.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "core/random.h"
+#include "mesh/baked_glb.h"
+#include "mesh/baked_ply.h"
+#include "mesh/primitives.h"
+#include "mesh/quantized_transfer.h"
+#include "support/glb_test.h"
+
+namespace sss {
+namespace {
+
+// count coefficients per vertex, each vertex and channel with its own magnitude (1e-6 to 1e6),
+// signs mixed, one vertex all zero, one whose largest is a power of two.
+std::vector<glm::vec3> randomTransfer(std::size_t vertices, std::size_t count) {
+  std::vector<glm::vec3> t(vertices * count);
+  Pcg32 rng(7, 0);
+  for (std::size_t v = 0; v < vertices; ++v) {
+    glm::vec3 magnitude;
+    for (int c = 0; c < 3; ++c) magnitude[c] = std::pow(10.0f, 12.0f * rng.uniform() - 6.0f);
+    for (std::size_t k = 0; k < count; ++k)
+      for (int c = 0; c < 3; ++c)
+        t[v * count + k][c] = magnitude[c] * (2.0f * rng.uniform() - 1.0f);
+  }
+  for (std::size_t k = 0; k < count; ++k) t[k] = glm::vec3(0.0f);
+  t[count] = glm::vec3(4.0f, -0.25f, 1024.0f);
+  return t;
+}
+
+TEST(QuantizedTransfer, KeepsEachCoefficientWithinHalfAStepOfItsVertexsLargest) {
+  const std::size_t count = 9, n = 500;
+  const std::vector<glm::vec3> t = randomTransfer(n, count);
+  const std::vector<glm::vec3> stored = storedTransfer("t", t, count);
+  ASSERT_EQ(stored.size(), t.size());
+  double worst = 0.0;
+  for (std::size_t v = 0; v < n; ++v)
+    for (int c = 0; c < 3; ++c) {
+      float largest = 0.0f;
+      for (std::size_t k = 0; k < count; ++k)
+        largest = std::max(largest, std::abs(t[v * count + k][c]));
+      for (std::size_t k = 0; k < count; ++k) {
+        const float error = std::abs(stored[v * count + k][c] - t[v * count + k][c]);
+        if (largest == 0.0f) {
+          EXPECT_EQ(stored[v * count + k][c], 0.0f);
+          continue;
+        }
+        worst = std::max(worst, double(error / largest));
+      }
+    }
+  EXPECT_LE(worst, std::ldexp(1.0, -14));  // half of a step of at most 2^-13 of the largest
+  EXPECT_GT(worst, std::ldexp(1.0, -17));  // and it does round: not floats kept as they were
+  EXPECT_EQ(stored[count], glm::vec3(4.0f, -0.25f, 1024.0f));  // powers of two are exact
+}
+
+TEST(QuantizedTransfer, StoringTheStoredValuesChangesNothing) {
+  const std::size_t count = 16;
+  std::vector<glm::vec3> t = randomTransfer(300, count);
+  // A largest that rounds down to a power of two: 2^-1 - a quarter step of the 2^0 range.
+  t[2 * count] = glm::vec3(0.5f + std::ldexp(1.0f, -17), 0.5f, -0.5f - std::ldexp(1.0f, -17));
+  const std::vector<glm::vec3> once = storedTransfer("t", t, count);
+  EXPECT_EQ(storedTransfer("t", once, count), once);
+  const QuantizedTransfer q = quantizeTransfer("t", t, count);
+  for (const auto& steps : q.values)
+    for (const int16_t s : steps) EXPECT_LE(std::abs(int(s)), kTransferSteps);
+  for (const glm::vec3& s : q.scale)
+    for (int c = 0; c < 3; ++c) {
+      if (s[c] == 0.0f) continue;
+      int e = 0;
+      EXPECT_EQ(std::frexp(s[c] / kTransferNormalizer, &e), 0.5f);  // a power of two
+    }
+}
+
+TEST(QuantizedTransfer, RefusesValuesNoScaleCanHold) {
+  std::vector<glm::vec3> t(4, glm::vec3(1.0f));
+  t[2].y = 3e37f;
+  try {
+    quantizeTransfer("big.ply", t, 4);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("big.ply"), std::string::npos) << e.what();
+  }
+}
+
+// A relightable bake's files: the transfer comes back as storedTransfer made it, in both formats,
+// and the PLY's transfer takes 6 bytes per coefficient instead of 12.
+TEST(QuantizedTransfer, TheBakedFilesCarryItBitForBit) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("sss-test-" + std::to_string(::getpid()) + "-qt");
+  std::filesystem::create_directories(dir);
+  BakedMesh baked;
+  baked.mesh = makeIcosphere(1, 1.0f);
+  const std::size_t n = baked.mesh.vertexCount(), count = 16;
+  baked.exitance.assign(n, glm::vec3(0.5f));
+  baked.relightOrder = 3;
+  baked.relightTransfer = randomTransfer(n, count);
+  baked.radianceGain.assign(n, glm::vec3(0.3f));
+  baked.exitancePerRadiance.assign(n, glm::vec3(3.0f));
+  baked.relightTransport = "hierarchical,0.01,gauss,halfspace,0.9,0.8,0.7,directional,2,64";
+  const std::vector<glm::vec3> expected = storedTransfer("t", baked.relightTransfer, count);
+  const std::string ply = (dir / "q.ply").string(), glb = (dir / "q.glb").string();
+  writeBakedPly(ply, baked);
+  writeBakedGlb(glb, baked);
+  EXPECT_EQ(readBakedPly(ply).baked.relightTransfer, expected);
+  EXPECT_EQ(readBakedGlb(glb).baked.relightTransfer, expected);
+  test::expectValidGltf(glb);  // normalized SHORT attributes, 8-byte strides
+  const auto plySize = std::filesystem::file_size(ply);
+  baked.relightOrder = -1;
+  baked.relightTransfer.clear();
+  baked.radianceGain.clear();
+  baked.exitancePerRadiance.clear();
+  writeBakedPly(ply, baked);
+  // 16 x 3 shorts and 3 float scales per vertex, with the 6 floats of g and b, and the header's
+  // lines; floats would take 16 x 3 x 4 bytes.
+  const std::size_t records = n * (count * 6 + 12 + 24),
+                    added = plySize - std::filesystem::file_size(ply);
+  EXPECT_GE(added, records);
+  EXPECT_LT(added, records + 4096);
+  EXPECT_LT(added, n * (count * 12 + 24));
+  std::filesystem::remove_all(dir);
+}
+
+// The float transfer of a format 1 file (before the quantized form) still reads as it was written.
+TEST(QuantizedTransfer, AFormatOneFilesFloatTransferStillReads) {
+  const std::string seed =
+      std::string(SSS_SOURCE_DIR) + "/tests/fuzz/corpus/baked_ply/icosahedron_relightable.ply";
+  const BakedPlyContents c = readBakedPly(seed);
+  ASSERT_EQ(c.baked.relightOrder, 1);
+  ASSERT_EQ(c.baked.relightTransfer.size(), 4 * c.baked.mesh.vertexCount());
+  float largest = 0.0f;
+  for (const glm::vec3& t : c.baked.relightTransfer) largest = std::max(largest, std::abs(t.x));
+  EXPECT_GT(largest, 0.0f);
+  // Not quantized: some coefficient is not a multiple of its vertex's step.
+  EXPECT_NE(storedTransfer(seed, c.baked.relightTransfer, 4), c.baked.relightTransfer);
+}
+
+}  // namespace
+}  // namespace sss

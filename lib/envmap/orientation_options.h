@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -24,20 +25,31 @@ inline void addOrientationOptions(CLI::App& app, EnvironmentOrientation& orienta
                 "(centre towards +X), filament (cmgen, centre towards +Z)");
 }
 
-// -e ENV or --sky [SPEC], exactly one of them (sss-bake, sss-relight); after parsing, source()
-// is what loadEnvironment reads: the file, "sky" or "sky:<spec>".
+// -e ENV or --sky [SPEC], exactly one of them (sss-bake, sss-relight; sss-relight's -e may be
+// given several times); after parsing, sources() are what loadEnvironment reads: the files, or
+// "sky" / "sky:<spec>".
 struct EnvironmentChoice {
-  std::string file, skySpec;
+  std::vector<std::string> files;
+  std::string skySpec;
   CLI::Option* sky = nullptr;
-  std::string source() const {
-    if (sky == nullptr || sky->count() == 0) return file;
-    return skySpec.empty() ? "sky" : "sky:" + skySpec;
+  std::vector<std::string> sources() const {
+    if (sky == nullptr || sky->count() == 0) return files;
+    return {skySpec.empty() ? "sky" : "sky:" + skySpec};
   }
+  std::string source() const { return sources().front(); }
 };
 
-inline void addEnvironmentChoice(CLI::App& app, EnvironmentChoice& choice) {
+// several: -e may be repeated (-e a.exr -e b.exr), else once.
+inline void addEnvironmentChoice(CLI::App& app, EnvironmentChoice& choice, bool several = false) {
   auto* group = app.add_option_group("environment", "Exactly one: -e ENV or --sky");
-  group->add_option("-e,--env", choice.file, "Environment: equirect, cross or cubemap-stack image");
+  group
+      ->add_option("-e,--env", choice.files,
+                   several ? "Environment: equirect, cross or cubemap-stack image; repeat -e for "
+                             "several (with -o DIR/)"
+                           : "Environment: equirect, cross or cubemap-stack image")
+      ->expected(1)
+      ->multi_option_policy(several ? CLI::MultiOptionPolicy::TakeAll
+                                    : CLI::MultiOptionPolicy::Throw);
   choice.sky = group
                    ->add_option("--sky", choice.skySpec,
                                 "Procedural sun and sky instead of -e, optional spec "

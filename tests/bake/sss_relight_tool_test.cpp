@@ -118,6 +118,49 @@ TEST_F(SssRelightTool, WritesGlbAndBatches) {
   EXPECT_TRUE(std::filesystem::exists(path("out/second.ply")));
 }
 
+// Several environments for one bake (its rays traced once): each output is byte for byte what
+// relighting under that environment alone writes, named after the bake and the environment; with
+// a file output or two environments of one name, a usage error and no output.
+TEST_F(SssRelightTool, SeveralEnvironmentsWriteWhatEachAloneWould) {
+  for (const char* spec : {"a elevation=10,azimuth=250", "b elevation=40,azimuth=30"}) {
+    const std::string name(spec, 1), sky(spec + 2);
+    ASSERT_EQ(test::runTool("sss-irrmap",
+                            "--sky " + sky + " --radiance " + path("sky_" + name + ".exr") +
+                                " -o " + path("irr_" + name + ".exr") + " -q",
+                            Capture::StdoutAndStderr)
+                  .exitCode,
+              0);
+  }
+  const std::string envs = " -e " + path("sky_a.exr") + " -e " + path("sky_b.exr");
+  test::ToolRun r = relight(path("baked.ply") + envs + " -q -o " + path("multi/") + " --json " +
+                            path("reports/"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_TRUE(std::filesystem::exists(path("reports/baked_sky_a.json")));
+  EXPECT_TRUE(std::filesystem::exists(path("reports/baked_sky_b.json")));
+  for (const char* name : {"a", "b"}) {
+    const std::string alone = path(std::string("alone_") + name + ".ply");
+    r = relight(path("baked.ply") + " -e " + path(std::string("sky_") + name + ".exr") + " -q -o " +
+                alone);
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_EQ(test::readFile(path(std::string("multi/baked_sky_") + name + ".ply")),
+              test::readFile(alone))
+        << name;
+  }
+  EXPECT_NE(test::readFile(path("alone_a.ply")), test::readFile(path("alone_b.ply")));
+  r = relight(path("baked.ply") + envs + " -q -o " + path("two.ply"));
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_NE(r.output.find("-o names a folder"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(path("two.ply")));
+  std::filesystem::create_directories(path("other"));
+  std::filesystem::copy_file(path("sky_b.exr"), path("other/sky_a.exr"),
+                             std::filesystem::copy_options::overwrite_existing);
+  r = relight(path("baked.ply") + " -e " + path("sky_a.exr") + " -e " + path("other/sky_a.exr") +
+              " -q -o " + path("same/"));
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_NE(r.output.find("two environments named sky_a"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(path("same/baked_sky_a.ply")));
+}
+
 TEST_F(SssRelightTool, SssRenderRelightsAsSssRelightDoes) {
   const auto render = [&](const std::string& args) {
     return test::runTool("sss-render", args + " --size 64x64 -q", Capture::StdoutAndStderr);

@@ -7,3 +7,6 @@ sss_add_benchmark(sun_study SOURCES ${CMAKE_CURRENT_LIST_DIR}/sun_study.cpp
 # The concavity study: interreflection against the forward light tracer (a box with a pit).
 sss_add_benchmark(concavity_study SOURCES ${CMAKE_CURRENT_LIST_DIR}/concavity_study.cpp
                   LIBS sss_pathtrace sss_bake sss_mesh sss_material sss_envmap)
+# A volumetric path tracer's cost at the bake's error (tests/bench/pathtracer_cost.sh).
+sss_add_benchmark(pathtracer_cost SOURCES ${CMAKE_CURRENT_LIST_DIR}/pathtracer_cost.cpp
+                  LIBS sss_pathtrace sss_bake sss_mesh sss_material sss_envmap)

@@ -367,17 +367,6 @@ ModelErrorReport modelErrorStage(const BakeScene& scene, std::span<const glm::ve
        .threads = s.run.threads,
        .vertexModelRadiance = vertexModel,
        .interreflectedRadiance = interreflected});
-  if (model.total > s.tolerance) {
-    char line[300];
-    std::snprintf(line, sizeof line,
-                  "model error: about %.1f%% of the radiance here (exit model %.1f%%, facets "
-                  "%.1f%%, light across facets %.1f%%, far field %.1f%%, interreflection "
-                  "%.1f%%), beyond what --tolerance %g bounds",
-                  100.0 * model.total, 100.0 * model.exitModel, 100.0 * model.facets,
-                  100.0 * model.facetLight, 100.0 * model.farField, 100.0 * model.interreflection,
-                  s.tolerance);
-    info(line, s.run.quiet);
-  }
   return model;
 }
 
@@ -444,6 +433,24 @@ RelightTransfer relightStage(const BakeScene& scene, const TransportInput& trans
            percent(t.report.selfError) + " RMS from the bake",
        s.run.quiet);
   return t;
+}
+
+// A bake whose predicted error is above --tolerance says so, whichever part is above it (the
+// tolerance bounds the numerical part; the model's error is what the models leave, which more
+// rays cannot remove), and writes its output; the JSON's estimated_error.tolerance_met says it
+// too. A warning, not progress, but like the mesh's warnings it obeys --quiet.
+void warnAboveTolerance(const BakeErrorReport& e, bool quiet) {
+  if (e.total <= e.tolerance || quiet) return;
+  const ModelErrorReport& m = e.model;
+  char line[400];
+  std::snprintf(line, sizeof line,
+                "the estimated error, %.1f%% of the radiance along the normal, is above "
+                "--tolerance %g%%: numerical %.1f%%, model %.1f%% (exit model %.1f%%, facets "
+                "%.1f%%, light across facets %.1f%%, far field %.1f%%, interreflection %.1f%%)",
+                100.0 * e.total, 100.0 * e.tolerance, 100.0 * e.numerical, 100.0 * m.total,
+                100.0 * m.exitModel, 100.0 * m.facets, 100.0 * m.facetLight, 100.0 * m.farField,
+                100.0 * m.interreflection);
+  warn(line);
 }
 
 // Stage 12: the baked mesh in the file's units, with what made it in a comment.
@@ -539,6 +546,7 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
   report.interreflection = bounced.report;
   report.unscattered = unscattered.report;
   report.errors = errorReport(report, model, s.tolerance);
+  warnAboveTolerance(report.errors, s.run.quiet);
   report.relight = relight.report;
   out.baked = assembleBakedMesh(std::move(mesh.mesh), std::move(light), std::move(radianceNormal),
                                 std::move(far), std::move(relight), s, report);

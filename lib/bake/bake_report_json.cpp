@@ -211,7 +211,8 @@ Json toJson(const BakeErrorReport& r) {
             {"total", r.model.total},
             {"seconds", r.model.seconds}}},
           {"total", r.total},
-          {"tolerance", r.tolerance}};
+          {"tolerance", r.tolerance},
+          {"tolerance_met", r.total <= r.tolerance}};
 }
 
 Json toJson(const LightmapReport& r) {

@@ -215,6 +215,31 @@ TEST_F(BakeTool, AlbedoComesBackFromALitPlane) {
   EXPECT_GE(vertices, 9);
 }
 
+// A bake whose predicted error is above --tolerance says so (unless -q) with its parts, and the
+// JSON's estimated_error.tolerance_met says it either way: the pit without bounces at 1 % (its
+// missing light alone is far above it), and the convex sphere under uniform light at 50 %.
+TEST_F(BakeTool, ABakeAboveItsToleranceSaysSo) {
+  writeAsciiPly(dir_ / "pit.ply", boxWithPit(), true);
+  const RunResult above = runExpectingWarning(
+      args("pit.ply",
+           "-m marble --unit mm --bounces 0 --json " + path("above.json") + kHalfSpaceEnergy, 64),
+      "is above --tolerance 1%: numerical");
+  ASSERT_EQ(above.exitCode, 0) << above.output;
+  EXPECT_TRUE(fs::exists(path("out.ply")));
+  const auto a = nlohmann::json::parse(readFile(dir_ / "above.json"))["estimated_error"];
+  EXPECT_GT(a["total"].get<double>(), 0.01);
+  EXPECT_FALSE(a["tolerance_met"].get<bool>());
+  std::string within = args("sphere.ply", "-m marble --unit mm --tolerance 0.5 --json " +
+                                              path("within.json") + kHalfSpaceEnergy);
+  within.erase(within.find(" -q "), 3);
+  const RunResult r = run(within);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_EQ(r.output.find("above --tolerance"), std::string::npos) << r.output;
+  const auto w = nlohmann::json::parse(readFile(dir_ / "within.json"))["estimated_error"];
+  EXPECT_LE(w["total"].get<double>(), 0.5);
+  EXPECT_TRUE(w["tolerance_met"].get<bool>());
+}
+
 // --bounces auto: a pit in a box gets the light its walls send it, and the JSON says how many
 // bounces it took. Without bounces the bake warns, and its reported error holds the change the
 // bounces make. (The half-space energy: the escape walks would triple the test's time and are not

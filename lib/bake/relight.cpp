@@ -226,8 +226,6 @@ std::vector<glm::vec3> transferredExitance(std::span<const glm::vec3> transfer, 
   return out;
 }
 
-namespace {}  // namespace
-
 // What relighting builds once for any number of environments: the key parsed, the entry weight,
 // the transport with its sums, the compact lights' shadow rays and the bounces' gather (both
 // built when first needed; the gather's mirrored sky swapped for each environment).

@@ -10,8 +10,8 @@
 
 #include "envmap/environment.h"
 #include "envmap/equirect.h"
-#include "image/image.h"
 #include "envmap/orientation.h"
+#include "image/image.h"
 #include "mesh/baked_ply.h"
 #include "mesh/primitives.h"
 #include "support/tool_test.h"

@@ -143,7 +143,7 @@ TransportInput transportInput(const BakeScene& scene, const EnergyStage& energy,
 InterreflectionOptions interreflectionOptions(const BakeScene& scene,
                                               const VertexLighting& lighting) {
   const BakeSettings& s = scene.settings;
-  return {.rays = s.interreflectionRays,
+  return {.rays = gatherRaysOf(s),
           .entry = lighting.entryWeighted.empty() ? nullptr : &scene.entryWeight,
           .run = s.run};
 }
@@ -414,7 +414,7 @@ RelightTransfer relightStage(const BakeScene& scene, const TransportInput& trans
                        .order = s.relightOrder,
                        .rays = kRelightRays,
                        .bounces = bounces.enabled ? bounces.bounces : 0,
-                       .gatherRays = s.interreflectionRays,
+                       .gatherRays = gatherRaysOf(s),
                        .exitance = light.exitance,
                        .radianceNormal = radianceNormal,
                        .run = s.run});

@@ -1,5 +1,6 @@
 #include "bake/bake_settings.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.h"
@@ -87,7 +88,7 @@ void validateBakeSettings(const BakeSettings& s) {
   checkVisibilitySamples(s.samples);
   if (s.method == BakeMethod::PathTrace) checkPathTracerWalks(s.walks);
   checkBounces(s.bounces);
-  if (s.interreflectionRays < 1) fail("", "interreflection needs at least 1 ray per vertex");
+  if (s.interreflectionRays < 0) fail("", "interreflection needs at least 1 ray per vertex");
   checkTolerance(s.tolerance);
   checkTextureSettings(s.texture);
   checkRelightOrder(s.relightOrder);
@@ -99,6 +100,18 @@ void validateBakeSettings(const BakeSettings& s) {
     throw Error(
         "--relightable with --texture: a relightable lightmap is not supported; bake the "
         "transfer per vertex");
+}
+
+int gatherRaysFor(double tolerance) {
+  const double rays = 64.0 * std::pow(0.01 / std::max(tolerance, 1e-6), 2.0);
+  int power = 8;
+  while (power < 256 && power * 1.4142135623730951 < rays) power *= 2;
+  return power;
+}
+
+int gatherRaysOf(const BakeSettings& settings) {
+  return settings.interreflectionRays > 0 ? settings.interreflectionRays
+                                          : gatherRaysFor(settings.tolerance);
 }
 
 }  // namespace sss

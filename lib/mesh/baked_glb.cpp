@@ -15,6 +15,7 @@
 #include "core/tool.h"
 #include "mesh/glb_builder.h"
 #include "mesh/glb_chunks.h"
+#include "mesh/gltf_document.h"
 #include "mesh/quantized_transfer.h"
 #include "optics/exit_lobe.h"
 #include "optics/fresnel.h"
@@ -28,16 +29,9 @@ static_assert(std::endian::native == std::endian::little,
 using Json = nlohmann::ordered_json;
 
 // 2: a relightable bake's transfer quantized (quantized_transfer.h); other bakes are written as 1.
-constexpr int kFormatVersion = 2;
-constexpr int kFloat = 5126, kUnsignedInt = 5125, kUnsignedShort = 5123, kShort = 5122,
-              kUnsignedByte = 5121;
+constexpr int kGlbFormatVersion = 2;
+using gltf::kFloat, gltf::kShort, gltf::kUnsignedByte, gltf::kUnsignedInt, gltf::kUnsignedShort;
 constexpr int kTriangles = 4;
-
-std::uint32_t getU32(const char* p) {
-  std::uint32_t v;
-  std::memcpy(&v, p, 4);
-  return v;
-}
 
 // ---------------------------------------------------------------- writing
 
@@ -84,7 +78,7 @@ DisplayColors displayColors(const std::string& path, const BakedMesh& baked) {
 }
 
 Json sssExtras(const BakedMesh& baked, const Json& color, const std::string& reportJson) {
-  Json sss = {{"format", baked.relightOrder >= 0 ? kFormatVersion : 1},
+  Json sss = {{"format", baked.relightOrder >= 0 ? kGlbFormatVersion : 1},
               {"position_unit", "m"},
               {"mm_per_unit", baked.mmPerUnit}};
   if (!baked.materialName.empty()) {
@@ -286,7 +280,7 @@ std::vector<unsigned> readIndices(const std::string& path, const Json& document,
   for (std::uint64_t i = 0; i < span.count; ++i) {
     const char* p = span.data + i * span.stride;
     if (span.componentType == kUnsignedInt) {
-      indices[i] = getU32(p);
+      indices[i] = readU32(p);
     } else if (span.componentType == kUnsignedShort) {
       std::uint16_t v;
       std::memcpy(&v, p, 2);
@@ -308,7 +302,7 @@ glm::dvec3 readTriple(const std::string& path, const Json& material, const char*
 void readSssExtras(const std::string& path, const Json& sss, BakedPlyContents& contents) {
   BakedMesh& baked = contents.baked;
   if (!sss.is_object()) fail(path, "glTF extras: \"sss\" is not an object");
-  if (sss.value("format", 0) > kFormatVersion) {
+  if (sss.value("format", 0) > kGlbFormatVersion) {
     fail(path, "baked GLB format " + sss["format"].dump() + " is newer than this program reads");
   }
   if (const auto m = sss.find("material"); m != sss.end()) {

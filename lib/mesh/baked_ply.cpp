@@ -25,7 +25,7 @@ static_assert(std::endian::native == std::endian::little,
 
 // 2: a relightable bake's transfer quantized (quantized_transfer.h); other bakes are written as 1,
 // which they still are.
-constexpr int kFormatVersion = 2;
+constexpr int kPlyFormatVersion = 2;
 constexpr int kQuantizedTransferVersion = 2;
 
 std::string triple(const glm::dvec3& v) {
@@ -347,9 +347,9 @@ void readKeys(const std::string& path, Keys& keys, BakedPlyContents& result) {
   if (keys.count("format")) {
     double version = 0;
     if (!parseDecimal(keys["format"], version)) bad("format");
-    if (version > kFormatVersion) {
+    if (version > kPlyFormatVersion) {
       fail(path, "baked PLY format " + keys["format"] + " is newer than this program reads (" +
-                     std::to_string(kFormatVersion) + ")");
+                     std::to_string(kPlyFormatVersion) + ")");
     }
   }
   const int materialKeys = int(keys.count("material")) + int(keys.count("sigma_a")) +

@@ -7,15 +7,7 @@
 #include "core/error.h"
 
 namespace sss {
-namespace {
-
-std::uint32_t getU32(const char* p) {
-  std::uint32_t v;
-  std::memcpy(&v, p, 4);
-  return v;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 GlbChunks readGlbChunks(const std::string& path) {
   std::ifstream file(path, std::ios::binary);
@@ -27,16 +19,16 @@ GlbChunks readGlbChunks(const std::string& path) {
   if (size < 20 || !file.read(header, 20)) {
     fail(path, "not a GLB: " + std::to_string(size) + " bytes, under a header and one chunk");
   }
-  if (getU32(header) != kGlbMagic) fail(path, "not a GLB: no 'glTF' magic");
-  if (getU32(header + 4) != 2) {
-    fail(path, "GLB version " + std::to_string(getU32(header + 4)) + ", not 2");
+  if (readU32(header) != kGlbMagic) fail(path, "not a GLB: no 'glTF' magic");
+  if (readU32(header + 4) != 2) {
+    fail(path, "GLB version " + std::to_string(readU32(header + 4)) + ", not 2");
   }
-  if (getU32(header + 8) != size) {
-    fail(path, "GLB header declares " + std::to_string(getU32(header + 8)) +
+  if (readU32(header + 8) != size) {
+    fail(path, "GLB header declares " + std::to_string(readU32(header + 8)) +
                    " bytes, the file has " + std::to_string(size) + " (truncated?)");
   }
-  const std::uint64_t jsonLength = getU32(header + 12);
-  if (getU32(header + 16) != kChunkJson) fail(path, "the first GLB chunk is not JSON");
+  const std::uint64_t jsonLength = readU32(header + 12);
+  if (readU32(header + 16) != kChunkJson) fail(path, "the first GLB chunk is not JSON");
   if (jsonLength % 4 != 0 || 20 + jsonLength > size) {
     fail(path, "JSON chunk of " + std::to_string(jsonLength) + " bytes does not fit the file");
   }
@@ -48,8 +40,8 @@ GlbChunks readGlbChunks(const std::string& path) {
   if (20 + jsonLength == size) return chunks;  // no BIN chunk
   char binHeader[8];
   if (size - 20 - jsonLength < 8 || !file.read(binHeader, 8)) fail(path, "truncated BIN chunk");
-  const std::uint64_t binLength = getU32(binHeader);
-  if (getU32(binHeader + 4) != kChunkBin) fail(path, "the second GLB chunk is not BIN");
+  const std::uint64_t binLength = readU32(binHeader);
+  if (readU32(binHeader + 4) != kChunkBin) fail(path, "the second GLB chunk is not BIN");
   if (binLength % 4 != 0 || 28 + jsonLength + binLength > size) {
     fail(path, "BIN chunk of " + std::to_string(binLength) + " bytes does not fit the file");
   }

@@ -5,9 +5,17 @@
 #pragma once
 
 #include <cstdint>
+#include <cstring>
 #include <string>
 
 namespace sss {
+
+// A little-endian 32-bit word at p (the GLB header's and chunks' fields, accessor data).
+inline std::uint32_t readU32(const char* p) {
+  std::uint32_t v;
+  std::memcpy(&v, p, 4);
+  return v;
+}
 
 inline constexpr std::uint32_t kGlbMagic = 0x46546C67;   // "glTF"
 inline constexpr std::uint32_t kChunkJson = 0x4E4F534A;  // "JSON"

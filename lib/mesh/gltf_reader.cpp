@@ -20,13 +20,12 @@ namespace sss {
 namespace {
 
 using gltf::Document;
-using gltf::Json;
 
 constexpr std::uint64_t kNone = std::numeric_limits<std::uint64_t>::max();
 
 // `n` finite numbers from the member `key` of a node (`fallback` when absent).
 template <std::size_t N>
-std::array<double, N> numbers(const Document& doc, const Json& node, const char* key,
+std::array<double, N> numbers(const Document& doc, const gltf::Json& node, const char* key,
                               const std::string& where, std::array<double, N> fallback) {
   const auto it = node.find(key);
   if (it == node.end()) return fallback;
@@ -43,7 +42,7 @@ std::array<double, N> numbers(const Document& doc, const Json& node, const char*
 }
 
 // Section 3.5.3: the node's matrix (column-major), or T * R * S.
-glm::dmat4 localTransform(const Document& doc, const Json& node, std::uint64_t i) {
+glm::dmat4 localTransform(const Document& doc, const gltf::Json& node, std::uint64_t i) {
   const std::string where = "node " + std::to_string(i);
   if (node.contains("matrix")) {
     if (node.contains("translation") || node.contains("rotation") || node.contains("scale")) {
@@ -73,11 +72,11 @@ glm::dmat4 localTransform(const Document& doc, const Json& node, std::uint64_t i
 
 // Each node's parent (kNone for a root); a node with two parents, a child that does not exist or
 // a cycle is an error (section 3.5.2: the nodes form disjoint strict trees).
-std::vector<std::uint64_t> parentsOf(const Document& doc, const Json& nodes) {
+std::vector<std::uint64_t> parentsOf(const Document& doc, const gltf::Json& nodes) {
   std::vector<std::uint64_t> parent(nodes.size(), kNone);
   for (std::uint64_t i = 0; i < nodes.size(); ++i) {
-    const Json& node = doc.element("nodes", i);
-    for (const Json& c : doc.array(node, "children")) {
+    const gltf::Json& node = doc.element("nodes", i);
+    for (const gltf::Json& c : doc.array(node, "children")) {
       if (!c.is_number_unsigned() || c.get<std::uint64_t>() >= nodes.size()) {
         doc.fail("node " + std::to_string(i) + " has a child that does not exist");
       }
@@ -111,13 +110,13 @@ struct Instance {
 // The nodes of the default scene (or scene 0) that place a mesh, with their world transforms,
 // in depth-first order (without recursion: a deep chain of nodes cannot exhaust the stack).
 std::vector<Instance> sceneInstances(const Document& doc, std::vector<std::string>& warnings) {
-  const Json& json = doc.json();
-  const Json& nodes = doc.array(json, "nodes");
+  const gltf::Json& json = doc.json();
+  const gltf::Json& nodes = doc.array(json, "nodes");
   const std::vector<std::uint64_t> parent = parentsOf(doc, nodes);
   if (doc.array(json, "scenes").empty()) doc.fail("no scene (\"scenes\" is empty or absent)");
-  const Json& scene = doc.element("scenes", doc.index(json, "scene", 0));
+  const gltf::Json& scene = doc.element("scenes", doc.index(json, "scene", 0));
   std::vector<std::pair<std::uint64_t, glm::dmat4>> stack;
-  const Json& roots = doc.array(scene, "nodes");
+  const gltf::Json& roots = doc.array(scene, "nodes");
   for (auto it = roots.rbegin(); it != roots.rend(); ++it) {
     if (!it->is_number_unsigned() || it->get<std::uint64_t>() >= nodes.size()) {
       doc.fail("the scene lists a node that does not exist");
@@ -132,7 +131,7 @@ std::vector<Instance> sceneInstances(const Document& doc, std::vector<std::strin
     stack.pop_back();
     if (visited[i]) doc.fail("the scene lists node " + std::to_string(i) + " twice");
     visited[i] = 1;
-    const Json& node = doc.element("nodes", i);
+    const gltf::Json& node = doc.element("nodes", i);
     const glm::dmat4 world = parentWorld * localTransform(doc, node, i);
     for (int c = 0; c < 4; ++c)
       for (int r = 0; r < 4; ++r)
@@ -145,7 +144,7 @@ std::vector<Instance> sceneInstances(const Document& doc, std::vector<std::strin
         warnings.push_back("node " + std::to_string(i) + ": skin ignored (the bind pose is read)");
       }
     }
-    const Json& children = doc.array(node, "children");
+    const gltf::Json& children = doc.array(node, "children");
     for (auto it = children.rbegin(); it != children.rend(); ++it) {
       stack.emplace_back(it->get<std::uint64_t>(), world);
     }
@@ -162,10 +161,10 @@ std::string meshWhere(std::uint64_t mesh, std::uint64_t primitive) {
 void checkSceneSize(const Document& doc, const std::vector<Instance>& instances) {
   std::uint64_t vertices = 0, corners = 0;
   for (const Instance& instance : instances) {
-    const Json& mesh = doc.element("meshes", instance.mesh);
-    for (const Json& primitive : doc.array(mesh, "primitives")) {
+    const gltf::Json& mesh = doc.element("meshes", instance.mesh);
+    for (const gltf::Json& primitive : doc.array(mesh, "primitives")) {
       if (!primitive.is_object() || !primitive.contains("attributes")) continue;  // reported later
-      const Json& attributes = primitive.at("attributes");
+      const gltf::Json& attributes = primitive.at("attributes");
       if (!attributes.is_object() || !attributes.contains("POSITION")) continue;
       const std::uint64_t n = doc.accessorCount(doc.index(attributes, "POSITION"));
       vertices += n;
@@ -221,7 +220,7 @@ std::vector<std::array<std::uint32_t, 3>> triangleCorners(const Document& doc, s
   return tris;
 }
 
-std::string materialKey(const Document& doc, const Json& primitive) {
+std::string materialKey(const Document& doc, const gltf::Json& primitive) {
   if (!primitive.contains("material")) return "";
   const std::uint64_t m = doc.index(primitive, "material");
   const std::string name = doc.string(doc.element("materials", m), "name");
@@ -230,7 +229,7 @@ std::string materialKey(const Document& doc, const Json& primitive) {
 
 // The primitive's attribute `name` as `components` floats per vertex (empty when absent), one
 // element per position.
-std::vector<float> attribute(const Document& doc, const Json& attributes, const char* name,
+std::vector<float> attribute(const Document& doc, const gltf::Json& attributes, const char* name,
                              int components, const std::vector<int>& types, bool normalized,
                              std::size_t vertices, const std::string& where) {
   if (!attributes.contains(name)) return {};
@@ -279,7 +278,7 @@ void addVertices(const Document& doc, SceneBuilder& b, const std::vector<float>&
 // One primitive placed by one node: its vertices, triangles (wound back where the node mirrors),
 // texture coordinates per corner and its part.
 void addPrimitive(const Document& doc, SceneBuilder& b, const Instance& instance,
-                  std::uint64_t index, const Json& primitive) {
+                  std::uint64_t index, const gltf::Json& primitive) {
   const std::string where = meshWhere(instance.mesh, index);
   if (!primitive.is_object()) doc.fail(where + " is not an object");
   const auto attributes = primitive.find("attributes");
@@ -329,8 +328,8 @@ void addPrimitive(const Document& doc, SceneBuilder& b, const Instance& instance
     b.facePart.push_back(part);
   }
   MeshPart info;
-  const Json& node = doc.element("nodes", instance.node);
-  const Json& mesh = doc.element("meshes", instance.mesh);
+  const gltf::Json& node = doc.element("nodes", instance.node);
+  const gltf::Json& mesh = doc.element("meshes", instance.mesh);
   info.node = doc.string(node, "name");
   info.nodeIndex = instance.node;
   info.mesh = doc.string(mesh, "name");
@@ -408,7 +407,7 @@ GltfMesh readDocument(const Document& doc) {
   SceneBuilder b;
   bool morphs = false;
   for (const Instance& instance : instances) {
-    const Json& primitives = doc.array(doc.element("meshes", instance.mesh), "primitives");
+    const gltf::Json& primitives = doc.array(doc.element("meshes", instance.mesh), "primitives");
     if (primitives.empty())
       doc.fail("mesh " + std::to_string(instance.mesh) + " has no primitives");
     for (std::uint64_t k = 0; k < primitives.size(); ++k) {

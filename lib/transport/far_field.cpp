@@ -56,7 +56,7 @@ constexpr double kSmoothOneRingCosine = 0.866;
 // Auto leaves out meshes over this many vertices: the tracer keeps 16 batches of tallies per
 // vertex (B, the exit cosine and its exitance: ~1.7 KB a vertex with their float copies), which
 // the bake's memory estimate does not count.
-constexpr std::size_t kMaxVertices = 250000;
+constexpr std::size_t kMaxFarFieldVertices = 250000;
 
 // The exit lobe's moments (far_field.h) over their wider kernel, per batch: the batches' mean of
 // the cosine-weighted and of the plain exitance, and the variance of their ratio, the mean cosine
@@ -349,9 +349,9 @@ FarField traceFarField(const FarFieldInput& in) {
   // walks counted them, and the rays at the surface), and the path cap.
   const double pathWork = in.energy.escape.meanScatteringEvents + kRaysPerPath;
   const double pathCap = std::min(double(o.maxPaths), o.maxWork / pathWork);
-  if (automatic && in.meshMm.positions.size() > kMaxVertices)
+  if (automatic && in.meshMm.positions.size() > kMaxFarFieldVertices)
     return skip(std::move(out),
-                "over " + std::to_string(kMaxVertices) +
+                "over " + std::to_string(kMaxFarFieldVertices) +
                     " vertices (the tracer's per-batch tallies would take " +
                     format("%.2g", 600e-9 * double(in.meshMm.positions.size())) + " GB)",
                 clock);

@@ -19,7 +19,7 @@ namespace {
 // Batches per round: enough for the noise estimate; the tracer keeps two tallies per vertex and
 // batch (48 bytes), so auto leaves out meshes whose tallies would not fit beside the bake.
 constexpr int kBatches = 8;
-constexpr std::size_t kMaxVertices = 500000;
+constexpr std::size_t kMaxTracedVertices = 500000;
 // Its paths apart from the far field's (far_field.h), which trace the same light with the bake's
 // seed: the two estimates' noise would otherwise be one draw and not add in quadrature.
 constexpr uint64_t kSeedSalt = 0x756e7363617474ULL;
@@ -102,9 +102,10 @@ UnscatteredLight traceUnscatteredLight(const UnscatteredLightInput& in) {
   r.requested = o.mode;
   if (o.mode == UnscatteredMode::Off) return skip(std::move(out), "off", clock);
   const bool automatic = o.mode == UnscatteredMode::Auto;
-  if (automatic && in.meshMm.positions.size() > kMaxVertices)
+  if (automatic && in.meshMm.positions.size() > kMaxTracedVertices)
     return skip(std::move(out),
-                "over " + std::to_string(kMaxVertices) + " vertices (the tracer's tallies)", clock);
+                "over " + std::to_string(kMaxTracedVertices) + " vertices (the tracer's tallies)",
+                clock);
   TracedRound round = traceRound(in, 0, o.pilotPaths);
   Sums sums = sumsOf(in, round);
   r.share = sums.share();

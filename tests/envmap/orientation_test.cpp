@@ -149,7 +149,7 @@ TEST(EnvRotate, IdentityLeavesTheCubemapBitExact) {
 }
 
 // A smooth environment: +X red, +Y green, +Z blue and dimmer mixes for the negative axes.
-glm::vec3 directionColour(const glm::vec3& d) {
+glm::vec3 axisColour(const glm::vec3& d) {
   const glm::vec3 n = glm::max(-d, glm::vec3(0.0f));
   return glm::max(d, glm::vec3(0.0f)) + 0.25f * glm::vec3(n.z, n.x, n.y);
 }
@@ -160,8 +160,7 @@ TEST(EnvRotate, CrossSourceTurnsLikeTheEquirect) {
   equirect.height = 256;
   for (int y = 0; y < 256; ++y) {
     for (int x = 0; x < 512; ++x) {
-      equirect.pixels.push_back(
-          directionColour(equirectDirection((x + 0.5f) / 512, (y + 0.5f) / 256)));
+      equirect.pixels.push_back(axisColour(equirectDirection((x + 0.5f) / 512, (y + 0.5f) / 256)));
     }
   }
   const Cubemap cube = cubemapFromImage(equirect, EnvironmentLayout::Equirect, 32);
@@ -174,7 +173,7 @@ TEST(EnvRotate, CrossSourceTurnsLikeTheEquirect) {
       for (int x = 0; x < 32; x += 3) {
         // The turned environment shows along w what the source showed along R_y(-60) w.
         const glm::vec3 w = cube.direction(f, x, y);
-        const glm::vec3 expected = directionColour(rotationAboutY(-60.0) * w);
+        const glm::vec3 expected = axisColour(rotationAboutY(-60.0) * w);
         worst = std::max(worst, glm::length(fromCross.at(f, x, y) - expected));
       }
     }

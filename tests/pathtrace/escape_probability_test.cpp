@@ -25,7 +25,7 @@ EscapeResult escape(const TriangleMesh& mesh, const Material& material,
   return estimateEscapeProbability(mesh, vertexAreas(mesh), material, options);
 }
 
-std::size_t findVertex(const TriangleMesh& mesh, const glm::vec3& p) {
+std::size_t vertexAt(const TriangleMesh& mesh, const glm::vec3& p) {
   for (std::size_t i = 0; i < mesh.positions.size(); ++i)
     if (glm::length(mesh.positions[i] - p) < 1e-3f) return i;
   ADD_FAILURE() << "no vertex at the expected position";
@@ -172,7 +172,7 @@ TEST(EscapeProbability, HalfSpaceMatchesTabulatedAlbedoAndPathTracer) {
   const SeedStatistics e = overSeeds(inner);
 
   const TriangleMesh box = makeBox(glm::vec3(width, width, float(30.0 * lmax)), 2);
-  const uint32_t top = uint32_t(findVertex(box, glm::vec3(0.0f, 0.0f, float(15.0 * lmax))));
+  const uint32_t top = uint32_t(vertexAt(box, glm::vec3(0.0f, 0.0f, float(15.0 * lmax))));
   const PathTracedEscape pt = pathTracedEscape(box, skin, {top}, 40000);
 
   const glm::dvec3 albedo = skin.reducedAlbedo();
@@ -211,7 +211,7 @@ double overTransmittedEntry(double eta, F f) {
 TEST(EscapeProbability, ThinSlabCountsLightReflectedBeforeItsFirstScattering) {
   const float thickness = 1.0f;
   const TriangleMesh slab = makeSlab(40.0f, thickness, 40);
-  const uint32_t top = uint32_t(findVertex(slab, glm::vec3(0.0f, 0.0f, 0.5f * thickness)));
+  const uint32_t top = uint32_t(vertexAt(slab, glm::vec3(0.0f, 0.0f, 0.5f * thickness)));
   for (double eta : {1.0, 1.3, 2.0}) {
     Material material;
     material.sigmaSPrime = glm::dvec3(0.25, 0.5, 1.0) / double(thickness);
@@ -259,7 +259,7 @@ void expectSlabTopMatchesPathTracer(float side, int subdivisions, const Material
   options.walks = walks;
   options.smoothing = 0.25;
   const EscapeResult r = escape(slab, material, options);
-  const uint32_t top = uint32_t(findVertex(slab, glm::vec3(0.0f, 0.0f, 1.0f)));
+  const uint32_t top = uint32_t(vertexAt(slab, glm::vec3(0.0f, 0.0f, 1.0f)));
   const PathTracedEscape pt = pathTracedEscape(slab, material, {top}, tracerWalks);
   const double se = channelStandardErrorBound(r);
   for (int c = 0; c < 3; ++c) {
@@ -313,8 +313,8 @@ TEST(EscapeProbability, ThinSlabReturnsMoreThanThickSlab) {
   options.walks = 8;
   const TriangleMesh thin = makeSlab(40.0f, 2.0f, 16), thick = makeSlab(40.0f, 20.0f, 16);
   const EscapeResult a = escape(thin, marble, options), b = escape(thick, marble, options);
-  const glm::vec3 pa = a.probability[findVertex(thin, glm::vec3(0.0f, 0.0f, 1.0f))];
-  const glm::vec3 pb = b.probability[findVertex(thick, glm::vec3(0.0f, 0.0f, 10.0f))];
+  const glm::vec3 pa = a.probability[vertexAt(thin, glm::vec3(0.0f, 0.0f, 1.0f))];
+  const glm::vec3 pb = b.probability[vertexAt(thick, glm::vec3(0.0f, 0.0f, 10.0f))];
   const double se = std::hypot(channelStandardErrorBound(a), channelStandardErrorBound(b));
   for (int c = 0; c < 3; ++c) EXPECT_GT(pa[c] - pb[c], 4.0 * se) << "channel " << c;
 }

@@ -232,7 +232,7 @@ void writeLightmaps(const std::string& output, const sss::Lightmap& map) {
 // report's temporary file is created first, so both appear or neither does. A GLB embeds the
 // report (without the write time).
 void writeOutputs(const std::string& output, const std::string& jsonPath,
-                  const sss::BakeOutput& result, const sss::Stopwatch& toolClock) {
+                  const sss::BakeOutput& result, const sss::Stopwatch& toolClock, bool quiet) {
   std::unique_ptr<sss::AtomicOutput> jsonOutput;
   std::ofstream jsonFile;
   if (!jsonPath.empty()) {
@@ -244,8 +244,12 @@ void writeOutputs(const std::string& output, const std::string& jsonPath,
   sss::Json report = sss::toJson(result.report);
   report["output"] = output;
   if (result.lightmap.size > 0 && sss::lowerExtension(output) == "glb") {
-    sss::writeLightmappedGlb(output, sss::lightmappedAsset(result.lightmapSource, result.lightmap,
-                                                           result.baked, report.dump()));
+    const sss::LightmappedAsset asset =
+        sss::lightmappedAsset(result.lightmapSource, result.lightmap, result.baked, report.dump());
+    if (!quiet)
+      for (const std::string& note : sss::droppedSurfaceNotes(asset))
+        sss::warn(output + ": " + note);
+    sss::writeLightmappedGlb(output, asset);
   } else if (result.lightmap.size > 0) {
     report["texture"]["exitance_output"] = exitanceMapPath(output);
     writeLightmaps(output, result.lightmap);
@@ -304,7 +308,7 @@ int bakeBatch(const std::vector<std::string>& meshes, const std::string& outDir,
         sss::BakeSettings one = s;
         one.meshPath = item.input;
         const sss::BakeOutput result = sss::bake(one, environment);
-        writeOutputs(item.outputs[0], item.outputs[1], result, clock);
+        writeOutputs(item.outputs[0], item.outputs[1], result, clock, s.run.quiet);
         sss::info("wrote " + item.outputs[0] + " (" +
                       std::to_string(result.baked.mesh.vertexCount()) + " vertices) in " +
                       std::to_string(clock.seconds()) + " s",
@@ -379,7 +383,7 @@ int main(int argc, char** argv) {
     s.material = materialFrom(material);
     const sss::Stopwatch clock;
     const sss::BakeOutput result = sss::bake(s);
-    writeOutputs(output, jsonPath, result, clock);
+    writeOutputs(output, jsonPath, result, clock, s.run.quiet);
     const std::string what =
         s.texture.size > 0 ? std::to_string(s.texture.size) + "^2 texels, " +
                                  std::to_string(result.report.lightmap.coveredTexels) + " covered"

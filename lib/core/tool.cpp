@@ -111,7 +111,7 @@ void printError(const std::string& message) {
 }
 
 void warn(const std::string& message) {
-  std::fprintf(stderr, "%s: warning: %s\n", gToolName, message.c_str());
+  std::fprintf(stderr, "%s: warning: %s\n", gToolName, escapeControl(message).c_str());
 }
 
 void info(const std::string& message, bool quiet) {

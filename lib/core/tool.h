@@ -57,7 +57,8 @@ int runTool(const char* toolName, const std::function<int()>& body);
 // "<tool>: error: <message>" on stderr, for an error the tool goes on after (one input of a
 // batch, core/batch.h); control characters escaped.
 void printError(const std::string& message);
-// "<tool>: warning: <message>" on stderr.
+// "<tool>: warning: <message>" on stderr; control characters escaped (a name from a file may
+// hold them).
 void warn(const std::string& message);
 // "<tool>: <message>" on stderr, unless quiet.
 void info(const std::string& message, bool quiet);

@@ -69,12 +69,23 @@ int GlbBinary::addNormalizedShortVec3(const std::vector<std::array<int16_t, 3>>&
   return static_cast<int>(accessors_.size()) - 1;
 }
 
-int GlbBinary::addVec2(const std::vector<glm::vec2>& values) {
-  accessors_.push_back({{"bufferView", addView(values.data(), values.size() * 8, kArrayBuffer)},
+// A float vertex attribute of `components` per element (`type`: "VEC2", "VEC4").
+int GlbBinary::addFloats(const float* values, std::size_t elements, int components,
+                         const char* type) {
+  const std::size_t bytes = elements * std::size_t(components) * 4;
+  accessors_.push_back({{"bufferView", addView(values, bytes, kArrayBuffer)},
                         {"componentType", kFloat},
-                        {"count", values.size()},
-                        {"type", "VEC2"}});
+                        {"count", elements},
+                        {"type", type}});
   return static_cast<int>(accessors_.size()) - 1;
+}
+
+int GlbBinary::addVec2(const std::vector<glm::vec2>& values) {
+  return addFloats(reinterpret_cast<const float*>(values.data()), values.size(), 2, "VEC2");
+}
+
+int GlbBinary::addVec4(const std::vector<glm::vec4>& values) {
+  return addFloats(reinterpret_cast<const float*>(values.data()), values.size(), 4, "VEC4");
 }
 
 int GlbBinary::addIndices(const std::vector<glm::uvec3>& triangles) {

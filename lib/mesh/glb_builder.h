@@ -12,6 +12,7 @@
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 #include <nlohmann/json.hpp>
 
 namespace sss {
@@ -22,10 +23,11 @@ class GlbBinary {
 
   // Raw bytes in a bufferView of their own (target 0: none, as for an image); its index.
   int addView(const void* data, std::size_t bytes, int target = 0);
-  // Float VEC3 / VEC2 vertex attributes; POSITION needs its bounds (section 3.7.2.1). The
+  // Float VEC3 / VEC2 / VEC4 vertex attributes; POSITION needs its bounds (section 3.7.2.1). The
   // accessor's index.
   int addVec3(const std::vector<glm::vec3>& values, bool withBounds);
   int addVec2(const std::vector<glm::vec2>& values);
+  int addVec4(const std::vector<glm::vec4>& values);
   // A normalized SHORT VEC3 vertex attribute (value q / 32767), each element padded to 8 bytes
   // (byteStride 8: vertex attributes are 4-byte aligned, section 3.6.2.4).
   int addNormalizedShortVec3(const std::vector<std::array<int16_t, 3>>& values);
@@ -37,6 +39,8 @@ class GlbBinary {
   const Json& accessors() const { return accessors_; }
 
  private:
+  int addFloats(const float* values, std::size_t elements, int components, const char* type);
+
   std::string bin_;
   Json bufferViews_ = Json::array();
   Json accessors_ = Json::array();

@@ -296,36 +296,63 @@ std::string Document::loadBuffer(std::uint64_t i) const {
     return glbBin_.substr(0, length);
   }
   const std::string uri = string(b, "uri");
-  std::string data;
-  if (uri.starts_with("data:")) {
-    const std::size_t comma = uri.find(',');
-    if (comma == std::string::npos || !uri.substr(0, comma).ends_with(";base64")) {
-      fail(name + "'s data: URI is not base64");
-    }
-    data = decodeBase64(path_, uri.substr(comma + 1));
-  } else {
-    const std::string file = resolveUri(path_, folder_, uri);
-    checkInputFile(file);
-    std::ifstream in(file, std::ios::binary);
-    std::error_code ec;
-    const std::uintmax_t size = fs::file_size(file, ec);
-    if (!in || ec) fail(name + ": cannot open '" + uri.substr(0, 200) + "'");
-    if (size < length) {
-      fail(name + " ('" + uri.substr(0, 200) + "') holds " + std::to_string(size) +
-           " bytes, under its byteLength " + std::to_string(length));
-    }
-    data.resize(length);
-    if (!in.read(data.data(), static_cast<std::streamsize>(length))) {
-      fail(name + ": cannot read '" + uri.substr(0, 200) + "'");
-    }
-    return data;
-  }
+  if (!uri.starts_with("data:")) return fileBytes(uri, name, length, length);
+  std::string data = uriBytes(uri, name, std::numeric_limits<std::uint64_t>::max(), nullptr);
   if (data.size() < length) {
     fail(name + " declares " + std::to_string(length) + " bytes, its data: URI holds " +
          std::to_string(data.size()));
   }
   data.resize(length);
   return data;
+}
+
+std::string Document::fileBytes(const std::string& uri, const std::string& what,
+                                std::uint64_t atLeast, std::uint64_t atMost) const {
+  const std::string file = resolveUri(path_, folder_, uri);
+  checkInputFile(file);
+  std::ifstream in(file, std::ios::binary);
+  std::error_code ec;
+  const std::uintmax_t size = fs::file_size(file, ec);
+  const std::string shown = "'" + uri.substr(0, 200) + "'";
+  if (!in || ec) fail(what + ": cannot open " + shown);
+  if (size < atLeast) {
+    fail(what + " (" + shown + ") holds " + std::to_string(size) + " bytes, under its byteLength " +
+         std::to_string(atLeast));
+  }
+  if (size > atMost && atLeast != atMost) {
+    fail(what + " (" + shown + ") holds " + std::to_string(size) + " bytes, over the " +
+         std::to_string(atMost) + " allowed");
+  }
+  std::string data(std::min<std::uintmax_t>(size, atMost), '\0');
+  if (!in.read(data.data(), static_cast<std::streamsize>(data.size()))) {
+    fail(what + ": cannot read " + shown);
+  }
+  return data;
+}
+
+std::string Document::uriBytes(const std::string& uri, const std::string& what,
+                               std::uint64_t maxBytes, std::string* mediaType) const {
+  if (!uri.starts_with("data:")) {
+    if (mediaType) mediaType->clear();
+    return fileBytes(uri, what, 1, maxBytes);
+  }
+  const std::size_t comma = uri.find(',');
+  if (comma == std::string::npos || !uri.substr(0, comma).ends_with(";base64")) {
+    fail(what + "'s data: URI is not base64");
+  }
+  // RFC 2397: data:[<mediatype>][;base64],<data>
+  if (mediaType) *mediaType = uri.substr(5, comma - 5 - std::string(";base64").size());
+  if ((uri.size() - comma - 1) / 4 * 3 > maxBytes) {
+    fail(what + "'s data: URI holds over the " + std::to_string(maxBytes) + " bytes allowed");
+  }
+  return decodeBase64(path_, uri.substr(comma + 1));
+}
+
+std::string Document::viewBytes(std::uint64_t view, const std::string& what) const {
+  const std::uint64_t length = index(element("bufferViews", view), "byteLength");
+  if (length == 0) fail(what + ": bufferView " + std::to_string(view) + " is empty");
+  const Span span = viewSpan(view, 0, 1, length, false, what);
+  return std::string(span.data, length);
 }
 
 const std::string& Document::buffer(std::uint64_t i) const {

@@ -55,11 +55,22 @@ class Document {
   // The element count of accessor `accessor` (checked: at least 1).
   std::uint64_t accessorCount(std::uint64_t accessor) const;
 
+  // The bytes of bufferView `view` (inside its buffer; not empty).
+  std::string viewBytes(std::uint64_t view, const std::string& what) const;
+  // The bytes a URI names: a base64 data: URI (its media type, RFC 2397, in *mediaType) or a
+  // file beside the asset (mediaType cleared); more than maxBytes is an error naming `what`.
+  std::string uriBytes(const std::string& uri, const std::string& what, std::uint64_t maxBytes,
+                       std::string* mediaType) const;
+
  private:
   struct Span;    // gltf_document.cpp
   struct Layout;  // gltf_document.cpp
   const std::string& buffer(std::uint64_t i) const;
   std::string loadBuffer(std::uint64_t i) const;
+  // The file `uri` names beside the asset: its first atMost bytes; an error when it holds fewer
+  // than atLeast, or (atLeast != atMost) more than atMost.
+  std::string fileBytes(const std::string& uri, const std::string& what, std::uint64_t atLeast,
+                        std::uint64_t atMost) const;
   Span viewSpan(std::uint64_t view, std::uint64_t offset, std::uint64_t count,
                 std::uint64_t elementSize, bool vertexData, const std::string& what) const;
   template <class T>

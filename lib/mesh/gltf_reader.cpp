@@ -15,6 +15,7 @@
 #include "core/file_extension.h"
 #include "core/memory.h"
 #include "mesh/gltf_document.h"
+#include "mesh/gltf_materials.h"
 
 namespace sss {
 namespace {
@@ -336,6 +337,8 @@ void addPrimitive(const Document& doc, SceneBuilder& b, const Instance& instance
   info.meshIndex = instance.mesh;
   info.primitive = index;
   info.material = materialKey(doc, primitive);
+  if (primitive.contains("material"))
+    info.materialIndex = static_cast<std::int64_t>(doc.index(primitive, "material"));
   info.transform = instance.world;
   info.hasTexcoords = !uv.empty();
   info.triangles = tris.size();
@@ -422,6 +425,7 @@ GltfMesh readDocument(const Document& doc) {
       std::any_of(b.parts.begin(), b.parts.end(), [](const MeshPart& p) { return p.hasTexcoords; });
   if (anyTexcoords) out.cornerTexcoords = std::move(b.cornerTexcoords);
   out.parts = std::move(b.parts);
+  out.surfaces = readSurfaceMaterials(doc);
   return out;
 }
 

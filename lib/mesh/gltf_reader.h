@@ -40,6 +40,7 @@ struct GltfMesh {
   std::vector<std::uint32_t> facePart;     // per raw face: its index in parts
   std::vector<glm::vec2> cornerTexcoords;  // 3 per raw face (empty: no part has TEXCOORD_0)
   std::vector<MeshPart> parts;
+  SurfaceMaterials surfaces;  // the file's materials (gltf_materials.h)
   std::size_t weldedVertices = 0;
   std::vector<std::string> warnings;  // without the file name
 };

@@ -12,6 +12,7 @@
 
 #include "core/atomic_output.h"
 #include "core/error.h"
+#include "core/format.h"
 #include "mesh/glb_builder.h"
 
 namespace sss {
@@ -20,7 +21,7 @@ namespace {
 using Json = GlbBinary::Json;
 
 constexpr int kTriangles = 4;
-constexpr int kLinear = 9729, kLinearMipmapLinear = 9987, kClampToEdge = 33071;
+constexpr int kLinear = 9729, kLinearMipmapLinear = 9987, kClampToEdge = kGltfClampToEdge;
 
 // The triangles of one node: its parts' (one primitive each) over the welded mesh.
 struct NodeParts {
@@ -83,6 +84,40 @@ PrimitiveData primitiveData(const LightmappedAsset& a, std::uint32_t part,
   return out;
 }
 
+// TANGENT for a normal map (glTF 2.0, 3.7.2.1: unit XYZ, W the sign that makes cross(N, T) W
+// the bitangent): per vertex, the derivative of position along u, and along -v for the
+// bitangent (the normal map's +Y is up in the image, where v grows downwards), summed over its
+// triangles (Lengyel, "Computing Tangent Space Basis Vectors for an Arbitrary Mesh", 2001) and
+// made orthogonal to the normal.
+std::vector<glm::vec4> tangentsOf(const PrimitiveData& d) {
+  std::vector<glm::dvec3> alongU(d.positions.size(), glm::dvec3(0.0)), up = alongU;
+  for (const glm::uvec3& t : d.triangles) {
+    const glm::dvec3 e1 = glm::dvec3(d.positions[t[1]] - d.positions[t[0]]);
+    const glm::dvec3 e2 = glm::dvec3(d.positions[t[2]] - d.positions[t[0]]);
+    const glm::dvec2 s1 = glm::dvec2(d.texcoords[t[1]] - d.texcoords[t[0]]);
+    const glm::dvec2 s2 = glm::dvec2(d.texcoords[t[2]] - d.texcoords[t[0]]);
+    const double det = s1.x * s2.y - s2.x * s1.y;
+    if (std::abs(det) < 1e-20) continue;  // no texture-space area
+    const glm::dvec3 dpdu = (e1 * s2.y - e2 * s1.y) / det;
+    const glm::dvec3 dpdv = (e2 * s1.x - e1 * s2.x) / det;
+    for (int c = 0; c < 3; ++c) {
+      alongU[t[c]] += dpdu;
+      up[t[c]] -= dpdv;
+    }
+  }
+  std::vector<glm::vec4> out(d.positions.size());
+  for (std::size_t v = 0; v < out.size(); ++v) {
+    const glm::dvec3 n = glm::dvec3(d.normals[v]);
+    glm::dvec3 t = alongU[v] - n * glm::dot(n, alongU[v]);
+    if (glm::length(t) < 1e-12) {  // no texture-space derivative: any unit vector across n
+      t = glm::cross(n, std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0));
+    }
+    t = glm::normalize(t);
+    out[v] = glm::vec4(glm::vec3(t), glm::dot(glm::cross(n, t), up[v]) < 0.0 ? -1.0f : 1.0f);
+  }
+  return out;
+}
+
 Json nodeMatrix(const glm::dmat4& m) {
   Json out = Json::array();
   for (int c = 0; c < 4; ++c)
@@ -106,28 +141,148 @@ Json volumeExtension(const LightmappedAsset& a, double thicknessLocal) {
   return volume;
 }
 
-Json materialJson(const LightmappedAsset& a, double thicknessLocal) {
-  const std::string name = a.materialName.empty() ? "baked" : a.materialName;
-  return {{"name", name + " (baked translucency: emission, coat)"},
-          {"pbrMetallicRoughness",
-           {{"baseColorFactor", {0.0, 0.0, 0.0, 1.0}},
-            {"metallicFactor", 0.0},
-            {"roughnessFactor", 0.0}}},
-          {"emissiveTexture", {{"index", 0}}},
-          {"emissiveFactor", {1.0, 1.0, 1.0}},
-          {"extensions",
-           {{"KHR_materials_emissive_strength", {{"emissiveStrength", a.emissiveStrength}}},
-            {"KHR_materials_clearcoat",
-             {{"clearcoatFactor", a.coatWeight}, {"clearcoatRoughnessFactor", 0.0}}},
-            {"KHR_materials_specular", {{"specularFactor", 0.0}}},
-            {"KHR_materials_ior", {{"ior", a.eta}}},
-            {"KHR_materials_transmission", {{"transmissionFactor", 0.0}}},
-            {"KHR_materials_volume", volumeExtension(a, thicknessLocal)}}}};
+// The written file's textures, samplers and images: texture, sampler and image 0 are the
+// lightmap's; each kept source texture follows, its image and sampler written once.
+class TextureTable {
+ public:
+  TextureTable(const LightmappedAsset& a, GlbBinary& bin) : asset_(a), bin_(bin) {
+    samplers_.push_back({{"magFilter", kLinear},
+                         {"minFilter", kLinearMipmapLinear},
+                         {"wrapS", kClampToEdge},
+                         {"wrapT", kClampToEdge}});
+    const int view = bin.addView(a.emissivePng.data(), a.emissivePng.size());
+    images_.push_back({{"bufferView", view}, {"mimeType", "image/png"}});
+    textures_.push_back({{"sampler", 0}, {"source", 0}});
+  }
+
+  // A textureInfo for `t` (with `scaleKey`: its scale or strength, when not 1).
+  Json info(const SurfaceTexture& t, const char* scaleKey = nullptr) {
+    Json out = {{"index", texture(t)}};
+    if (scaleKey && t.scale != 1.0) out[scaleKey] = t.scale;
+    return out;
+  }
+
+  void write(Json& doc) const {
+    doc["textures"] = textures_;
+    doc["images"] = images_;
+    doc["samplers"] = samplers_;
+  }
+
+ private:
+  std::size_t texture(const SurfaceTexture& t) {
+    Json sampler = {{"wrapS", t.wrapS}, {"wrapT", t.wrapT}};
+    if (t.magFilter) sampler["magFilter"] = t.magFilter;
+    if (t.minFilter) sampler["minFilter"] = t.minFilter;
+    const Json tex = {{"sampler", indexOf(samplers_, sampler)}, {"source", image(t.image)}};
+    return indexOf(textures_, tex);
+  }
+
+  std::size_t image(std::uint32_t i) {
+    const auto it = imageIndex_.find(i);
+    if (it != imageIndex_.end()) return it->second;
+    const SurfaceImage& source = asset_.parts.surfaces.images.at(i);
+    const int view = bin_.addView(source.bytes.data(), source.bytes.size());
+    images_.push_back({{"bufferView", view}, {"mimeType", source.mimeType}});
+    return imageIndex_[i] = images_.size() - 1;
+  }
+
+  static std::size_t indexOf(Json& list, const Json& value) {
+    for (std::size_t k = 0; k < list.size(); ++k)
+      if (list[k] == value) return k;
+    list.push_back(value);
+    return list.size() - 1;
+  }
+
+  const LightmappedAsset& asset_;
+  GlbBinary& bin_;
+  Json textures_ = Json::array(), samplers_ = Json::array(), images_ = Json::array();
+  std::map<std::uint32_t, std::size_t> imageIndex_;
+};
+
+// The baked material on a source material's surface (surface_material.h): its roughness on the
+// coat (the only layer that reflects) and the base, its normal map on both, its occlusion, and
+// its alpha (with the base colour texture where alpha is drawn: the colour factor stays black).
+void keepSurface(const SurfaceMaterial& s, TextureTable& textures, Json& m) {
+  Json& pbr = m["pbrMetallicRoughness"];
+  Json& coat = m["extensions"]["KHR_materials_clearcoat"];
+  pbr["baseColorFactor"] = {0.0, 0.0, 0.0, s.alpha};
+  pbr["roughnessFactor"] = s.roughness;
+  coat["clearcoatRoughnessFactor"] = s.roughness;
+  if (s.baseColor && s.alphaMode != "OPAQUE") pbr["baseColorTexture"] = textures.info(*s.baseColor);
+  // Roughness is G in both textures (glTF 2.0 3.9.2; KHR_materials_clearcoat).
+  if (s.roughnessMap) {
+    pbr["metallicRoughnessTexture"] = textures.info(*s.roughnessMap);
+    coat["clearcoatRoughnessTexture"] = textures.info(*s.roughnessMap);
+  }
+  if (s.normal) {
+    m["normalTexture"] = textures.info(*s.normal, "scale");
+    coat["clearcoatNormalTexture"] = textures.info(*s.normal, "scale");
+  }
+  if (s.occlusion) m["occlusionTexture"] = textures.info(*s.occlusion, "strength");
+  if (s.alphaMode != "OPAQUE") m["alphaMode"] = s.alphaMode;
+  if (s.alphaMode == "MASK") m["alphaCutoff"] = s.alphaCutoff;
+  if (s.doubleSided) {
+    // A double-sided surface bounds no volume (KHR_materials_volume), and the factor-0
+    // transmission is there only for the volume.
+    m["doubleSided"] = true;
+    m["extensions"].erase("KHR_materials_volume");
+    m["extensions"].erase("KHR_materials_transmission");
+  }
+}
+
+// The material of the parts whose source material is `surface` (null: none).
+Json materialJson(const LightmappedAsset& a, double thicknessLocal, const SurfaceMaterial* surface,
+                  TextureTable& textures) {
+  const std::string name = surface && !surface->name.empty() ? surface->name
+                           : a.materialName.empty()          ? "baked"
+                                                             : a.materialName;
+  Json m = {{"name", name + " (baked translucency: emission, coat)"},
+            {"pbrMetallicRoughness",
+             {{"baseColorFactor", {0.0, 0.0, 0.0, 1.0}},
+              {"metallicFactor", 0.0},
+              {"roughnessFactor", 0.0}}},
+            {"emissiveTexture", {{"index", 0}}},
+            {"emissiveFactor", {1.0, 1.0, 1.0}},
+            {"extensions",
+             {{"KHR_materials_emissive_strength", {{"emissiveStrength", a.emissiveStrength}}},
+              {"KHR_materials_clearcoat",
+               {{"clearcoatFactor", a.coatWeight}, {"clearcoatRoughnessFactor", 0.0}}},
+              {"KHR_materials_specular", {{"specularFactor", 0.0}}},
+              {"KHR_materials_ior", {{"ior", a.eta}}},
+              {"KHR_materials_transmission", {{"transmissionFactor", 0.0}}},
+              {"KHR_materials_volume", volumeExtension(a, thicknessLocal)}}}};
+  if (surface) keepSurface(*surface, textures, m);
+  return m;
+}
+
+// The written materials: one per source material the parts use (in order of first use), one for
+// the parts without; each part's index among them.
+struct MaterialSlots {
+  std::vector<std::int64_t> source;  // per written material: its source material, -1: none
+  std::vector<char> normalMapped;    // per written material: it keeps a normal map
+  std::vector<std::size_t> ofPart;
+};
+
+MaterialSlots materialSlots(const LightmappedAsset& a) {
+  MaterialSlots slots;
+  const std::size_t sources = a.parts.surfaces.materials.size();
+  for (const MeshPart& p : a.parts.parts) {
+    const std::int64_t m =
+        p.materialIndex >= 0 && std::size_t(p.materialIndex) < sources ? p.materialIndex : -1;
+    const auto it = std::find(slots.source.begin(), slots.source.end(), m);
+    slots.ofPart.push_back(std::size_t(it - slots.source.begin()));
+    if (it == slots.source.end()) slots.source.push_back(m);
+  }
+  if (slots.source.empty()) slots.source.push_back(-1);
+  for (const std::int64_t m : slots.source)
+    slots.normalMapped.push_back(m >= 0 && a.parts.surfaces.materials[m].normal.has_value());
+  return slots;
 }
 
 // The scene: a node per source node (its world transform, scaled to metres), a mesh per node.
 // Returns the number of nodes.
-std::size_t addScene(const LightmappedAsset& a, GlbBinary& bin, Json& doc) {
+std::size_t addScene(const LightmappedAsset& a, const MaterialSlots& slots, GlbBinary& bin,
+                     Json& doc) {
   const double metresPerUnit = a.mmPerUnit / 1000.0;
   const glm::dmat4 toMetres = glm::dmat4(glm::dmat3(metresPerUnit));
   std::vector<NodeParts> nodes = groupByNode(a.parts);
@@ -140,12 +295,14 @@ std::size_t addScene(const LightmappedAsset& a, GlbBinary& bin, Json& doc) {
     for (const std::size_t part : node.parts) {
       const PrimitiveData data = primitiveData(a, static_cast<std::uint32_t>(part), transform);
       if (data.triangles.empty()) continue;  // every triangle of the part was cleaned away
-      primitives.push_back({{"attributes",
-                             {{"POSITION", bin.addVec3(data.positions, true)},
-                              {"NORMAL", bin.addVec3(data.normals, false)},
-                              {"TEXCOORD_0", bin.addVec2(data.texcoords)}}},
+      const std::size_t material = a.parts.parts.empty() ? 0 : slots.ofPart[part];
+      Json attributes = {{"POSITION", bin.addVec3(data.positions, true)},
+                         {"NORMAL", bin.addVec3(data.normals, false)},
+                         {"TEXCOORD_0", bin.addVec2(data.texcoords)}};
+      if (slots.normalMapped[material]) attributes["TANGENT"] = bin.addVec4(tangentsOf(data));
+      primitives.push_back({{"attributes", attributes},
                             {"indices", bin.addIndices(data.triangles)},
-                            {"material", 0},
+                            {"material", material},
                             {"mode", kTriangles}});
     }
     if (primitives.empty()) continue;
@@ -193,24 +350,39 @@ void writeLightmappedGlb(const std::string& path, const LightmappedAsset& a) {
     doc["asset"] = {{"version", "2.0"},
                     {"generator", "sss-tools"},
                     {"extras", {{"sss", Json::parse(a.extrasJson.empty() ? "{}" : a.extrasJson)}}}};
-    doc["extensionsUsed"] = {"KHR_materials_emissive_strength", "KHR_materials_clearcoat",
-                             "KHR_materials_specular",          "KHR_materials_ior",
-                             "KHR_materials_transmission",      "KHR_materials_volume"};
-    if (addScene(a, bin, doc) == 0) fail(path, "no triangle to write");
-    // Json::array: a braced list of one JSON value may be taken for a copy of it (compilers
-    // differ), not an array holding it.
-    doc["materials"] = Json::array({materialJson(a, a.thicknessM / meanScale(a))});
-    doc["textures"] = Json::array({{{"sampler", 0}, {"source", 0}}});
-    const int imageView = bin.addView(a.emissivePng.data(), a.emissivePng.size());
-    doc["images"] = Json::array({{{"bufferView", imageView}, {"mimeType", "image/png"}}});
-    doc["samplers"] = Json::array({{{"magFilter", kLinear},
-                                    {"minFilter", kLinearMipmapLinear},
-                                    {"wrapS", kClampToEdge},
-                                    {"wrapT", kClampToEdge}}});
+    doc["extensionsUsed"] = Json::array();  // filled below, after the materials
+    const MaterialSlots slots = materialSlots(a);
+    if (addScene(a, slots, bin, doc) == 0) fail(path, "no triangle to write");
+    TextureTable textures(a, bin);
+    const double thicknessLocal = a.thicknessM / meanScale(a);
+    Json materials = Json::array();
+    for (const std::int64_t m : slots.source) {
+      const SurfaceMaterial* surface = m >= 0 ? &a.parts.surfaces.materials[m] : nullptr;
+      materials.push_back(materialJson(a, thicknessLocal, surface, textures));
+    }
+    for (const Json& m : materials)
+      for (const auto& [name, value] : m["extensions"].items())
+        if (std::find(doc["extensionsUsed"].begin(), doc["extensionsUsed"].end(), name) ==
+            doc["extensionsUsed"].end())
+          doc["extensionsUsed"].push_back(name);
+    doc["materials"] = materials;
+    textures.write(doc);
   } catch (const nlohmann::json::exception& e) {
     fail(path, std::string("cannot encode the glTF JSON: ") + e.what());
   }
   writeFileAtomically(path, encodeGlb(path, std::move(doc), bin));
+}
+
+std::vector<std::string> droppedSurfaceNotes(const LightmappedAsset& a) {
+  std::vector<std::string> notes;
+  for (const std::int64_t m : materialSlots(a).source) {
+    if (m < 0) continue;
+    const SurfaceMaterial& s = a.parts.surfaces.materials[m];
+    const std::string name = s.name.empty() ? format("#%.0f", double(m)) : s.name;
+    for (const std::string& d : s.dropped)
+      notes.push_back("material '" + name + "': " + d + " not kept");
+  }
+  return notes;
 }
 
 }  // namespace sss

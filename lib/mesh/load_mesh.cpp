@@ -395,6 +395,7 @@ TriangleMesh loadGltf(const std::string& path, MeshReport& r, MeshParts* parts) 
   parts->mmPerUnit = 1000.0;  // glTF 2.0, section 3.3.1: metres
   parts->weldedVertices = g.weldedVertices;
   parts->parts = std::move(g.parts);
+  parts->surfaces = std::move(g.surfaces);
   parts->trianglePart.resize(mesh.triangles.size());
   if (!g.cornerTexcoords.empty()) parts->cornerTexcoords.resize(3 * mesh.triangles.size());
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {

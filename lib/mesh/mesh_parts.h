@@ -1,6 +1,7 @@
 // What a scene file (glTF) holds beyond one triangle mesh, kept through loadMesh's cleanup: the
 // unit the format fixes, its parts (one per mesh primitive that a node places) with their names
-// and materials, each triangle's part, and the texture coordinates at each triangle's corners.
+// and materials, each triangle's part, the texture coordinates at each triangle's corners, and
+// the surface materials (surface_material.h).
 #pragma once
 
 #include <cstddef>
@@ -10,6 +11,8 @@
 
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
+
+#include "mesh/surface_material.h"
 
 namespace sss {
 
@@ -21,9 +24,10 @@ struct MeshPart {
   std::uint64_t primitive = 0;  // its index among the mesh's primitives
   // The material's key for a material map: its name, "#<index>" when unnamed, "" for none.
   std::string material;
-  glm::dmat4 transform{1.0};  // the node's world transform (file units)
-  bool hasTexcoords = false;  // TEXCOORD_0 present (else its corners hold 0, 0)
-  std::size_t triangles = 0;  // as read, before the cleanup
+  std::int64_t materialIndex = -1;  // into MeshParts::surfaces.materials; -1: none
+  glm::dmat4 transform{1.0};        // the node's world transform (file units)
+  bool hasTexcoords = false;        // TEXCOORD_0 present (else its corners hold 0, 0)
+  std::size_t triangles = 0;        // as read, before the cleanup
 };
 
 struct MeshParts {
@@ -32,6 +36,7 @@ struct MeshParts {
   std::vector<std::uint32_t> trianglePart;  // per triangle of the cleaned mesh (with parts)
   std::vector<glm::vec2> cornerTexcoords;   // 3 per triangle, TEXCOORD_0 (empty: none)
   std::size_t weldedVertices = 0;           // vertices merged at identical positions
+  SurfaceMaterials surfaces;                // the file's materials, for an asset written back
 
   // The distinct material keys of the parts, in the order of first use.
   std::vector<std::string> materials() const {

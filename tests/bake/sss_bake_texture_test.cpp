@@ -19,6 +19,7 @@
 #include "mesh/glb_chunks.h"
 #include "mesh/lightmapped_glb.h"
 #include "mesh/primitives.h"
+#include "support/gltf_builder.h"
 #include "support/tool_test.h"
 #include "support/uv_sphere.h"
 
@@ -133,6 +134,53 @@ TEST_F(BakeTexture, GlbCarriesTheLightmapAsItsEmission) {
   const auto& extras = doc["asset"]["extras"]["sss"];
   EXPECT_EQ(extras["material"]["name"], "marble");
   EXPECT_EQ(extras["report"]["texture"]["size"], 64);
+}
+
+// A source material's surface survives the bake: its roughness and normal map on the coat that
+// reflects, the normal map's tangents, its image's bytes; what cannot be kept (a map on
+// TEXCOORD_1) is one warning line naming the output, the material and the map.
+TEST_F(BakeTexture, GlbKeepsTheSourceSurfaceAndNamesWhatItDrops) {
+  test::GltfBuilder b;
+  const std::vector<std::uint8_t> flat(3 * 4 * 4, 128);
+  const std::string normalMap =
+      encodePng("normal map", {.width = 4, .height = 4, .srgb8 = flat.data(), .attributes = {}});
+  b.doc["images"] = {{{"bufferView", b.view(normalMap)}, {"mimeType", "image/png"}}};
+  b.doc["textures"] = {{{"source", 0}}};
+  b.doc["materials"] = {
+      {{"name", "Wax"},
+       {"pbrMetallicRoughness",
+        {{"roughnessFactor", 0.4}, {"metallicRoughnessTexture", {{"index", 0}, {"texCoord", 1}}}}},
+       {"normalTexture", {{"index", 0}}}}};
+  test::GltfBuilder::Primitive p = test::uvSpherePrimitive(b, 24, 12, kRadiusM);
+  p.material = 0;
+  b.scene({b.node({{"name", "candle"}, {"mesh", b.mesh({p}, "candle")}})});
+  test::writeText(dir_.path("candle.glb"), b.glb());
+  const std::string out = dir_.path("candle_baked.glb");
+  const ToolRun r = test::runTool("sss-bake",
+                                  dir_.path("candle.glb") + " --sky -m marble --texture 64 -o " +
+                                      out + " --energy halfspace --unscattered off",
+                                  Capture::Stderr);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("sss-bake: warning: " + out +
+                          ": material 'Wax': metallicRoughnessTexture (TEXCOORD_1) not kept\n"),
+            std::string::npos)
+      << r.output;
+  const GlbChunks chunks = readGlbChunks(out);
+  const auto doc = nlohmann::json::parse(chunks.json);
+  const auto& m = doc["materials"][0];
+  EXPECT_EQ(m["name"], "Wax (baked translucency: emission, coat)");
+  EXPECT_EQ(m["pbrMetallicRoughness"]["roughnessFactor"], 0.4);
+  EXPECT_FALSE(m["pbrMetallicRoughness"].contains("metallicRoughnessTexture"));
+  const auto& coat = m["extensions"]["KHR_materials_clearcoat"];
+  EXPECT_EQ(coat["clearcoatRoughnessFactor"], 0.4);
+  ASSERT_TRUE(coat.contains("clearcoatNormalTexture"));
+  const auto& texture = doc["textures"][coat["clearcoatNormalTexture"]["index"].get<int>()];
+  const auto& view =
+      doc["bufferViews"][doc["images"][texture["source"].get<int>()]["bufferView"].get<int>()];
+  EXPECT_EQ(chunks.bin.substr(view["byteOffset"].get<std::size_t>(),
+                              view["byteLength"].get<std::size_t>()),
+            normalMap);
+  EXPECT_TRUE(doc["meshes"][0]["primitives"][0]["attributes"].contains("TANGENT"));
 }
 
 TEST_F(BakeTexture, MistakesAreOneLineAndWriteNothing) {

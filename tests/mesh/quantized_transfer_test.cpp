@@ -133,7 +133,7 @@ TEST(QuantizedTransfer, TheBakedFilesCarryItBitForBit) {
 // The float transfer of a format 1 file (before the quantized form) still reads as it was written.
 TEST(QuantizedTransfer, AFormatOneFilesFloatTransferStillReads) {
   const std::string seed =
-      std::string(SSS_SOURCE_DIR) + "/tests/fuzz/corpus/baked_ply/icosahedron_relightable.ply";
+      SSS_SOURCE_DIR "/tests/fuzz/corpus/baked_ply/icosahedron_relightable.ply";
   const BakedPlyContents c = readBakedPly(seed);
   ASSERT_EQ(c.baked.relightOrder, 1);
   ASSERT_EQ(c.baked.relightTransfer.size(), 4 * c.baked.mesh.vertexCount());

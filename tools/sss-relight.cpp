@@ -56,21 +56,22 @@ struct Relit {
 
 Relit relitMesh(const sss::BakedMesh& relightable, sss::BakedMeshRelighter& relighter,
                 const NamedEnvironment& environment, const RelightOptions& o) {
-  sss::BakedMesh baked = relightable;
+  // The mesh, the material and what made it; not the relightable fields nor the light, which the
+  // relight replaces (the transfer alone is (order + 1)^2 values per vertex).
+  sss::BakedMesh baked;
+  baked.mesh = relightable.mesh;
+  baked.materialName = relightable.materialName;
+  baked.sigmaA = relightable.sigmaA;
+  baked.sigmaSPrime = relightable.sigmaSPrime;
+  baked.eta = relightable.eta;
+  baked.mmPerUnit = relightable.mmPerUnit;
+  baked.extraComments = relightable.extraComments;
+  baked.meshChecked = relightable.meshChecked;
+  baked.unscatteredTraced = relightable.unscatteredTraced;
+  const int order = relightable.relightOrder;
   sss::RelitLight relit = relighter.relight(environment.radiance);
-  const int order = baked.relightOrder;
   baked.exitance = std::move(relit.exitance);
   baked.radianceNormal = std::move(relit.radianceNormal);
-  baked.irradiance.clear();
-  baked.farExitance.clear();
-  baked.farExitSlope.clear();
-  baked.relightOrder = -1;
-  baked.relightTransfer.clear();
-  baked.radianceGain.clear();
-  baked.exitancePerRadiance.clear();
-  baked.escapeProbability.clear();
-  baked.relightTransport.clear();
-  baked.previewScale = 0.0;
   baked.extraComments.push_back(
       "relit env=" + environment.source +
       " convention=" + std::string(sss::kEquirectConventionNames.name(o.orientation.convention)) +

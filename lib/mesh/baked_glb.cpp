@@ -28,9 +28,13 @@ static_assert(std::endian::native == std::endian::little,
 
 using Json = nlohmann::ordered_json;
 
-// 2: a relightable bake's transfer quantized (quantized_transfer.h); other bakes are written as 1.
-constexpr int kGlbFormatVersion = 2;
-using gltf::kFloat, gltf::kShort, gltf::kUnsignedByte, gltf::kUnsignedInt, gltf::kUnsignedShort;
+// 2: a relightable bake's transfer quantized (quantized_transfer.h); 3: from order 4, its bands
+// from 4 in 8 bits with _TRANSFER_SCALE_HIGH. Other bakes are written as 1, relightable bakes of
+// orders 0-3 as 2.
+constexpr int kGlbFormatVersion = 3;
+constexpr int kQuantizedGlbVersion = 2;
+using gltf::kByte, gltf::kFloat, gltf::kShort, gltf::kUnsignedByte, gltf::kUnsignedInt,
+    gltf::kUnsignedShort;
 constexpr int kTriangles = 4;
 
 // ---------------------------------------------------------------- writing
@@ -78,9 +82,11 @@ DisplayColors displayColors(const std::string& path, const BakedMesh& baked) {
 }
 
 Json sssExtras(const BakedMesh& baked, const Json& color, const std::string& reportJson) {
-  Json sss = {{"format", baked.relightOrder >= 0 ? kGlbFormatVersion : 1},
-              {"position_unit", "m"},
-              {"mm_per_unit", baked.mmPerUnit}};
+  const int format = baked.relightOrder < 0 ? 1
+                     : std::size_t(baked.relightCount()) > kShortTransferCoefficients
+                         ? kGlbFormatVersion
+                         : kQuantizedGlbVersion;
+  Json sss = {{"format", format}, {"position_unit", "m"}, {"mm_per_unit", baked.mmPerUnit}};
   if (!baked.materialName.empty()) {
     const glm::dvec3 &a = baked.sigmaA, &s = baked.sigmaSPrime;
     sss["material"] = {{"name", baked.materialName},
@@ -99,7 +105,8 @@ Json sssExtras(const BakedMesh& baked, const Json& color, const std::string& rep
 }
 
 // A relightable bake's per-vertex values as custom attributes: _TRANSFER_SCALE and _TRANSFER_<k>
-// (k < (order + 1)^2, normalized SHORT: quantized_transfer.h), _RADIANCE_GAIN,
+// (k < (order + 1)^2, normalized SHORT; from k = 16 normalized BYTE with _TRANSFER_SCALE_HIGH:
+// quantized_transfer.h), _RADIANCE_GAIN,
 // _EXITANCE_PER_RADIANCE and, with the escape model, _ESCAPE_PROBABILITY; the order and the
 // transport key go to extras.sss.relight.
 void addRelightAttributes(const std::string& path, GlbBinary& bin, const BakedMesh& baked,
@@ -107,10 +114,14 @@ void addRelightAttributes(const std::string& path, GlbBinary& bin, const BakedMe
   const std::size_t n = baked.mesh.vertexCount(), count = baked.relightCount();
   const QuantizedTransfer transfer = quantizeTransfer(path, baked.relightTransfer, count);
   attributes["_TRANSFER_SCALE"] = bin.addVec3(transfer.scale, false);
+  if (!transfer.scaleHigh.empty())
+    attributes["_TRANSFER_SCALE_HIGH"] = bin.addVec3(transfer.scaleHigh, false);
   for (std::size_t k = 0; k < count; ++k) {
     std::vector<std::array<int16_t, 3>> channel(n);
     for (std::size_t v = 0; v < n; ++v) channel[v] = transfer.values[v * count + k];
-    attributes["_TRANSFER_" + std::to_string(k)] = bin.addNormalizedShortVec3(channel);
+    attributes["_TRANSFER_" + std::to_string(k)] = k < kShortTransferCoefficients
+                                                       ? bin.addNormalizedShortVec3(channel)
+                                                       : bin.addNormalizedByteVec3(channel);
   }
   attributes["_RADIANCE_GAIN"] = bin.addVec3(baked.radianceGain, false);
   attributes["_EXITANCE_PER_RADIANCE"] = bin.addVec3(baked.exitancePerRadiance, false);
@@ -224,6 +235,7 @@ AccessorSpan accessorSpan(const std::string& path, const Json& document, const s
                                       : span.componentType == kUnsignedShort ? 2
                                       : span.componentType == kShort         ? 2
                                       : span.componentType == kUnsignedByte  ? 1
+                                      : span.componentType == kByte          ? 1
                                                                              : 0;
   if (componentSize == 0) fail(path, where + " has an unsupported componentType");
   const std::uint64_t elementSize = componentSize * (std::string(type) == "VEC3" ? 3 : 1);
@@ -257,18 +269,23 @@ std::vector<glm::vec3> readVec3(const std::string& path, const Json& document,
 }
 
 // A normalized SHORT VEC3 attribute's integers (GlbBinary::addNormalizedShortVec3).
-std::vector<std::array<int16_t, 3>> readNormalizedShortVec3(const std::string& path,
-                                                            const Json& document,
-                                                            const std::string& bin,
-                                                            std::uint64_t accessor,
-                                                            const char* what) {
+// A normalized SHORT (byte: BYTE) VEC3 accessor's integers.
+std::vector<std::array<int16_t, 3>> readNormalizedVec3(const std::string& path,
+                                                       const Json& document, const std::string& bin,
+                                                       std::uint64_t accessor, const char* what,
+                                                       bool byte) {
   const AccessorSpan span = accessorSpan(path, document, bin, accessor, "VEC3", what);
   const Json& a = element(path, document, "accessors", accessor);
-  if (span.componentType != kShort || !a.value("normalized", false))
-    fail(path, std::string("glTF: ") + what + " is not normalized SHORT");
+  if (span.componentType != std::uint64_t(byte ? kByte : kShort) || !a.value("normalized", false))
+    fail(path, std::string("glTF: ") + what + " is not normalized " + (byte ? "BYTE" : "SHORT"));
   std::vector<std::array<int16_t, 3>> values(span.count);
-  for (std::uint64_t i = 0; i < span.count; ++i)
-    std::memcpy(values[i].data(), span.data + i * span.stride, 6);
+  for (std::uint64_t i = 0; i < span.count; ++i) {
+    const char* p = span.data + i * span.stride;
+    if (byte)
+      for (int c = 0; c < 3; ++c) values[i][c] = static_cast<int8_t>(p[c]);
+    else
+      std::memcpy(values[i].data(), p, 6);
+  }
   return values;
 }
 
@@ -332,7 +349,7 @@ void readSssExtras(const std::string& path, const Json& sss, BakedPlyContents& c
 // A relightable bake's attributes (addRelightAttributes), every one of them with
 // extras.sss.relight.
 void readRelightAttributes(const std::string& path, const Json& document, const std::string& bin,
-                           const Json& attributes, const BakedPlyContents& contents,
+                           int format, const Json& attributes, const BakedPlyContents& contents,
                            BakedVertexValues& values) {
   const auto read = [&](const std::string& name) {
     if (!attributes.contains(name)) fail(path, "glTF: a relightable bake without " + name);
@@ -356,18 +373,29 @@ void readRelightAttributes(const std::string& path, const Json& document, const 
   transfer.scale = read("_TRANSFER_SCALE");
   if (transfer.scale.size() != n) fail(path, "glTF: the attributes have different counts");
   checkTransferScales(path, transfer.scale);
+  const bool high = attributes.contains("_TRANSFER_SCALE_HIGH");
+  if (high != (format >= kGlbFormatVersion && count > kShortTransferCoefficients))
+    fail(path, high ? "glTF: _TRANSFER_SCALE_HIGH in a format " + std::to_string(format) +
+                          " bake of order " + std::to_string(contents.baked.relightOrder)
+                    : "glTF: a relightable bake of order above 3 without _TRANSFER_SCALE_HIGH");
+  if (high) {
+    transfer.scaleHigh = read("_TRANSFER_SCALE_HIGH");
+    if (transfer.scaleHigh.size() != n) fail(path, "glTF: the attributes have different counts");
+    checkTransferScales(path, transfer.scaleHigh);
+  }
   transfer.values.resize(n * count);
   for (std::size_t k = 0; k < count; ++k) {
     const std::string name = "_TRANSFER_" + std::to_string(k);
     if (!attributes.contains(name)) fail(path, "glTF: a relightable bake without " + name);
-    const std::vector<std::array<int16_t, 3>> channel = readNormalizedShortVec3(
-        path, document, bin, index(path, attributes, name.c_str()), name.c_str());
+    const bool byte = high && k >= kShortTransferCoefficients;
+    const std::vector<std::array<int16_t, 3>> channel = readNormalizedVec3(
+        path, document, bin, index(path, attributes, name.c_str()), name.c_str(), byte);
     if (channel.size() != n) fail(path, "glTF: the attributes have different counts");
+    const int limit = transferStepLimit(k, high);
     for (std::size_t v = 0; v < n; ++v) {
       for (const int16_t q : channel[v])
-        if (q < -kTransferSteps || q > kTransferSteps)
-          fail(path,
-               "glTF: " + name + " has a step count beyond " + std::to_string(kTransferSteps));
+        if (q < -limit || q > limit)
+          fail(path, "glTF: " + name + " has a step count beyond " + std::to_string(limit));
       transfer.values[v * count + k] = channel[v];
     }
   }
@@ -421,11 +449,14 @@ BakedPlyContents readBakedGlb(const std::string& path) {
     }
     raw.faceCorners = readIndices(path, document, bin, index(path, primitive, "indices"));
     const auto extras = document.at("asset").find("extras");
+    int format = 0;
     if (extras != document["asset"].end() && extras->contains("sss")) {
-      readSssExtras(path, extras->at("sss"), contents);
+      const Json& sss = extras->at("sss");
+      readSssExtras(path, sss, contents);
+      format = sss.value("format", 0);
     }
     if (contents.hasRelight)
-      readRelightAttributes(path, document, bin, attributes, contents, values);
+      readRelightAttributes(path, document, bin, format, attributes, contents, values);
   } catch (const nlohmann::json::exception& e) {
     fail(path, std::string("glTF JSON: ") + e.what());
   }

@@ -23,10 +23,17 @@ namespace {
 static_assert(std::endian::native == std::endian::little,
               "the baked PLY writer copies floats as little-endian bytes");
 
-// 2: a relightable bake's transfer quantized (quantized_transfer.h); other bakes are written as 1,
-// which they still are.
-constexpr int kPlyFormatVersion = 2;
+// 2: a relightable bake's transfer quantized (quantized_transfer.h); 3: from order 4, its bands
+// from 4 in 8 bits with a scale of their own. Other bakes are written as 1, which they still are;
+// relightable bakes of orders 0-3 as 2.
+constexpr int kPlyFormatVersion = 3;
 constexpr int kQuantizedTransferVersion = 2;
+constexpr int kHighBandsVersion = 3;
+
+// Whether a relightable bake of `count` coefficients stores its high bands in 8 bits.
+bool highBands(int count) {
+  return std::size_t(count) > kShortTransferCoefficients;
+}
 
 std::string triple(const glm::dvec3& v) {
   return shortestDecimal(v.x) + "," + shortestDecimal(v.y) + "," + shortestDecimal(v.z);
@@ -171,16 +178,23 @@ struct BakedFields {
   // Bytes of one vertex record: position and normal, then the optional fields in order.
   std::size_t vertexBytes() const {
     return 24 + (irradiance ? 12 : 0) + (exitance ? 15 : 0) + (radianceNormal ? 12 : 0) +
-           (farField ? 24 : 0) + (relightCount > 0 ? 12 + 6 * relightCount + 24 : 0) +
+           (farField ? 24 : 0) + (relightCount > 0 ? 12 + transferBytes() + 24 : 0) +
            (escape ? 12 : 0);
+  }
+  std::size_t transferBytes() const {
+    const std::size_t count = std::size_t(relightCount);
+    const std::size_t low = std::min(count, kShortTransferCoefficients);
+    return 6 * low + (highBands(relightCount) ? 12 + 3 * (count - low) : 0);
   }
 };
 
 // The "comment sss" lines: format version, material, scale and flags, then the caller's.
 void appendComments(std::string& out, const BakedMesh& baked, const BakedFields& fields,
                     double scale) {
-  out += "comment sss format=" +
-         std::to_string(baked.relightOrder >= 0 ? kQuantizedTransferVersion : 1) + "\n";
+  const int version = baked.relightOrder < 0            ? 1
+                      : highBands(baked.relightCount()) ? kHighBandsVersion
+                                                        : kQuantizedTransferVersion;
+  out += "comment sss format=" + std::to_string(version) + "\n";
   if (!baked.materialName.empty()) {
     out += "comment sss material=" + baked.materialName + "\n";
     out += "comment sss sigma_a=" + triple(baked.sigmaA) + "\n";
@@ -222,9 +236,16 @@ void appendVertexProperties(std::string& out, std::size_t vertices, const BakedF
     out +=
         "property float transfer_scale_r\nproperty float transfer_scale_g\n"
         "property float transfer_scale_b\n";
+  if (highBands(fields.relightCount))
+    out +=
+        "property float transfer_scale_high_r\nproperty float transfer_scale_high_g\n"
+        "property float transfer_scale_high_b\n";
   for (int k = 0; k < fields.relightCount; ++k)
-    for (const char* c : {"_r", "_g", "_b"})
-      out += "property short transfer" + std::to_string(k) + c + "\n";
+    for (const char* c : {"_r", "_g", "_b"}) {
+      const bool high = std::size_t(k) >= kShortTransferCoefficients;
+      out += std::string(high ? "property char transfer" : "property short transfer") +
+             std::to_string(k) + c + "\n";
+    }
   for (const char* name : {"radiance_gain", "exitance_per_radiance", "escape_probability"}) {
     if (fields.relightCount == 0 || (std::string(name) == "escape_probability" && !fields.escape))
       continue;
@@ -258,8 +279,16 @@ void appendVertex(std::string& out, const BakedMesh& baked, const BakedFields& f
   const std::size_t count = static_cast<std::size_t>(fields.relightCount);
   if (count > 0)
     for (int k = 0; k < 3; ++k) put(out, transfer.scale[i][k]);
-  for (std::size_t t = i * count; t < (i + 1) * count; ++t)
-    for (int k = 0; k < 3; ++k) put(out, transfer.values[t][k]);
+  if (!transfer.scaleHigh.empty())
+    for (int k = 0; k < 3; ++k) put(out, transfer.scaleHigh[i][k]);
+  for (std::size_t t = 0; t < count; ++t)
+    for (int k = 0; k < 3; ++k) {
+      const std::int16_t q = transfer.values[i * count + t][k];
+      if (t < kShortTransferCoefficients)
+        put(out, q);
+      else
+        put(out, static_cast<std::int8_t>(q));  // |q| <= 2^6
+    }
   if (count > 0) {
     for (int k = 0; k < 3; ++k) put(out, baked.radianceGain[i][k]);
     for (int k = 0; k < 3; ++k) put(out, baked.exitancePerRadiance[i][k]);
@@ -416,13 +445,13 @@ std::vector<glm::vec3> readChannels(const std::string& path, const ply::PlyMesh&
   return values;
 }
 
-// A stored transfer coefficient: an integer of at most kTransferSteps (a short property).
+// A stored transfer coefficient: an integer of at most `limit` (transferStepLimit).
 std::array<int16_t, 3> transferSteps(const std::string& path, const std::string& name,
-                                     const glm::vec3& q) {
+                                     const glm::vec3& q, int limit) {
   std::array<int16_t, 3> out{};
   for (int c = 0; c < 3; ++c) {
-    if (!(std::abs(q[c]) <= float(kTransferSteps)) || q[c] != std::floor(q[c]))
-      fail(path, name + " is not a 16-bit step count of at most " + std::to_string(kTransferSteps));
+    if (!(std::abs(q[c]) <= float(limit)) || q[c] != std::floor(q[c]))
+      fail(path, name + " is not a step count of at most " + std::to_string(limit));
     out[c] = int16_t(q[c]);
   }
   return out;
@@ -457,6 +486,13 @@ void readRelight(const std::string& path, const ply::PlyMesh& ply, int formatVer
                    ? "transfer_scale_r/g/b in a format " + std::to_string(formatVersion) + " file"
                    : "relight_order without transfer_scale_r/g/b");
   checkTransferScales(path, quantized.scale);
+  bool high = false;
+  quantized.scaleHigh = readChannels(path, ply, "transfer_scale_high", high);
+  if (high != (formatVersion >= kHighBandsVersion && highBands(count)))
+    fail(path, high ? "transfer_scale_high_r/g/b in a format " + std::to_string(formatVersion) +
+                          " file of order " + std::to_string(result.baked.relightOrder)
+                    : "relight_order above 3 without transfer_scale_high_r/g/b");
+  checkTransferScales(path, quantized.scaleHigh);
   std::vector<glm::vec3> floats(scaled ? 0 : n * count);
   quantized.values.resize(scaled ? n * count : 0);
   for (int k = 0; k < count; ++k) {
@@ -466,7 +502,8 @@ void readRelight(const std::string& path, const ply::PlyMesh& ply, int formatVer
     if (!present) fail(path, "relight_order without " + name + "_r/g/b");
     for (std::size_t i = 0; i < n; ++i) {
       if (scaled)
-        quantized.values[i * count + k] = transferSteps(path, name, channel[i]);
+        quantized.values[i * count + k] =
+            transferSteps(path, name, channel[i], transferStepLimit(std::size_t(k), high));
       else
         floats[i * count + k] = channel[i];
     }

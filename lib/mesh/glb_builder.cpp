@@ -16,7 +16,7 @@ namespace {
 
 static_assert(std::endian::native == std::endian::little, "GLB is little-endian: bytes are copied");
 
-using gltf::kFloat, gltf::kShort, gltf::kUnsignedInt;
+using gltf::kByte, gltf::kFloat, gltf::kShort, gltf::kUnsignedInt;
 constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963;
 
 void putU32(std::string& out, std::uint32_t v) {
@@ -59,12 +59,24 @@ int GlbBinary::addNormalizedShortVec3(const std::vector<std::array<int16_t, 3>>&
   std::vector<std::array<int16_t, 4>> padded(values.size());
   for (std::size_t i = 0; i < values.size(); ++i)
     padded[i] = {values[i][0], values[i][1], values[i][2], 0};
-  const int view = addView(padded.data(), padded.size() * 8, kArrayBuffer);
-  bufferViews_[view]["byteStride"] = 8;
+  return addNormalizedVec3(padded.data(), values.size(), 8, kShort);
+}
+
+int GlbBinary::addNormalizedByteVec3(const std::vector<std::array<int16_t, 3>>& values) {
+  std::vector<std::array<int8_t, 4>> padded(values.size());
+  for (std::size_t i = 0; i < values.size(); ++i)
+    for (int c = 0; c < 3; ++c) padded[i][c] = static_cast<int8_t>(values[i][c]);
+  return addNormalizedVec3(padded.data(), values.size(), 4, kByte);
+}
+
+int GlbBinary::addNormalizedVec3(const void* padded, std::size_t count, int stride,
+                                 int componentType) {
+  const int view = addView(padded, count * std::size_t(stride), kArrayBuffer);
+  bufferViews_[view]["byteStride"] = stride;
   accessors_.push_back({{"bufferView", view},
-                        {"componentType", kShort},
+                        {"componentType", componentType},
                         {"normalized", true},
-                        {"count", values.size()},
+                        {"count", count},
                         {"type", "VEC3"}});
   return static_cast<int>(accessors_.size()) - 1;
 }

@@ -31,6 +31,9 @@ class GlbBinary {
   // A normalized SHORT VEC3 vertex attribute (value q / 32767), each element padded to 8 bytes
   // (byteStride 8: vertex attributes are 4-byte aligned, section 3.6.2.4).
   int addNormalizedShortVec3(const std::vector<std::array<int16_t, 3>>& values);
+  // A normalized BYTE VEC3 vertex attribute (value q / 127, each |q| <= 127), each element
+  // padded to 4 bytes.
+  int addNormalizedByteVec3(const std::vector<std::array<int16_t, 3>>& values);
   // Triangle corners as unsigned int indices.
   int addIndices(const std::vector<glm::uvec3>& triangles);
 
@@ -40,6 +43,7 @@ class GlbBinary {
 
  private:
   int addFloats(const float* values, std::size_t elements, int components, const char* type);
+  int addNormalizedVec3(const void* padded, std::size_t count, int stride, int componentType);
 
   std::string bin_;
   Json bufferViews_ = Json::array();

@@ -9,13 +9,30 @@ namespace sss {
 
 namespace {
 
-// The step 2^(e - 14) for a largest magnitude m: 2^e the smallest power of two >= m (0 for 0).
-float stepFor(float largest) {
+// The smallest power of two s with largest <= limit s (0 for 0): every coefficient then rounds
+// to at most `limit` steps, within half a step, and the stored values give the same s again (their
+// largest is above limit s / 2 steps, so s / 2 does not hold them).
+float stepFor(float largest, int limit) {
   if (!(largest > 0.0f)) return 0.0f;
   int e = 0;
-  const float mantissa = std::frexp(largest, &e);  // largest = mantissa 2^e, mantissa in [0.5, 1)
-  if (mantissa == 0.5f) --e;                       // a power of two itself
-  return std::ldexp(1.0f, e - 14);
+  std::frexp(largest / float(limit), &e);  // largest / limit < 2^e, to float's rounding
+  float step = std::ldexp(1.0f, e - 2);
+  while (largest > float(limit) * step) step *= 2.0f;  // exact: limit * 2^k
+  return step;
+}
+
+// Coefficients [first, last) of one vertex's channel c in steps of stepFor (at most `limit`
+// steps); returns the step.
+float quantizeRange(std::span<const glm::vec3> t, std::size_t first, std::size_t last, int c,
+                    int limit, std::span<std::array<int16_t, 3>> out) {
+  float largest = 0.0f;
+  for (std::size_t k = first; k < last; ++k) largest = std::max(largest, std::abs(t[k][c]));
+  const float step = stepFor(largest, limit);
+  for (std::size_t k = first; k < last; ++k) {
+    const float steps = step > 0.0f ? std::nearbyint(t[k][c] / step) : 0.0f;
+    out[k][c] = int16_t(std::clamp(steps, -float(limit), float(limit)));
+  }
+  return step;
 }
 
 }  // namespace
@@ -24,20 +41,20 @@ QuantizedTransfer quantizeTransfer(const std::string& path, std::span<const glm:
                                    std::size_t count) {
   QuantizedTransfer q;
   const std::size_t n = count == 0 ? 0 : transfer.size() / count;
+  const std::size_t low = std::min(count, kShortTransferCoefficients);
   q.scale.resize(n);
+  if (count > low) q.scaleHigh.resize(n);
   q.values.resize(n * count);
   for (std::size_t v = 0; v < n; ++v) {
     const std::span<const glm::vec3> t = transfer.subspan(v * count, count);
+    const std::span<std::array<int16_t, 3>> out(q.values.data() + v * count, count);
     for (int c = 0; c < 3; ++c) {
-      float largest = 0.0f;
-      for (const glm::vec3& x : t) largest = std::max(largest, std::abs(x[c]));
-      if (!(largest <= 1e30f)) fail(path, "relight transfer value out of range");
-      const float step = stepFor(largest);
-      q.scale[v][c] = step * kTransferNormalizer;
-      for (std::size_t k = 0; k < count; ++k) {
-        const float steps = step > 0.0f ? std::nearbyint(t[k][c] / step) : 0.0f;
-        q.values[v * count + k][c] =
-            int16_t(std::clamp(steps, -float(kTransferSteps), float(kTransferSteps)));
+      for (const glm::vec3& x : t)
+        if (!(std::abs(x[c]) <= 1e30f)) fail(path, "relight transfer value out of range");
+      q.scale[v][c] = quantizeRange(t, 0, low, c, kTransferSteps, out) * kTransferNormalizer;
+      if (count > low) {
+        q.scaleHigh[v][c] =
+            quantizeRange(t, low, count, c, kHighTransferSteps, out) * kHighTransferNormalizer;
       }
     }
   }
@@ -46,12 +63,17 @@ QuantizedTransfer quantizeTransfer(const std::string& path, std::span<const glm:
 
 std::vector<glm::vec3> dequantizeTransfer(const QuantizedTransfer& quantized, std::size_t count) {
   std::vector<glm::vec3> out(quantized.values.size());
+  const bool high = !quantized.scaleHigh.empty();
   for (std::size_t v = 0; v < quantized.scale.size(); ++v)
     for (int c = 0; c < 3; ++c) {
-      // scale / 32767 is the power-of-two step exactly for the files this library writes.
+      // scale / 32767 (and scaleHigh / 127) is the power-of-two step exactly for the files this
+      // library writes.
       const float step = quantized.scale[v][c] / kTransferNormalizer;
-      for (std::size_t k = v * count; k < (v + 1) * count; ++k)
-        out[k][c] = float(quantized.values[k][c]) * step;
+      const float highStep = high ? quantized.scaleHigh[v][c] / kHighTransferNormalizer : step;
+      for (std::size_t k = 0; k < count; ++k) {
+        const float s = k < kShortTransferCoefficients ? step : highStep;
+        out[v * count + k][c] = float(quantized.values[v * count + k][c]) * s;
+      }
     }
   return out;
 }

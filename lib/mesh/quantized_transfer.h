@@ -1,15 +1,25 @@
 // A relightable bake's transfer as the files store it: per vertex and channel one scale and, per
-// coefficient, a 16-bit integer (baked PLY `short transfer<k>_r/g/b` beside `float
-// transfer_scale_r/g/b`; baked GLB normalized SHORT `_TRANSFER_<k>` beside `_TRANSFER_SCALE`),
+// coefficient of bands 0-3 (k < 16), a 16-bit integer (baked PLY `short transfer<k>_r/g/b` beside
+// `float transfer_scale_r/g/b`; baked GLB normalized SHORT `_TRANSFER_<k>` beside
+// `_TRANSFER_SCALE`),
 //
-//   T_k,c = q_k,c / 32767 * scale_c,   scale_c = 32767 * 2^(e_c - 14),   |q| <= 2^14,
+//   T_k,c = q_k,c / 32767 * scale_c,   scale_c = 32767 s_c,   |q| <= 2^14,
 //
-// 2^e_c the smallest power of two at or above the vertex's largest |T_k,c|. Each coefficient is
-// kept within 2^-14 of its vertex's largest (half a step; 6e-5), half the bytes of floats, and
-// the stored values are exact in float: quantizing them again gives them back bit for bit, so
-// that a file read and written again holds the same transfer (the step is a power of two and
-// q has at most 15 bits). An engine decodes a normalized SHORT as q / 32767 and multiplies by the
-// scale.
+// s_c the smallest power of two with the vertex's largest |T_k,c| over those bands at most 2^14
+// steps. The bands from 4 (orders 4-8) have a scale of their own and 8 bits (PLY
+// `char transfer<k>_*` beside `float transfer_scale_high_*`; GLB normalized BYTE `_TRANSFER_<k>`
+// beside `_TRANSFER_SCALE_HIGH`):
+//
+//   T_k,c = q_k,c / 127 * high_c,   high_c = 127 h_c,   |q| <= 127,
+//
+// h_c the smallest power of two with the largest of those bands at most 127 steps. Bands 0-3 are
+// kept within 2^-14 of their vertex's largest (half a step; 6e-5), the higher bands within 1/127
+// of theirs (half a step), which are small against band 0 (their share of the relit radiance is
+// the SH detail above order 3): at order 6 the transfer takes 195 bytes per vertex where 16 bits
+// throughout took 294 and floats 588. The stored values are exact in float: quantizing them again
+// gives them back bit for bit, so that a file read and written again holds the same transfer (the
+// steps are powers of two, q has at most 15 bits, and the stored largest needs the same step). An
+// engine decodes a normalized SHORT as q / 32767, a BYTE as q / 127, and multiplies by the scale.
 #pragma once
 
 #include <array>
@@ -23,14 +33,26 @@
 
 namespace sss {
 
-// The normalized SHORT's divisor, and the largest |q| the format writes.
+// The normalized SHORT's divisor, and the largest |q| the format writes; the same for the high
+// bands' normalized BYTE, which start at coefficient kShortTransferCoefficients.
 inline constexpr float kTransferNormalizer = 32767.0f;
 inline constexpr int kTransferSteps = 1 << 14;
+inline constexpr float kHighTransferNormalizer = 127.0f;
+inline constexpr int kHighTransferSteps = 127;
+inline constexpr std::size_t kShortTransferCoefficients = 16;  // bands 0-3
 
 struct QuantizedTransfer {
-  std::vector<glm::vec3> scale;                // per vertex, per channel (>= 0)
+  std::vector<glm::vec3> scale;  // per vertex, per channel (>= 0)
+  // Per vertex, per channel, the bands from 4 (>= 0). Empty: every band has `scale` (a file of
+  // format 2 at orders above 3, read as written).
+  std::vector<glm::vec3> scaleHigh;
   std::vector<std::array<int16_t, 3>> values;  // at [vertex * count + k]
 };
+
+// The largest |q| coefficient k may have (k >= 16: with a high scale).
+inline int transferStepLimit(std::size_t k, bool highScale) {
+  return highScale && k >= kShortTransferCoefficients ? kHighTransferSteps : kTransferSteps;
+}
 
 // `transfer` at [vertex * count + k] (finite), quantized. Throws Error naming `path` on a
 // coefficient above 1e30 in magnitude (its scale would not be a float).
@@ -40,7 +62,7 @@ QuantizedTransfer quantizeTransfer(const std::string& path, std::span<const glm:
 // Throws Error naming `path` unless every scale is finite and >= 0 (what the readers check).
 void checkTransferScales(const std::string& path, std::span<const glm::vec3> scales);
 
-// q / 32767 * scale per coefficient, at [vertex * count + k].
+// q / 32767 * scale per coefficient (q / 127 * scaleHigh from k = 16), at [vertex * count + k].
 std::vector<glm::vec3> dequantizeTransfer(const QuantizedTransfer& quantized, std::size_t count);
 
 // What a file stores of `transfer`: quantizeTransfer then dequantizeTransfer.

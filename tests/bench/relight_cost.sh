@@ -3,8 +3,8 @@
 # the same with --relightable (order 3), alternating, and sss-relight of the relightable bake under
 # sunset.exr, on dragon_res2 (150 mm marble) and the bunny (50 mm marble), under forest.exr,
 # 2 threads; sss-render's light turntable of it under sunset.exr, 1 frame against 5 (64x48, the
-# relighting is most of a frame): what each further frame adds; the files' sizes, order 3 and
-# (first run only) order 6, PLY and GLB.
+# relighting is most of a frame): what each further frame adds; the files' sizes at order 3 (first
+# run only), PLY and GLB. Order 6's: relight_file_size.sh.
 #   tests/bench/relight_cost.sh BUILD_DIR [RUNS]
 # Writes tests/bench/results/relight/cost.csv (one line per run) and cost_summary.csv (per scene
 # the medians, their ratios, and the bytes).
@@ -19,7 +19,7 @@ trap 'rm -rf "$work"' EXIT
 mkdir -p "$out"
 scenes=("dragon_res2 marble 150" "bunny marble 50")
 csv=$out/cost.csv
-echo "scene,run,plain_bake_s,relightable_bake_s,relight_stage_s,relight_s,turntable1_s,turntable5_s,plain_bytes,relightable_bytes,plain_glb_bytes,relightable_glb_bytes,relightable6_bytes" >"$csv.tmp"
+echo "scene,run,plain_bake_s,relightable_bake_s,relight_stage_s,relight_s,turntable1_s,turntable5_s,plain_bytes,relightable_bytes,plain_glb_bytes,relightable_glb_bytes" >"$csv.tmp"
 elapsed() { python3 -c 'import subprocess,sys,time; t=time.perf_counter(); subprocess.run(sys.argv[1:], check=True); print(f"{time.perf_counter()-t:.3f}")' "$@"; }
 seconds() { python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))[sys.argv[2]])' "$@"; }
 for run in $(seq "$runs"); do
@@ -38,7 +38,6 @@ for run in $(seq "$runs"); do
     if [[ $run == 1 ]]; then
       "${bake[@]}" -o "$work/$mesh-plain.glb"
       "${bake[@]}" --relightable -o "$work/$mesh-relightable.glb"
-      "${bake[@]}" --relightable 6 -o "$work/$mesh-relightable6.ply"
     fi
     python3 - "$work" "$mesh-$material-$size" "$run" "$t1" "$t5" "$mesh" >>"$csv.tmp" <<'PY'
 import json, os, sys
@@ -51,7 +50,7 @@ print(f'{sys.argv[2]},{sys.argv[3]},{plain["stages"]["total_s"]:.3f},'
       f'{relightable["stages"]["total_s"]:.3f},{relightable["relightable"]["seconds"]:.3f},'
       f'{relit["seconds"]:.3f},{sys.argv[4]},{sys.argv[5]},{os.path.getsize(f"{w}/plain.ply")},'
       f'{os.path.getsize(f"{w}/relightable.ply")},{os.path.getsize(f"{w}/{m}-plain.glb")},'
-      f'{os.path.getsize(f"{w}/{m}-relightable.glb")},{os.path.getsize(f"{w}/{m}-relightable6.ply")}')
+      f'{os.path.getsize(f"{w}/{m}-relightable.glb")}'))
 PY
   done
 done
@@ -62,7 +61,7 @@ rows = list(csv.DictReader(open(sys.argv[1])))
 with open(sys.argv[2], "w") as f:
     f.write("scene,plain_bake_s,relightable_bake_s,relightable_over_plain,relight_s,"
             "relight_over_plain_bake,turntable_frame_s,turntable_frame_over_relight,plain_bytes,"
-            "relightable_bytes,bytes_ratio,glb_bytes_ratio,order6_bytes_ratio\n")
+            "relightable_bytes,bytes_ratio,glb_bytes_ratio\n")
     for scene in dict.fromkeys(r["scene"] for r in rows):
         s = [r for r in rows if r["scene"] == scene]
         med = lambda k: statistics.median(float(r[k]) for r in s)
@@ -72,7 +71,6 @@ with open(sys.argv[2], "w") as f:
         f.write(f"{scene},{p:.3f},{r:.3f},{r / p:.3f},{l:.3f},{l / p:.3f},{frame:.3f},"
                 f"{frame / l:.3f},{b('plain_bytes')},{b('relightable_bytes')},"
                 f"{b('relightable_bytes') / b('plain_bytes'):.3f},"
-                f"{b('relightable_glb_bytes') / b('plain_glb_bytes'):.3f},"
-                f"{b('relightable6_bytes') / b('plain_bytes'):.3f}\n")
+                f"{b('relightable_glb_bytes') / b('plain_glb_bytes'):.3f}\n")
 PY
 cat "$out/cost_summary.csv"

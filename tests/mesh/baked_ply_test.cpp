@@ -212,7 +212,7 @@ TEST(MeshBakedPly, BadFilesAreErrors) {
   const std::string unscattered = variant("unscattered.ply", "comment sss eta=1.3",
                                           "comment sss eta=1.3\ncomment sss unscattered=yes");
   expectError([&] { readBakedPly(unscattered); }, unscattered, "unscattered=yes");
-  const std::string newer = variant("newer.ply", "sss format=1", "sss format=3");
+  const std::string newer = variant("newer.ply", "sss format=1", "sss format=4");
   expectError([&] { readBakedPly(newer); }, newer, "newer");
   const std::string cut = dir.path("cut.ply");
   writeFile(cut, text.substr(0, text.size() - 100));

@@ -1,13 +1,15 @@
 // The relightable bake's stored transfer (mesh/quantized_transfer.h): within half a step of 2^-13
-// of each vertex's largest coefficient, exact when stored again, and what the baked PLY and GLB
-// carry (16-bit steps, half the bytes of floats) read back bit for bit; the float transfer of the
-// files written before it still reads.
+// of each vertex's largest coefficient (bands 4 and up: 2^-5 of theirs), exact when stored again,
+// and what the baked PLY and GLB carry (16-bit steps, 8-bit from band 4) read back bit for bit;
+// the float transfer of format 1 files and the all-16-bit high bands of format 2 still read.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/error.h"
@@ -17,6 +19,7 @@
 #include "mesh/primitives.h"
 #include "mesh/quantized_transfer.h"
 #include "support/glb_test.h"
+#include "test_util.h"
 
 namespace sss {
 namespace {
@@ -92,17 +95,18 @@ TEST(QuantizedTransfer, RefusesValuesNoScaleCanHold) {
   }
 }
 
-// A relightable bake's files: the transfer comes back as storedTransfer made it, in both formats,
-// and the PLY's transfer takes 6 bytes per coefficient instead of 12.
-TEST(QuantizedTransfer, TheBakedFilesCarryItBitForBit) {
+// A relightable bake of `order` on an icosphere written as PLY and GLB: the transfer comes back
+// as storedTransfer made it from both, the GLB passes the validator. Returns the bytes the
+// relightable fields add to the PLY (against the same bake without them) and the vertex count.
+std::pair<std::size_t, std::size_t> relightableFileBytes(int order) {
   const std::filesystem::path dir =
       std::filesystem::temp_directory_path() / ("sss-test-" + std::to_string(::getpid()) + "-qt");
   std::filesystem::create_directories(dir);
   BakedMesh baked;
   baked.mesh = makeIcosphere(1, 1.0f);
-  const std::size_t n = baked.mesh.vertexCount(), count = 16;
+  const std::size_t n = baked.mesh.vertexCount(), count = std::size_t((order + 1) * (order + 1));
   baked.exitance.assign(n, glm::vec3(0.5f));
-  baked.relightOrder = 3;
+  baked.relightOrder = order;
   baked.relightTransfer = randomTransfer(n, count);
   baked.radianceGain.assign(n, glm::vec3(0.3f));
   baked.exitancePerRadiance.assign(n, glm::vec3(3.0f));
@@ -113,21 +117,27 @@ TEST(QuantizedTransfer, TheBakedFilesCarryItBitForBit) {
   writeBakedGlb(glb, baked);
   EXPECT_EQ(readBakedPly(ply).baked.relightTransfer, expected);
   EXPECT_EQ(readBakedGlb(glb).baked.relightTransfer, expected);
-  test::expectValidGltf(glb);  // normalized SHORT attributes, 8-byte strides
+  test::expectValidGltf(glb);  // normalized SHORT (and BYTE) attributes, padded strides
   const auto plySize = std::filesystem::file_size(ply);
   baked.relightOrder = -1;
   baked.relightTransfer.clear();
   baked.radianceGain.clear();
   baked.exitancePerRadiance.clear();
   writeBakedPly(ply, baked);
+  const std::size_t added = plySize - std::filesystem::file_size(ply);
+  std::filesystem::remove_all(dir);
+  return {added, n};
+}
+
+// Order 3: the PLY's transfer takes 6 bytes per coefficient instead of 12.
+TEST(QuantizedTransfer, TheBakedFilesCarryItBitForBit) {
+  const auto [added, n] = relightableFileBytes(3);
   // 16 x 3 shorts and 3 float scales per vertex, with the 6 floats of g and b, and the header's
   // lines; floats would take 16 x 3 x 4 bytes.
-  const std::size_t records = n * (count * 6 + 12 + 24),
-                    added = plySize - std::filesystem::file_size(ply);
+  const std::size_t count = 16, records = n * (count * 6 + 12 + 24);
   EXPECT_GE(added, records);
   EXPECT_LT(added, records + 4096);
   EXPECT_LT(added, n * (count * 12 + 24));
-  std::filesystem::remove_all(dir);
 }
 
 // The float transfer of a format 1 file (before the quantized form) still reads as it was written.
@@ -142,6 +152,110 @@ TEST(QuantizedTransfer, AFormatOneFilesFloatTransferStillReads) {
   EXPECT_GT(largest, 0.0f);
   // Not quantized: some coefficient is not a multiple of its vertex's step.
   EXPECT_NE(storedTransfer(seed, c.baked.relightTransfer, 4), c.baked.relightTransfer);
+}
+
+}  // namespace
+}  // namespace sss
+
+namespace sss {
+namespace {
+
+// Bands 4 and up (orders above 3): 8 bits with a scale of their own, each coefficient within half
+// a step of 2^-6 of the largest of those bands; bands 0-3 as before; exact when stored again.
+TEST(QuantizedTransfer, HighBandsTakeEightBitsWithinHalfAStepOfTheirLargest) {
+  const std::size_t count = 49, n = 400;  // order 6
+  const std::vector<glm::vec3> t = randomTransfer(n, count);
+  const QuantizedTransfer q = quantizeTransfer("t", t, count);
+  ASSERT_EQ(q.scaleHigh.size(), n);
+  EXPECT_TRUE(quantizeTransfer("t", t, 16).scaleHigh.empty());  // order 3: no high bands
+  const std::vector<glm::vec3> stored = dequantizeTransfer(q, count);
+  double worstLow = 0.0, worstHigh = 0.0;
+  for (std::size_t v = 0; v < n; ++v)
+    for (int c = 0; c < 3; ++c) {
+      float largestLow = 0.0f, largestHigh = 0.0f;
+      for (std::size_t k = 0; k < count; ++k) {
+        float& largest = k < kShortTransferCoefficients ? largestLow : largestHigh;
+        largest = std::max(largest, std::abs(t[v * count + k][c]));
+      }
+      for (std::size_t k = 0; k < count; ++k) {
+        const bool high = k >= kShortTransferCoefficients;
+        const int limit = high ? kHighTransferSteps : kTransferSteps;
+        EXPECT_LE(std::abs(int(q.values[v * count + k][c])), limit);
+        const float largest = high ? largestHigh : largestLow;
+        if (largest == 0.0f) continue;
+        const double error = std::abs(stored[v * count + k][c] - t[v * count + k][c]) / largest;
+        (high ? worstHigh : worstLow) = std::max(high ? worstHigh : worstLow, error);
+      }
+    }
+  EXPECT_LE(worstLow, std::ldexp(1.0, -14));
+  EXPECT_LE(worstHigh, 1.0 / 127.0);          // half of a step of at most 2 / 127 of the largest
+  EXPECT_GT(worstHigh, std::ldexp(1.0, -9));  // and it is 8 bits, not 16
+  EXPECT_EQ(storedTransfer("t", stored, count), stored);
+}
+
+// Order 6: the high bands as 8 bits (the GLB's as normalized BYTE, which the validator accepts):
+// the PLY's transfer takes 6 bytes per coefficient of bands 0-3, 3 per higher one and 12 for the
+// high scale.
+TEST(QuantizedTransfer, OrderSixFilesCarryTheHighBandsInEightBits) {
+  const auto [added, n] = relightableFileBytes(6);
+  const std::size_t records = n * (16 * 6 + 33 * 3 + 12 + 12 + 24);
+  EXPECT_GE(added, records);
+  EXPECT_LT(added, records + 8192);  // the header's property lines
+}
+
+// A format 2 file of order 4 (16 bits for every band, written before the high bands had their
+// own scale) still reads as written; the same bake in format 3 agrees with it within the high
+// bands' step. A high scale in a format 2 file, or none in format 3, is an error.
+TEST(QuantizedTransfer, AFormatTwoFileOfOrderFourStillReads) {
+  const std::string corpus = SSS_SOURCE_DIR "/tests/fuzz/corpus/baked_ply/";
+  const BakedPlyContents before =
+      readBakedPly(corpus + "icosahedron_relightable_order4_format2.ply");
+  const BakedPlyContents after = readBakedPly(corpus + "icosahedron_relightable_order4.ply");
+  ASSERT_EQ(before.baked.relightOrder, 4);
+  const std::vector<glm::vec3>& a = before.baked.relightTransfer;
+  const std::vector<glm::vec3>& b = after.baked.relightTransfer;
+  ASSERT_EQ(a.size(), b.size());
+  const std::size_t count = 25;
+  double worstHigh = 0.0;
+  bool someHighDiffer = false;
+  for (std::size_t v = 0; v < a.size() / count; ++v)
+    for (int c = 0; c < 3; ++c) {
+      float largestHigh = 0.0f;
+      for (std::size_t k = 16; k < count; ++k)
+        largestHigh = std::max(largestHigh, std::abs(a[v * count + k][c]));
+      for (std::size_t k = 0; k < count; ++k) {
+        const float d = std::abs(a[v * count + k][c] - b[v * count + k][c]);
+        if (k < 16) {
+          EXPECT_LE(d, 1e-4f * std::abs(a[v * count][c]) + 1e-12f);
+        }
+        if (k >= 16 && largestHigh > 0.0f) worstHigh = std::max(worstHigh, double(d / largestHigh));
+        someHighDiffer = someHighDiffer || (k >= 16 && d > 0.0f);
+      }
+    }
+  EXPECT_TRUE(someHighDiffer);  // the format 2 file's 16-bit high bands are read as such
+  EXPECT_LE(worstHigh, std::ldexp(1.0, -6) + 1e-4);
+  const std::string format3 = test::readFile(corpus + "icosahedron_relightable_order4.ply");
+  const auto mutated = [&](const std::string& from, const std::string& to) {
+    std::string text = format3;
+    for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + 1))
+      text.replace(at, from.size(), to);
+    const std::string path = std::filesystem::temp_directory_path() /
+                             ("sss-test-" + std::to_string(::getpid()) + "-order4.ply");
+    std::ofstream(path, std::ios::binary) << text;
+    return path;
+  };
+  const std::string asFormat2 = mutated("sss format=3", "sss format=2");
+  EXPECT_THROW(readBakedPly(asFormat2), Error);
+  const std::string noHighScale = mutated("transfer_scale_high_", "transfer_scale_hxyz_");
+  try {
+    readBakedPly(noHighScale);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("without transfer_scale_high"), std::string::npos)
+        << e.what();
+  }
+  std::filesystem::remove(asFormat2);
+  std::filesystem::remove(noHighScale);
 }
 
 }  // namespace

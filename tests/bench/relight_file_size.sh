@@ -1,0 +1,78 @@
+#!/usr/bin/env bash
+# What an order-6 relightable bake's file weighs, and what storing its bands from 4 in 8 bits
+# (mesh/quantized_transfer.h) does to the light relit from it. dragon_res2 (150 mm marble) and the
+# bunny (50 mm marble) under forest.exr, 2 threads: the plain bake's PLY and GLB against the order-6
+# ones. With a baseline build that stores every band in 16 bits (format 2), its order-6 PLY of
+# the same bake is relit beside this build's, both by this build, under four HDRs turned 30
+# degrees: the relative RMS of the radiance along the normal between the two.
+#   tests/bench/relight_file_size.sh BUILD_DIR [BASELINE_BUILD_DIR]
+# Writes tests/bench/results/relight/file_size.csv.
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+build=$(realpath "${1:?usage: relight_file_size.sh BUILD_DIR [BASELINE_BUILD_DIR]}")
+baseline=${2:+$(realpath "$2")}
+out=$root/tests/bench/results/relight
+data=$root/data/cache
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+mkdir -p "$out"
+csv=$out/file_size.csv
+echo "scene,plain_bytes,order6_bytes,order6_glb_bytes,order6_ratio,order6_glb_ratio,relit_change_rms,relit_change_max" >"$csv.tmp"
+# The relative RMS and largest relative difference of radiance_normal_r/g/b between two baked PLYs.
+compare() {
+  python3 - "$@" <<'PY'
+import math, struct, sys
+SIZES = {"float": "f", "uchar": "B", "char": "b", "short": "h", "ushort": "H", "int": "i",
+         "uint": "I", "double": "d"}
+def radiance(path):
+    data = open(path, "rb").read()
+    end = data.index(b"end_header\n") + len(b"end_header\n")
+    fmt, names, count, in_vertex = "<", [], 0, False
+    for line in data[:end].decode().splitlines():
+        w = line.split()
+        if w[:2] == ["element", "vertex"]: count, in_vertex = int(w[2]), True
+        elif w[:1] == ["element"]: in_vertex = False
+        elif w[:1] == ["property"] and in_vertex: fmt += SIZES[w[1]]; names.append(w[2])
+    record = struct.Struct(fmt)
+    idx = [names.index("radiance_normal_" + c) for c in "rgb"]
+    return [[v[i] for i in idx] for v in record.iter_unpack(data[end:end + count * record.size])]
+a, b = radiance(sys.argv[1]), radiance(sys.argv[2])
+err2 = ref2 = worst = 0.0
+for x, y in zip(a, b):
+    for p, q in zip(x, y):
+        err2 += (p - q) ** 2; ref2 += q * q
+        if q > 0: worst = max(worst, abs(p - q) / q)
+print(f"{math.sqrt(err2 / ref2):.3g} {worst:.3g}")
+PY
+}
+for scene in "dragon_res2 marble 150" "bunny marble 50"; do
+  read -r mesh material size <<<"$scene"
+  bake=(-e "$data/env/forest.exr" -m "$material" --size-mm "$size" --threads 2 --quiet)
+  "$build/tools/sss-bake" "$data/meshes/$mesh.ply" "${bake[@]}" -o "$work/plain.ply"
+  "$build/tools/sss-bake" "$data/meshes/$mesh.ply" "${bake[@]}" -o "$work/plain.glb"
+  "$build/tools/sss-bake" "$data/meshes/$mesh.ply" "${bake[@]}" --relightable 6 -o "$work/r6.ply"
+  "$build/tools/sss-bake" "$data/meshes/$mesh.ply" "${bake[@]}" --relightable 6 -o "$work/r6.glb"
+  rms="" worst=""
+  if [[ -n $baseline ]]; then
+    "$baseline/tools/sss-bake" "$data/meshes/$mesh.ply" "${bake[@]}" --relightable 6 \
+      -o "$work/r6_16bit.ply"
+    rms=0 worst=0
+    for env in sunset city studio courtyard; do
+      for file in r6 r6_16bit; do
+        "$build/tools/sss-relight" "$work/$file.ply" -e "$data/env/$env.exr" --env-rotate 30 \
+          --threads 2 --quiet -o "$work/relit_$file.ply"
+      done
+      read -r r w < <(compare "$work/relit_r6.ply" "$work/relit_r6_16bit.ply")
+      rms=$(python3 -c "print(max($rms, $r))") worst=$(python3 -c "print(max($worst, $w))")
+    done
+  fi
+  python3 - "$mesh-$material-$size" "$work" "$rms" "$worst" >>"$csv.tmp" <<'PY'
+import os, sys
+scene, w, rms, worst = sys.argv[1:]
+plain, plain_glb, ply, glb = (os.path.getsize(f"{w}/{f}")
+                              for f in ("plain.ply", "plain.glb", "r6.ply", "r6.glb"))
+print(f"{scene},{plain},{ply},{glb},{ply / plain:.3f},{glb / plain_glb:.3f},{rms},{worst}")
+PY
+done
+mv "$csv.tmp" "$csv"
+cat "$csv"

@@ -11,17 +11,14 @@ namespace sss {
 namespace {
 
 using gltf::Document;
-using gltf::Json;
+using JsonValue = gltf::Json;  // not Json: a unity build may hold another file's
 
 // An image's bytes above this are not kept (a texture of 16384^2 RGBA PNG is under it).
 constexpr std::uint64_t kMaxImageBytes = std::uint64_t(1) << 30;
 
-constexpr int kNearest = 9728, kLinear = 9729, kNearestMipmapNearest = 9984,
-              kLinearMipmapLinear = 9987;
-
 // A number member in [lo, hi] (`fallback` when absent); anything else is an error.
-double number(const Document& doc, const Json& object, const char* key, double fallback, double lo,
-              double hi, const std::string& where) {
+double number(const Document& doc, const JsonValue& object, const char* key, double fallback,
+              double lo, double hi, const std::string& where) {
   const auto it = object.find(key);
   if (it == object.end()) return fallback;
   if (!it->is_number() || !(it->get<double>() >= lo && it->get<double>() <= hi)) {
@@ -32,7 +29,7 @@ double number(const Document& doc, const Json& object, const char* key, double f
 }
 
 // An enum member of a sampler: one of `allowed`, 0 when absent.
-int samplerEnum(const Document& doc, const Json& sampler, const char* key,
+int samplerEnum(const Document& doc, const JsonValue& sampler, const char* key,
                 std::initializer_list<int> allowed, int fallback, const std::string& where) {
   const auto it = sampler.find(key);
   if (it == sampler.end()) return fallback;
@@ -54,19 +51,19 @@ class MaterialReader {
   explicit MaterialReader(const Document& doc) : doc_(doc) {}
 
   SurfaceMaterials read() {
-    const Json& list = doc_.array(doc_.json(), "materials");
+    const JsonValue& list = doc_.array(doc_.json(), "materials");
     for (std::uint64_t m = 0; m < list.size(); ++m) out_.materials.push_back(material(m));
     return std::move(out_);
   }
 
  private:
   SurfaceMaterial material(std::uint64_t m) {
-    const Json& json = doc_.element("materials", m);
+    const JsonValue& json = doc_.element("materials", m);
     const std::string where = "material " + std::to_string(m);
     SurfaceMaterial s;
     s.name = doc_.string(json, "name");
     if (json.contains("pbrMetallicRoughness")) {
-      const Json& pbr = json["pbrMetallicRoughness"];
+      const JsonValue& pbr = json["pbrMetallicRoughness"];
       if (!pbr.is_object()) doc_.fail(where + ": pbrMetallicRoughness is not an object");
       s.alpha = baseAlpha(pbr, where);
       s.roughness = number(doc_, pbr, "roughnessFactor", 1.0, 0.0, 1.0, where);
@@ -91,9 +88,9 @@ class MaterialReader {
     return s;
   }
 
-  double baseAlpha(const Json& pbr, const std::string& where) const {
+  double baseAlpha(const JsonValue& pbr, const std::string& where) const {
     if (!pbr.contains("baseColorFactor")) return 1.0;
-    const Json& f = pbr["baseColorFactor"];
+    const JsonValue& f = pbr["baseColorFactor"];
     bool valid = f.is_array() && f.size() == 4;
     for (std::size_t k = 0; valid && k < 4; ++k)
       valid = f[k].is_number() && f[k].get<double>() >= 0.0 && f[k].get<double>() <= 1.0;
@@ -103,14 +100,14 @@ class MaterialReader {
 
   // The textureInfo `key` of `owner` (section 3.9.2; scaleKey: "scale" or "strength"), or none
   // with a note in `dropped` when it cannot be kept.
-  std::optional<SurfaceTexture> texture(const Json& owner, const char* key, const char* scaleKey,
-                                        std::vector<std::string>& dropped) {
+  std::optional<SurfaceTexture> texture(const JsonValue& owner, const char* key,
+                                        const char* scaleKey, std::vector<std::string>& dropped) {
     if (!owner.contains(key)) return std::nullopt;
-    const Json& info = owner[key];
+    const JsonValue& info = owner[key];
     const std::string where = std::string(key);
     if (!info.is_object()) doc_.fail(where + " is not an object");
     const std::uint64_t t = doc_.index(info, "index");
-    const Json& tex = doc_.element("textures", t);
+    const JsonValue& tex = doc_.element("textures", t);
     SurfaceTexture s;
     if (scaleKey) {
       const bool strength = std::string(scaleKey) == "strength";
@@ -141,13 +138,14 @@ class MaterialReader {
     return s;
   }
 
-  void sampler(const Json& tex, SurfaceTexture& s, const std::string& where) const {
+  void sampler(const JsonValue& tex, SurfaceTexture& s, const std::string& where) const {
     if (!tex.contains("sampler")) return;
-    const Json& j = doc_.element("samplers", doc_.index(tex, "sampler"));
-    s.magFilter = samplerEnum(doc_, j, "magFilter", {kNearest, kLinear}, 0, where);
+    const JsonValue& j = doc_.element("samplers", doc_.index(tex, "sampler"));
+    s.magFilter = samplerEnum(doc_, j, "magFilter", {kGltfNearest, kGltfLinear}, 0, where);
     s.minFilter = samplerEnum(
         doc_, j, "minFilter",
-        {kNearest, kLinear, kNearestMipmapNearest, 9985, 9986, kLinearMipmapLinear}, 0, where);
+        {kGltfNearest, kGltfLinear, kGltfNearestMipmapNearest, 9985, 9986, kGltfLinearMipmapLinear},
+        0, where);
     const std::initializer_list<int> wraps = {kGltfClampToEdge, kGltfMirroredRepeat, kGltfRepeat};
     s.wrapS = samplerEnum(doc_, j, "wrapS", wraps, kGltfRepeat, where);
     s.wrapT = samplerEnum(doc_, j, "wrapT", wraps, kGltfRepeat, where);
@@ -170,7 +168,7 @@ class MaterialReader {
   }
 
   SurfaceImage imageBytes(std::uint64_t i, std::string& why) const {
-    const Json& json = doc_.element("images", i);
+    const JsonValue& json = doc_.element("images", i);
     const std::string what = "image " + std::to_string(i);
     const std::string declared = doc_.string(json, "mimeType");
     SurfaceImage image;

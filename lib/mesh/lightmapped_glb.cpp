@@ -21,7 +21,8 @@ namespace {
 using Json = GlbBinary::Json;
 
 constexpr int kTriangles = 4;
-constexpr int kLinear = 9729, kLinearMipmapLinear = 9987, kClampToEdge = kGltfClampToEdge;
+constexpr int kLinear = kGltfLinear, kLinearMipmapLinear = kGltfLinearMipmapLinear,
+              kClampToEdge = kGltfClampToEdge;
 
 // The triangles of one node: its parts' (one primitive each) over the welded mesh.
 struct NodeParts {

@@ -14,6 +14,8 @@ namespace sss {
 // glTF's sampler enums (section 3.8.4; 5.26): wrapping and filtering. 0: absent (the viewer's
 // choice of filter).
 inline constexpr int kGltfRepeat = 10497, kGltfClampToEdge = 33071, kGltfMirroredRepeat = 33648;
+inline constexpr int kGltfNearest = 9728, kGltfLinear = 9729, kGltfNearestMipmapNearest = 9984,
+                     kGltfLinearMipmapLinear = 9987;
 
 struct SurfaceImage {
   std::string mimeType;  // "image/png" or "image/jpeg"

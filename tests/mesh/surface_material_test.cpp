@@ -126,7 +126,7 @@ TEST(SurfaceMaterial, WhatTheBakeDoesNotReplaceIsReadAndWhatCannotBeKeptIsNamed)
   EXPECT_NE(teeth.dropped[2].find("not a PNG or JPEG"), std::string::npos) << teeth.dropped[2];
 }
 
-LightmappedAsset assetOf(const std::string& path) {
+LightmappedAsset surfaceAssetOf(const std::string& path) {
   LightmappedAsset a;
   a.mesh = loadMesh(path, nullptr, &a.parts);
   a.mmPerUnit = a.parts.mmPerUnit;
@@ -200,7 +200,7 @@ int expectTangentsFollowTheTexcoords(const GlbChunks& chunks, const Json& doc,
 TEST(SurfaceMaterial, TheLightmappedGlbKeepsEachPartsSurfaceAndPassesTheValidator) {
   ScratchDir dir;
   test::writeFile(dir.path("scene.glb"), twoMaterialScene().glb());
-  const LightmappedAsset in = assetOf(dir.path("scene.glb"));
+  const LightmappedAsset in = surfaceAssetOf(dir.path("scene.glb"));
   const std::string out = dir.path("out.glb");
   writeLightmappedGlb(out, in);
   const GlbChunks chunks = readGlbChunks(out);

@@ -287,7 +287,7 @@ void appendVertex(std::string& out, const BakedMesh& baked, const BakedFields& f
       if (t < kShortTransferCoefficients)
         put(out, q);
       else
-        put(out, static_cast<std::int8_t>(q));  // |q| <= 2^6
+        put(out, static_cast<std::int8_t>(q));  // |q| <= 127
     }
   if (count > 0) {
     for (int k = 0; k < 3; ++k) put(out, baked.radianceGain[i][k]);

@@ -297,7 +297,7 @@ std::string Document::loadBuffer(std::uint64_t i) const {
   }
   const std::string uri = string(b, "uri");
   if (!uri.starts_with("data:")) return fileBytes(uri, name, length, length);
-  std::string data = uriBytes(uri, name, std::numeric_limits<std::uint64_t>::max(), nullptr);
+  std::string data = uriBytes(uri, name, std::numeric_limits<std::uint64_t>::max());
   if (data.size() < length) {
     fail(name + " declares " + std::to_string(length) + " bytes, its data: URI holds " +
          std::to_string(data.size()));
@@ -331,17 +331,12 @@ std::string Document::fileBytes(const std::string& uri, const std::string& what,
 }
 
 std::string Document::uriBytes(const std::string& uri, const std::string& what,
-                               std::uint64_t maxBytes, std::string* mediaType) const {
-  if (!uri.starts_with("data:")) {
-    if (mediaType) mediaType->clear();
-    return fileBytes(uri, what, 1, maxBytes);
-  }
+                               std::uint64_t maxBytes) const {
+  if (!uri.starts_with("data:")) return fileBytes(uri, what, 1, maxBytes);
   const std::size_t comma = uri.find(',');
   if (comma == std::string::npos || !uri.substr(0, comma).ends_with(";base64")) {
     fail(what + "'s data: URI is not base64");
   }
-  // RFC 2397: data:[<mediatype>][;base64],<data>
-  if (mediaType) *mediaType = uri.substr(5, comma - 5 - std::string(";base64").size());
   if ((uri.size() - comma - 1) / 4 * 3 > maxBytes) {
     fail(what + "'s data: URI holds over the " + std::to_string(maxBytes) + " bytes allowed");
   }

@@ -57,10 +57,10 @@ class Document {
 
   // The bytes of bufferView `view` (inside its buffer; not empty).
   std::string viewBytes(std::uint64_t view, const std::string& what) const;
-  // The bytes a URI names: a base64 data: URI (its media type, RFC 2397, in *mediaType) or a
-  // file beside the asset (mediaType cleared); more than maxBytes is an error naming `what`.
-  std::string uriBytes(const std::string& uri, const std::string& what, std::uint64_t maxBytes,
-                       std::string* mediaType) const;
+  // The bytes a URI names: a base64 data: URI or a file beside the asset; more than maxBytes is
+  // an error naming `what`.
+  std::string uriBytes(const std::string& uri, const std::string& what,
+                       std::uint64_t maxBytes) const;
 
  private:
   struct Span;    // gltf_document.cpp

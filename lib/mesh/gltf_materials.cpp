@@ -177,8 +177,7 @@ class MaterialReader {
         image.bytes = doc_.viewBytes(doc_.index(json, "bufferView"), what);
         if (image.bytes.size() > kMaxImageBytes) image.bytes.clear();
       } else {
-        std::string dataType;
-        image.bytes = doc_.uriBytes(doc_.string(json, "uri"), what, kMaxImageBytes, &dataType);
+        image.bytes = doc_.uriBytes(doc_.string(json, "uri"), what, kMaxImageBytes);
       }
     } catch (const Error& e) {
       why = what + " cannot be read: " + e.what();

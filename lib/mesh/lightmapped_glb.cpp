@@ -260,7 +260,6 @@ Json materialJson(const LightmappedAsset& a, double thicknessLocal, const Surfac
 // the parts without; each part's index among them.
 struct MaterialSlots {
   std::vector<std::int64_t> source;  // per written material: its source material, -1: none
-  std::vector<char> normalMapped;    // per written material: it keeps a normal map
   std::vector<std::size_t> ofPart;
 };
 
@@ -275,8 +274,6 @@ MaterialSlots materialSlots(const LightmappedAsset& a) {
     if (it == slots.source.end()) slots.source.push_back(m);
   }
   if (slots.source.empty()) slots.source.push_back(-1);
-  for (const std::int64_t m : slots.source)
-    slots.normalMapped.push_back(m >= 0 && a.parts.surfaces.materials[m].normal.has_value());
   return slots;
 }
 
@@ -300,7 +297,9 @@ std::size_t addScene(const LightmappedAsset& a, const MaterialSlots& slots, GlbB
       Json attributes = {{"POSITION", bin.addVec3(data.positions, true)},
                          {"NORMAL", bin.addVec3(data.normals, false)},
                          {"TEXCOORD_0", bin.addVec2(data.texcoords)}};
-      if (slots.normalMapped[material]) attributes["TANGENT"] = bin.addVec4(tangentsOf(data));
+      const std::int64_t source = slots.source[material];
+      if (source >= 0 && a.parts.surfaces.materials[source].normal)
+        attributes["TANGENT"] = bin.addVec4(tangentsOf(data));
       primitives.push_back({{"attributes", attributes},
                             {"indices", bin.addIndices(data.triangles)},
                             {"material", material},

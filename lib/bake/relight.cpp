@@ -114,14 +114,19 @@ StoredTransport parseTransportKey(const std::string& path, const std::string& ke
     if (!parseDecimal(text, x) || x < 0) fail(path, "bad relight_transport '" + key + "'");
     return x;
   };
+  const auto named = [&](const auto& names, const std::string& text) {
+    const auto value = names.find(text);
+    if (!value) fail(path, "bad relight_transport '" + key + "'");
+    return *value;
+  };
   if (f.size() != 10) fail(path, "bad relight_transport '" + key + "'");
   StoredTransport t;
-  t.method = kDiffusionMethodNames.parse(f[0]);
+  t.method = named(kDiffusionMethodNames, f[0]);
   t.tolerance = real(f[1]);
   t.profile = f[2];
-  t.energy = kEnergyModelNames.parse(f[3]);
+  t.energy = named(kEnergyModelNames, f[3]);
   t.albedo = {real(f[4]), real(f[5]), real(f[6])};
-  t.entry = kEntryModelNames.parse(f[7]);
+  t.entry = named(kEntryModelNames, f[7]);
   const double bounces = real(f[8]), rays = real(f[9]);
   if (bounces != std::floor(bounces) || bounces > 64 || rays != std::floor(rays) || rays < 1 ||
       rays > 4096)

@@ -9,6 +9,7 @@
 #include <array>
 #include <cstddef>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -33,12 +34,18 @@ struct EnumNames {
       if (e.value == value) return e.name;
     return "?";
   }
-  // Throws Error("unknown <what> '<text>' (use a, b or c)").
-  E parse(std::string_view text) const {
+  // The value named `text`, or nothing.
+  std::optional<E> find(std::string_view text) const {
     for (const EnumName<E>& e : entries)
       if (text == e.name) return e.value;
-    throw Error("unknown " + std::string(what) + " '" + std::string(text) + "' (use " +
-                choices(", ", " or ") + ")");
+    return std::nullopt;
+  }
+  // Throws Error("unknown <what> '<text>' (use a, b or c)"), control characters escaped: the text
+  // may come from a file.
+  E parse(std::string_view text) const {
+    if (const std::optional<E> value = find(text)) return *value;
+    fail("", "unknown " + std::string(what) + " '" + std::string(text) + "' (use " +
+                 choices(", ", " or ") + ")");
   }
   std::vector<std::string> names() const {
     std::vector<std::string> out;

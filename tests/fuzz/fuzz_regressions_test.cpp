@@ -99,6 +99,9 @@ const std::map<std::string, std::string> kFound = {
     {"environment/control_character_in_openexr_message",
      "Pixel type of \"\\x01\" image channel is invalid."},
     {"baked_ply/control_character_in_message", "bad element count '12\\x1f\\x1f"},
+    // A relightable bake's transport key naming its method with a control character: the enum's
+    // own message quoted it raw, without the file's name.
+    {"baked_ply/control_character_in_transport_method", "bad relight_transport 'ex\\x01act,"},
 };
 
 TEST_P(FuzzInputs, FoundInputsEndInTheirErrorOrRead) {

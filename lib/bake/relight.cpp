@@ -90,6 +90,12 @@ std::string transportKey(const TransportInput& in, bool directionalEntry, int bo
          "," + std::to_string(bounces) + "," + std::to_string(gatherRays);
 }
 
+}  // namespace
+
+// Named, not anonymous: RelightSession::Context, declared in the header, holds these (GCC's
+// -Wsubobject-linkage, where this file is compiled inside another, as in a unity build).
+namespace stored_relight {
+
 struct StoredTransport {
   DiffusionMethod method = DiffusionMethod::Auto;
   double tolerance = 0.01;
@@ -191,7 +197,10 @@ class StoredTransportRun {
   RunContext run_;
 };
 
-}  // namespace
+}  // namespace stored_relight
+
+using stored_relight::parseTransportKey, stored_relight::StoredTransport,
+    stored_relight::StoredTransportRun;
 
 RelightTransfer relightTransfer(const RelightInput& in) {
   const Stopwatch clock;

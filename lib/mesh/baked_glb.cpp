@@ -28,11 +28,12 @@ static_assert(std::endian::native == std::endian::little,
 
 using Json = nlohmann::ordered_json;
 
-// 2: a relightable bake's transfer quantized (quantized_transfer.h); 3: from order 4, its bands
-// from 4 in 8 bits with _TRANSFER_SCALE_HIGH. Other bakes are written as 1, relightable bakes of
-// orders 0-3 as 2.
-constexpr int kGlbFormatVersion = 3;
-constexpr int kQuantizedGlbVersion = 2;
+// 2: a relightable bake's transfer quantized (quantized_transfer.h), float scales and an attribute
+// per coefficient; 3: from order 4, its bands from 4 in 8 bits with _TRANSFER_SCALE_HIGH; 4: the
+// scales as exponents and the steps packed four to an attribute (addRelightAttributes). Other
+// bakes are written as 1, relightable bakes as 4.
+constexpr int kGlbFormatVersion = 4;
+constexpr int kHighBandsGlbVersion = 3;
 using gltf::kByte, gltf::kFloat, gltf::kShort, gltf::kUnsignedByte, gltf::kUnsignedInt,
     gltf::kUnsignedShort;
 constexpr int kTriangles = 4;
@@ -82,10 +83,7 @@ DisplayColors displayColors(const std::string& path, const BakedMesh& baked) {
 }
 
 Json sssExtras(const BakedMesh& baked, const Json& color, const std::string& reportJson) {
-  const int format = baked.relightOrder < 0 ? 1
-                     : std::size_t(baked.relightCount()) > kShortTransferCoefficients
-                         ? kGlbFormatVersion
-                         : kQuantizedGlbVersion;
+  const int format = baked.relightOrder < 0 ? 1 : kGlbFormatVersion;
   Json sss = {{"format", format}, {"position_unit", "m"}, {"mm_per_unit", baked.mmPerUnit}};
   if (!baked.materialName.empty()) {
     const glm::dvec3 &a = baked.sigmaA, &s = baked.sigmaSPrime;
@@ -104,24 +102,54 @@ Json sssExtras(const BakedMesh& baked, const Json& color, const std::string& rep
   return sss;
 }
 
-// A relightable bake's per-vertex values as custom attributes: _TRANSFER_SCALE and _TRANSFER_<k>
-// (k < (order + 1)^2, normalized SHORT; from k = 16 normalized BYTE with _TRANSFER_SCALE_HIGH:
-// quantized_transfer.h), _RADIANCE_GAIN,
-// _EXITANCE_PER_RADIANCE and, with the escape model, _ESCAPE_PROBABILITY; the order and the
-// transport key go to extras.sss.relight.
+// The steps of coefficients [first, last) (quantized_transfer.h) as one list per vertex, entry
+// i = 3 (k - first) + c, four entries to a normalized VEC4 attribute: entry i is component i % 4
+// of <prefix><i / 4>, the last attribute padded with zeros. Packed, not one VEC3 per coefficient:
+// a vertex attribute's elements are 4-byte aligned, which would pad every VEC3.
+std::size_t packedTransferAttributes(std::size_t first, std::size_t last) {
+  return (3 * (last - first) + 3) / 4;
+}
+
+void addPackedTransfer(GlbBinary& bin, const QuantizedTransfer& transfer, std::size_t count,
+                       std::size_t first, std::size_t last, const std::string& prefix,
+                       int componentType, Json& attributes) {
+  const std::size_t n = transfer.values.size() / count, entries = 3 * (last - first);
+  for (std::size_t j = 0; j < packedTransferAttributes(first, last); ++j) {
+    std::vector<int16_t> components(4 * n, 0);
+    for (std::size_t v = 0; v < n; ++v)
+      for (std::size_t i = 4 * j; i < std::min(4 * j + 4, entries); ++i)
+        components[4 * v + i % 4] = transfer.values[v * count + first + i / 3][i % 3];
+    attributes[prefix + std::to_string(j)] = bin.addIntegerVec4(components, componentType, true);
+  }
+}
+
+// Scales as their exponents (scaleExponent): a BYTE VEC4 (r, g, b, 0) per vertex, 4 bytes where
+// a float VEC3 takes 12.
+int addScaleExponents(GlbBinary& bin, const std::vector<glm::vec3>& scales, float normalizer) {
+  std::vector<int16_t> exponents(scales.size() * 4, 0);
+  for (std::size_t v = 0; v < scales.size(); ++v)
+    for (int c = 0; c < 3; ++c)
+      exponents[4 * v + c] = int16_t(scaleExponent(scales[v][c], normalizer));
+  return bin.addIntegerVec4(exponents, kByte, false);
+}
+
+// A relightable bake's per-vertex values as custom attributes: the steps of bands 0-3 as
+// normalized SHORT _TRANSFER_LOW_<j> (addPackedTransfer) with their scales' exponents
+// _TRANSFER_EXPONENT and, at orders 4-8, those of bands 4 and up as normalized BYTE
+// _TRANSFER_HIGH_<j> with _TRANSFER_EXPONENT_HIGH; _RADIANCE_GAIN, _EXITANCE_PER_RADIANCE and,
+// with the escape model, _ESCAPE_PROBABILITY. The order and the transport key go to
+// extras.sss.relight.
 void addRelightAttributes(const std::string& path, GlbBinary& bin, const BakedMesh& baked,
                           Json& attributes) {
-  const std::size_t n = baked.mesh.vertexCount(), count = baked.relightCount();
+  const std::size_t count = baked.relightCount();
+  const std::size_t low = std::min(count, kShortTransferCoefficients);
   const QuantizedTransfer transfer = quantizeTransfer(path, baked.relightTransfer, count);
-  attributes["_TRANSFER_SCALE"] = bin.addVec3(transfer.scale, false);
-  if (!transfer.scaleHigh.empty())
-    attributes["_TRANSFER_SCALE_HIGH"] = bin.addVec3(transfer.scaleHigh, false);
-  for (std::size_t k = 0; k < count; ++k) {
-    std::vector<std::array<int16_t, 3>> channel(n);
-    for (std::size_t v = 0; v < n; ++v) channel[v] = transfer.values[v * count + k];
-    attributes["_TRANSFER_" + std::to_string(k)] = k < kShortTransferCoefficients
-                                                       ? bin.addNormalizedShortVec3(channel)
-                                                       : bin.addNormalizedByteVec3(channel);
+  attributes["_TRANSFER_EXPONENT"] = addScaleExponents(bin, transfer.scale, kTransferNormalizer);
+  addPackedTransfer(bin, transfer, count, 0, low, "_TRANSFER_LOW_", kShort, attributes);
+  if (!transfer.scaleHigh.empty()) {
+    attributes["_TRANSFER_EXPONENT_HIGH"] =
+        addScaleExponents(bin, transfer.scaleHigh, kHighTransferNormalizer);
+    addPackedTransfer(bin, transfer, count, low, count, "_TRANSFER_HIGH_", kByte, attributes);
   }
   attributes["_RADIANCE_GAIN"] = bin.addVec3(baked.radianceGain, false);
   attributes["_EXITANCE_PER_RADIANCE"] = bin.addVec3(baked.exitancePerRadiance, false);
@@ -238,7 +266,10 @@ AccessorSpan accessorSpan(const std::string& path, const Json& document, const s
                                       : span.componentType == kByte          ? 1
                                                                              : 0;
   if (componentSize == 0) fail(path, where + " has an unsupported componentType");
-  const std::uint64_t elementSize = componentSize * (std::string(type) == "VEC3" ? 3 : 1);
+  const std::uint64_t components = std::string(type) == "VEC4"   ? 4
+                                   : std::string(type) == "VEC3" ? 3
+                                                                 : 1;
+  const std::uint64_t elementSize = componentSize * components;
   span.count = index(path, accessor, "count");
   if (span.count == 0) fail(path, where + " is empty");
   const Json& view = element(path, document, "bufferViews", index(path, accessor, "bufferView"));
@@ -268,23 +299,30 @@ std::vector<glm::vec3> readVec3(const std::string& path, const Json& document,
   return values;
 }
 
-// A normalized SHORT VEC3 attribute's integers (GlbBinary::addNormalizedShortVec3).
-// A normalized SHORT (byte: BYTE) VEC3 accessor's integers.
-std::vector<std::array<int16_t, 3>> readNormalizedVec3(const std::string& path,
-                                                       const Json& document, const std::string& bin,
-                                                       std::uint64_t accessor, const char* what,
-                                                       bool byte) {
-  const AccessorSpan span = accessorSpan(path, document, bin, accessor, "VEC3", what);
+// The integers of a SHORT (byte: BYTE) accessor of `type` VEC3 or VEC4, `normalized` or not, its
+// elements' components in a row.
+std::vector<int16_t> readIntegers(const std::string& path, const Json& document,
+                                  const std::string& bin, std::uint64_t accessor,
+                                  const std::string& what, const char* type, bool byte,
+                                  bool normalized) {
+  const AccessorSpan span = accessorSpan(path, document, bin, accessor, type, what.c_str());
   const Json& a = element(path, document, "accessors", accessor);
-  if (span.componentType != std::uint64_t(byte ? kByte : kShort) || !a.value("normalized", false))
-    fail(path, std::string("glTF: ") + what + " is not normalized " + (byte ? "BYTE" : "SHORT"));
-  std::vector<std::array<int16_t, 3>> values(span.count);
+  const Json normalizedFlag = a.value("normalized", Json(false));
+  if (span.componentType != std::uint64_t(byte ? kByte : kShort) ||
+      normalizedFlag != Json(normalized))
+    fail(path, "glTF: " + what + " is not " + (normalized ? "normalized " : "") +
+                   (byte ? "BYTE" : "SHORT"));
+  const std::size_t components = std::string(type) == "VEC4" ? 4 : 3;
+  std::vector<int16_t> values(span.count * components);
   for (std::uint64_t i = 0; i < span.count; ++i) {
     const char* p = span.data + i * span.stride;
-    if (byte)
-      for (int c = 0; c < 3; ++c) values[i][c] = static_cast<int8_t>(p[c]);
-    else
-      std::memcpy(values[i].data(), p, 6);
+    for (std::size_t c = 0; c < components; ++c) {
+      if (byte) {
+        values[i * components + c] = static_cast<int8_t>(p[c]);
+      } else {
+        std::memcpy(&values[i * components + c], p + 2 * c, 2);
+      }
+    }
   }
   return values;
 }
@@ -346,60 +384,157 @@ void readSssExtras(const std::string& path, const Json& sss, BakedPlyContents& c
   }
 }
 
-// A relightable bake's attributes (addRelightAttributes), every one of them with
-// extras.sss.relight.
-void readRelightAttributes(const std::string& path, const Json& document, const std::string& bin,
-                           int format, const Json& attributes, const BakedPlyContents& contents,
-                           BakedVertexValues& values) {
-  const auto read = [&](const std::string& name) {
+// Where a relightable bake's attributes are: the file, its JSON and BIN chunk, the primitive's
+// attributes, and the vertex and coefficient counts.
+struct RelightAttributeSource {
+  const std::string& path;
+  const Json& document;
+  const std::string& bin;
+  const Json& attributes;
+  std::size_t vertices = 0, count = 0;
+
+  std::uint64_t accessor(const std::string& name) const {
     if (!attributes.contains(name)) fail(path, "glTF: a relightable bake without " + name);
-    return readVec3(path, document, bin, index(path, attributes, name.c_str()), name.c_str());
-  };
-  values.radianceGain = read("_RADIANCE_GAIN");
-  values.exitancePerRadiance = read("_EXITANCE_PER_RADIANCE");
-  if (attributes.contains("_ESCAPE_PROBABILITY"))
-    values.escapeProbability = read("_ESCAPE_PROBABILITY");
-  const std::size_t n = values.radianceGain.size(), count = contents.baked.relightCount();
-  if (!attributes.contains("_TRANSFER_SCALE")) {  // floats, as written before the quantized form
-    values.relightTransfer.resize(n * count);
-    for (std::size_t k = 0; k < count; ++k) {
-      const std::vector<glm::vec3> channel = read("_TRANSFER_" + std::to_string(k));
-      if (channel.size() != n) fail(path, "glTF: the attributes have different counts");
-      for (std::size_t v = 0; v < n; ++v) values.relightTransfer[v * count + k] = channel[v];
-    }
-    return;
+    return index(path, attributes, name.c_str());
   }
-  QuantizedTransfer transfer;
-  transfer.scale = read("_TRANSFER_SCALE");
-  if (transfer.scale.size() != n) fail(path, "glTF: the attributes have different counts");
-  checkTransferScales(path, transfer.scale);
-  const bool high = attributes.contains("_TRANSFER_SCALE_HIGH");
-  if (high != (format >= kGlbFormatVersion && count > kShortTransferCoefficients))
-    fail(path, high ? "glTF: _TRANSFER_SCALE_HIGH in a format " + std::to_string(format) +
-                          " bake of order " + std::to_string(contents.baked.relightOrder)
-                    : "glTF: a relightable bake of order above 3 without _TRANSFER_SCALE_HIGH");
-  if (high) {
-    transfer.scaleHigh = read("_TRANSFER_SCALE_HIGH");
-    if (transfer.scaleHigh.size() != n) fail(path, "glTF: the attributes have different counts");
-    checkTransferScales(path, transfer.scaleHigh);
+  std::vector<glm::vec3> vec3(const std::string& name) const {
+    std::vector<glm::vec3> values = readVec3(path, document, bin, accessor(name), name.c_str());
+    if (values.size() != vertices) fail(path, "glTF: the attributes have different counts");
+    return values;
   }
-  transfer.values.resize(n * count);
-  for (std::size_t k = 0; k < count; ++k) {
+  std::vector<int16_t> integers(const std::string& name, const char* type, bool byte,
+                                bool normalized = true) const {
+    std::vector<int16_t> values =
+        readIntegers(path, document, bin, accessor(name), name, type, byte, normalized);
+    if (values.size() != vertices * (std::string(type) == "VEC4" ? 4 : 3))
+      fail(path, "glTF: the attributes have different counts");
+    return values;
+  }
+  void checkStep(const std::string& name, int16_t q, int limit) const {
+    if (q < -limit || q > limit)
+      fail(path, "glTF: " + name + " has a step count beyond " + std::to_string(limit));
+  }
+};
+
+// Formats 2 and 3: a normalized VEC3 _TRANSFER_<k> per coefficient (BYTE from k = 16 with
+// `high`).
+void readTransferPerCoefficient(const RelightAttributeSource& in, bool high,
+                                QuantizedTransfer& transfer) {
+  for (std::size_t k = 0; k < in.count; ++k) {
     const std::string name = "_TRANSFER_" + std::to_string(k);
-    if (!attributes.contains(name)) fail(path, "glTF: a relightable bake without " + name);
     const bool byte = high && k >= kShortTransferCoefficients;
-    const std::vector<std::array<int16_t, 3>> channel = readNormalizedVec3(
-        path, document, bin, index(path, attributes, name.c_str()), name.c_str(), byte);
-    if (channel.size() != n) fail(path, "glTF: the attributes have different counts");
-    const int limit = transferStepLimit(k, high);
-    for (std::size_t v = 0; v < n; ++v) {
-      for (const int16_t q : channel[v])
-        if (q < -limit || q > limit)
-          fail(path, "glTF: " + name + " has a step count beyond " + std::to_string(limit));
-      transfer.values[v * count + k] = channel[v];
+    const std::vector<int16_t> steps = in.integers(name, "VEC3", byte);
+    for (std::size_t v = 0; v < in.vertices; ++v) {
+      for (int c = 0; c < 3; ++c) {
+        in.checkStep(name, steps[3 * v + c], transferStepLimit(k, high));
+        transfer.values[v * in.count + k][c] = steps[3 * v + c];
+      }
     }
   }
-  values.relightTransfer = dequantizeTransfer(transfer, count);
+}
+
+// Format 4: scales as exponents (addScaleExponents); the fourth component must be zero.
+std::vector<glm::vec3> readScaleExponents(const RelightAttributeSource& in, const std::string& name,
+                                          float normalizer) {
+  const std::vector<int16_t> exponents = in.integers(name, "VEC4", true, false);
+  std::vector<glm::vec3> scales(in.vertices);
+  for (std::size_t v = 0; v < in.vertices; ++v) {
+    if (exponents[4 * v + 3] != 0)
+      fail(in.path, "glTF: " + name + " has a non-zero fourth component");
+    for (int c = 0; c < 3; ++c)
+      scales[v][c] = scaleOfExponent(in.path, exponents[4 * v + c], normalizer);
+  }
+  return scales;
+}
+
+// Format 4: coefficients [first, last) packed in <prefix><j> (addPackedTransfer); the padding
+// must be zero.
+void readPackedTransfer(const RelightAttributeSource& in, std::size_t first, std::size_t last,
+                        const std::string& prefix, bool byte, QuantizedTransfer& transfer) {
+  const std::size_t entries = 3 * (last - first);
+  const int limit = transferStepLimit(first, byte);
+  for (std::size_t j = 0; j < packedTransferAttributes(first, last); ++j) {
+    const std::string name = prefix + std::to_string(j);
+    const std::vector<int16_t> steps = in.integers(name, "VEC4", byte);
+    for (std::size_t v = 0; v < in.vertices; ++v) {
+      for (std::size_t i = 4 * j; i < 4 * j + 4; ++i) {
+        const int16_t q = steps[4 * v + i % 4];
+        if (i >= entries) {
+          if (q != 0) fail(in.path, "glTF: " + name + " has a non-zero padding component");
+          continue;
+        }
+        in.checkStep(name, q, limit);
+        transfer.values[v * in.count + first + i / 3][i % 3] = q;
+      }
+    }
+  }
+}
+
+// Whether the file holds a high bands' scale, `present`, where it must: from format 3 at orders
+// above 3.
+void checkHighScale(const RelightAttributeSource& in, bool present, int format, int order,
+                    const char* name) {
+  if (present != (format >= kHighBandsGlbVersion && in.count > kShortTransferCoefficients))
+    fail(in.path, present
+                      ? std::string("glTF: ") + name + " in a format " + std::to_string(format) +
+                            " bake of order " + std::to_string(order)
+                      : std::string("glTF: a relightable bake of order above 3 without ") + name);
+}
+
+// Formats 2 and 3: float scales and one normalized VEC3 per coefficient.
+std::vector<glm::vec3> readQuantizedVec3Transfer(const RelightAttributeSource& in, int format,
+                                                 int order) {
+  QuantizedTransfer transfer;
+  transfer.scale = in.vec3("_TRANSFER_SCALE");
+  checkTransferScales(in.path, transfer.scale);
+  const bool high = in.attributes.contains("_TRANSFER_SCALE_HIGH");
+  checkHighScale(in, high, format, order, "_TRANSFER_SCALE_HIGH");
+  if (high) {
+    transfer.scaleHigh = in.vec3("_TRANSFER_SCALE_HIGH");
+    checkTransferScales(in.path, transfer.scaleHigh);
+  }
+  transfer.values.resize(in.vertices * in.count);
+  readTransferPerCoefficient(in, high, transfer);
+  return dequantizeTransfer(transfer, in.count);
+}
+
+// Format 4: exponents and packed steps (addRelightAttributes).
+std::vector<glm::vec3> readPackedTransferAttributes(const RelightAttributeSource& in, int format,
+                                                    int order) {
+  QuantizedTransfer transfer;
+  transfer.scale = readScaleExponents(in, "_TRANSFER_EXPONENT", kTransferNormalizer);
+  const bool high = in.attributes.contains("_TRANSFER_EXPONENT_HIGH");
+  checkHighScale(in, high, format, order, "_TRANSFER_EXPONENT_HIGH");
+  const std::size_t low = std::min(in.count, kShortTransferCoefficients);
+  transfer.values.resize(in.vertices * in.count);
+  readPackedTransfer(in, 0, low, "_TRANSFER_LOW_", false, transfer);
+  if (high) {
+    transfer.scaleHigh = readScaleExponents(in, "_TRANSFER_EXPONENT_HIGH", kHighTransferNormalizer);
+    readPackedTransfer(in, low, in.count, "_TRANSFER_HIGH_", true, transfer);
+  }
+  return dequantizeTransfer(transfer, in.count);
+}
+
+// A relightable bake's attributes (addRelightAttributes; formats 1-3 as written before), every
+// one of them with extras.sss.relight.
+void readRelightAttributes(const RelightAttributeSource& in, int format, int order,
+                           BakedVertexValues& values) {
+  values.radianceGain = in.vec3("_RADIANCE_GAIN");
+  values.exitancePerRadiance = in.vec3("_EXITANCE_PER_RADIANCE");
+  if (in.attributes.contains("_ESCAPE_PROBABILITY"))
+    values.escapeProbability = in.vec3("_ESCAPE_PROBABILITY");
+  if (format >= kGlbFormatVersion) {
+    values.relightTransfer = readPackedTransferAttributes(in, format, order);
+  } else if (in.attributes.contains("_TRANSFER_SCALE")) {
+    values.relightTransfer = readQuantizedVec3Transfer(in, format, order);
+  } else {  // floats, as written before the quantized form
+    values.relightTransfer.resize(in.vertices * in.count);
+    for (std::size_t k = 0; k < in.count; ++k) {
+      const std::vector<glm::vec3> channel = in.vec3("_TRANSFER_" + std::to_string(k));
+      for (std::size_t v = 0; v < in.vertices; ++v)
+        values.relightTransfer[v * in.count + k] = channel[v];
+    }
+  }
 }
 
 }  // namespace
@@ -455,8 +590,15 @@ BakedPlyContents readBakedGlb(const std::string& path) {
       readSssExtras(path, sss, contents);
       format = sss.value("format", 0);
     }
-    if (contents.hasRelight)
-      readRelightAttributes(path, document, bin, format, attributes, contents, values);
+    if (contents.hasRelight) {
+      const RelightAttributeSource source{.path = path,
+                                          .document = document,
+                                          .bin = bin,
+                                          .attributes = attributes,
+                                          .vertices = raw.positions.size(),
+                                          .count = std::size_t(baked.relightCount())};
+      readRelightAttributes(source, format, baked.relightOrder, values);
+    }
   } catch (const nlohmann::json::exception& e) {
     fail(path, std::string("glTF JSON: ") + e.what());
   }

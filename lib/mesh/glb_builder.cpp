@@ -55,29 +55,23 @@ int GlbBinary::addVec3(const std::vector<glm::vec3>& values, bool withBounds) {
   return static_cast<int>(accessors_.size()) - 1;
 }
 
-int GlbBinary::addNormalizedShortVec3(const std::vector<std::array<int16_t, 3>>& values) {
-  std::vector<std::array<int16_t, 4>> padded(values.size());
-  for (std::size_t i = 0; i < values.size(); ++i)
-    padded[i] = {values[i][0], values[i][1], values[i][2], 0};
-  return addNormalizedVec3(padded.data(), values.size(), 8, kShort);
-}
-
-int GlbBinary::addNormalizedByteVec3(const std::vector<std::array<int16_t, 3>>& values) {
-  std::vector<std::array<int8_t, 4>> padded(values.size());
-  for (std::size_t i = 0; i < values.size(); ++i)
-    for (int c = 0; c < 3; ++c) padded[i][c] = static_cast<int8_t>(values[i][c]);
-  return addNormalizedVec3(padded.data(), values.size(), 4, kByte);
-}
-
-int GlbBinary::addNormalizedVec3(const void* padded, std::size_t count, int stride,
-                                 int componentType) {
-  const int view = addView(padded, count * std::size_t(stride), kArrayBuffer);
-  bufferViews_[view]["byteStride"] = stride;
-  accessors_.push_back({{"bufferView", view},
-                        {"componentType", componentType},
-                        {"normalized", true},
-                        {"count", count},
-                        {"type", "VEC3"}});
+int GlbBinary::addIntegerVec4(const std::vector<int16_t>& components, int componentType,
+                              bool normalized) {
+  const std::size_t count = components.size() / 4;
+  int view = 0;
+  if (componentType == kShort) {
+    view = addView(components.data(), count * 8, kArrayBuffer);
+  } else {
+    std::vector<int8_t> bytes(components.size());
+    for (std::size_t i = 0; i < components.size(); ++i)
+      bytes[i] = static_cast<int8_t>(components[i]);
+    view = addView(bytes.data(), count * 4, kArrayBuffer);
+  }
+  Json accessor = {{"bufferView", view}, {"componentType", componentType}};
+  if (normalized) accessor["normalized"] = true;
+  accessor["count"] = count;
+  accessor["type"] = "VEC4";
+  accessors_.push_back(accessor);
   return static_cast<int>(accessors_.size()) - 1;
 }
 

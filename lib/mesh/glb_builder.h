@@ -28,12 +28,11 @@ class GlbBinary {
   int addVec3(const std::vector<glm::vec3>& values, bool withBounds);
   int addVec2(const std::vector<glm::vec2>& values);
   int addVec4(const std::vector<glm::vec4>& values);
-  // A normalized SHORT VEC3 vertex attribute (value q / 32767), each element padded to 8 bytes
-  // (byteStride 8: vertex attributes are 4-byte aligned, section 3.6.2.4).
-  int addNormalizedShortVec3(const std::vector<std::array<int16_t, 3>>& values);
-  // A normalized BYTE VEC3 vertex attribute (value q / 127, each |q| <= 127), each element
-  // padded to 4 bytes.
-  int addNormalizedByteVec3(const std::vector<std::array<int16_t, 3>>& values);
+  // A VEC4 vertex attribute of `componentType` kShort or kByte (each value in [-128, 127]),
+  // `normalized` (the GPU reads q / 32767 or q / 127) or not, from its elements' four components
+  // in a row. VEC4, not VEC3: vertex attributes are 4-byte aligned (section 3.6.2.4), so a VEC3
+  // of them would take a fourth component's bytes anyway.
+  int addIntegerVec4(const std::vector<int16_t>& components, int componentType, bool normalized);
   // Triangle corners as unsigned int indices.
   int addIndices(const std::vector<glm::uvec3>& triangles);
 
@@ -43,7 +42,6 @@ class GlbBinary {
 
  private:
   int addFloats(const float* values, std::size_t elements, int components, const char* type);
-  int addNormalizedVec3(const void* padded, std::size_t count, int stride, int componentType);
 
   std::string bin_;
   Json bufferViews_ = Json::array();

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "core/error.h"
 
@@ -9,11 +10,12 @@ namespace sss {
 
 namespace {
 
-// The smallest power of two s with largest <= limit s (0 for 0): every coefficient then rounds
+// The smallest power of two s with largest <= limit s (0 where s would be below 2^-126, so that
+// the GLB's exponents hold every step: scaleExponent): every coefficient then rounds
 // to at most `limit` steps, within half a step, and the stored values give the same s again (their
 // largest is above limit s / 2 steps, so s / 2 does not hold them).
 float stepFor(float largest, int limit) {
-  if (!(largest > 0.0f)) return 0.0f;
+  if (!(largest > float(limit) * std::ldexp(1.0f, kMinStepExponent - 1))) return 0.0f;
   int e = 0;
   std::frexp(largest / float(limit), &e);  // largest / limit < 2^e, to float's rounding
   float step = std::ldexp(1.0f, e - 2);
@@ -76,6 +78,22 @@ std::vector<glm::vec3> dequantizeTransfer(const QuantizedTransfer& quantized, st
       }
     }
   return out;
+}
+
+int scaleExponent(float scale, float normalizer) {
+  if (scale == 0.0f) return kZeroScaleExponent;
+  int e = 0;
+  std::frexp(scale / normalizer, &e);  // step = 2^(e - 1) exactly
+  return e - 1;
+}
+
+float scaleOfExponent(const std::string& path, int exponent, float normalizer) {
+  if (exponent == kZeroScaleExponent) return 0.0f;
+  if (exponent < kMinStepExponent || exponent > kMaxStepExponent)
+    fail(path, "transfer scale exponent " + std::to_string(exponent) + " is outside [" +
+                   std::to_string(kMinStepExponent) + ", " + std::to_string(kMaxStepExponent) +
+                   "]");
+  return std::ldexp(1.0f, exponent) * normalizer;
 }
 
 void checkTransferScales(const std::string& path, std::span<const glm::vec3> scales) {

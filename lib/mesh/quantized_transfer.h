@@ -1,14 +1,14 @@
 // A relightable bake's transfer as the files store it: per vertex and channel one scale and, per
 // coefficient of bands 0-3 (k < 16), a 16-bit integer (baked PLY `short transfer<k>_r/g/b` beside
-// `float transfer_scale_r/g/b`; baked GLB normalized SHORT `_TRANSFER_<k>` beside
-// `_TRANSFER_SCALE`),
+// `float transfer_scale_r/g/b`; baked GLB normalized SHORT VEC4s `_TRANSFER_LOW_<j>`, the steps
+// packed four to an element, beside `_TRANSFER_SCALE`),
 //
 //   T_k,c = q_k,c / 32767 * scale_c,   scale_c = 32767 s_c,   |q| <= 2^14,
 //
 // s_c the smallest power of two with the vertex's largest |T_k,c| over those bands at most 2^14
 // steps. The bands from 4 (orders 4-8) have a scale of their own and 8 bits (PLY
-// `char transfer<k>_*` beside `float transfer_scale_high_*`; GLB normalized BYTE `_TRANSFER_<k>`
-// beside `_TRANSFER_SCALE_HIGH`):
+// `char transfer<k>_*` beside `float transfer_scale_high_*`; GLB normalized BYTE VEC4s
+// `_TRANSFER_HIGH_<j>` beside `_TRANSFER_SCALE_HIGH`):
 //
 //   T_k,c = q_k,c / 127 * high_c,   high_c = 127 h_c,   |q| <= 127,
 //
@@ -48,6 +48,17 @@ struct QuantizedTransfer {
   std::vector<glm::vec3> scaleHigh;
   std::vector<std::array<int16_t, 3>> values;  // at [vertex * count + k]
 };
+
+// A scale as the GLB stores it: the exponent e of its step, scale = normalizer 2^e, in
+// [kMinStepExponent, kMaxStepExponent], or kZeroScaleExponent for a scale of 0 (its steps are all
+// 0). quantizeTransfer's steps are such powers of two: it rounds a channel whose largest is below
+// limit 2^-127 (1e-34 for bands 0-3) to zero, and refuses coefficients above 1e30.
+inline constexpr int kMinStepExponent = -126;
+inline constexpr int kMaxStepExponent = 100;
+inline constexpr int kZeroScaleExponent = -128;
+int scaleExponent(float scale, float normalizer);
+// Throws Error naming `path` unless `exponent` is one scaleExponent gives.
+float scaleOfExponent(const std::string& path, int exponent, float normalizer);
 
 // The largest |q| coefficient k may have (k >= 16: with a high scale).
 inline int transferStepLimit(std::size_t k, bool highScale) {

@@ -251,17 +251,24 @@ TEST_F(Relight, RefusesBrokenFiles) {
       EXPECT_NE(std::string(e.what()).find("bad.ply"), std::string::npos) << e.what();
     }
   }
-  // A GLB whose extras declare more coefficients than its attributes hold.
+  // A GLB whose extras declare more coefficients than its attributes hold, and one missing a
+  // packed attribute.
   writeBakedGlb(file("good.glb"), out_->baked);
-  test::writeText(file("bad.glb"),
-                  edited(test::readFile(file("good.glb")), "\"order\":3", "\"order\":4"));
-  try {
-    readBakedGlb(file("bad.glb"));
-    ADD_FAILURE() << "order 4 without _TRANSFER_16";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("bad.glb: glTF: a relightable bake without _TRANSFER_16"),
-              std::string::npos)
-        << e.what();
+  const std::string good = test::readFile(file("good.glb"));
+  const std::pair<std::string, std::string> glbCases[] = {
+      {edited(good, "\"order\":3", "\"order\":4"),
+       "bad.glb: glTF: a relightable bake of order above 3 without _TRANSFER_EXPONENT_HIGH"},
+      {edited(good, "\"_TRANSFER_LOW_11\"", "\"_TRANSFER_LOW_X1\""),
+       "bad.glb: glTF: a relightable bake without _TRANSFER_LOW_11"},
+  };
+  for (const auto& [bytes, message] : glbCases) {
+    test::writeText(file("bad.glb"), bytes);
+    try {
+      readBakedGlb(file("bad.glb"));
+      ADD_FAILURE() << message;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+    }
   }
   // A transport key that does not parse is refused when relighting.
   RelightTransfer broken = *transfer_;

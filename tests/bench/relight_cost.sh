@@ -50,7 +50,7 @@ print(f'{sys.argv[2]},{sys.argv[3]},{plain["stages"]["total_s"]:.3f},'
       f'{relightable["stages"]["total_s"]:.3f},{relightable["relightable"]["seconds"]:.3f},'
       f'{relit["seconds"]:.3f},{sys.argv[4]},{sys.argv[5]},{os.path.getsize(f"{w}/plain.ply")},'
       f'{os.path.getsize(f"{w}/relightable.ply")},{os.path.getsize(f"{w}/{m}-plain.glb")},'
-      f'{os.path.getsize(f"{w}/{m}-relightable.glb")}'))
+      f'{os.path.getsize(f"{w}/{m}-relightable.glb")}')
 PY
   done
 done

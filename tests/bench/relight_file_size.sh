@@ -4,7 +4,9 @@
 # bunny (50 mm marble) under forest.exr, 2 threads: the plain bake's PLY and GLB against the order-6
 # ones. With a baseline build that stores every band in 16 bits (format 2), its order-6 PLY of
 # the same bake is relit beside this build's, both by this build, under four HDRs turned 30
-# degrees: the relative RMS of the radiance along the normal between the two.
+# degrees: the relative RMS of the radiance along the normal between the two. Without one, those
+# two columns are kept from the CSV's row of the same scene (the PLY's storage of the bands is
+# what they measure; a change to the GLB's layout alone does not move them).
 #   tests/bench/relight_file_size.sh BUILD_DIR [BASELINE_BUILD_DIR]
 # Writes tests/bench/results/relight/file_size.csv.
 set -euo pipefail
@@ -52,7 +54,8 @@ for scene in "dragon_res2 marble 150" "bunny marble 50"; do
   "$build/tools/sss-bake" "$data/meshes/$mesh.ply" "${bake[@]}" -o "$work/plain.glb"
   "$build/tools/sss-bake" "$data/meshes/$mesh.ply" "${bake[@]}" --relightable 6 -o "$work/r6.ply"
   "$build/tools/sss-bake" "$data/meshes/$mesh.ply" "${bake[@]}" --relightable 6 -o "$work/r6.glb"
-  rms="" worst=""
+  read -r rms worst < <(awk -F, -v s="$mesh-$material-$size" '$1 == s {print $7, $8}' \
+    "$csv" 2>/dev/null) || true
   if [[ -n $baseline ]]; then
     "$baseline/tools/sss-bake" "$data/meshes/$mesh.ply" "${bake[@]}" --relightable 6 \
       -o "$work/r6_16bit.ply"

@@ -6,6 +6,11 @@
 #include <ostream>
 #include <string>
 
+// GCC 12 sees OpenMesh's colour property (VectorT<unsigned char, 3>, left uninitialized by its
+// default constructor) copied in PropertyT::push_back when this file shares a unity build's unit.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -95,13 +96,40 @@ TEST(QuantizedTransfer, RefusesValuesNoScaleCanHold) {
   }
 }
 
+// Every scale quantizeTransfer gives, over the range it accepts (1e30 down to the smallest
+// float), is 32767 (127) times 2^e with e a byte the GLB holds, and comes back from it exactly; a
+// channel whose largest is below 2^-127 steps is stored as zero.
+TEST(QuantizedTransfer, ScalesAreExactPowersOfTwoWhoseExponentsFitAByte) {
+  std::vector<glm::vec3> t;
+  for (float largest = 1e30f; largest > 0.0f; largest *= 0.37f)
+    for (int k = 0; k < 25; ++k) t.push_back(glm::vec3(largest * (float(k % 7 - 3) / 3.0f)));
+  const std::size_t count = 25, n = t.size() / count;
+  const QuantizedTransfer q = quantizeTransfer("t", t, count);
+  std::size_t zeros = 0;
+  for (std::size_t v = 0; v < n; ++v)
+    for (const auto& [scales, normalizer] : {std::pair{&q.scale, kTransferNormalizer},
+                                             std::pair{&q.scaleHigh, kHighTransferNormalizer}}) {
+      const float scale = (*scales)[v].x;
+      const int e = scaleExponent(scale, normalizer);
+      EXPECT_TRUE(e == kZeroScaleExponent || (e >= kMinStepExponent && e <= kMaxStepExponent)) << e;
+      EXPECT_EQ(scaleOfExponent("t", e, normalizer), scale) << e;
+      zeros += scale == 0.0f;
+    }
+  EXPECT_GT(zeros, 0u);  // the smallest channels
+  const float tiny = float(kTransferSteps) * std::ldexp(1.0f, -127);
+  EXPECT_EQ(quantizeTransfer("t", std::vector<glm::vec3>(16, glm::vec3(tiny)), 16).scale[0].x,
+            0.0f);
+  EXPECT_GT(quantizeTransfer("t", std::vector<glm::vec3>(16, glm::vec3(2 * tiny)), 16).scale[0].x,
+            0.0f);
+  EXPECT_THROW(scaleOfExponent("t", kMaxStepExponent + 1, kTransferNormalizer), Error);
+  EXPECT_THROW(scaleOfExponent("t", kMinStepExponent - 1, kTransferNormalizer), Error);
+}
+
 // A relightable bake of `order` on an icosphere written as PLY and GLB: the transfer comes back
 // as storedTransfer made it from both, the GLB passes the validator. Returns the bytes the
 // relightable fields add to the PLY (against the same bake without them) and the vertex count.
-std::pair<std::size_t, std::size_t> relightableFileBytes(int order) {
-  const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / ("sss-test-" + std::to_string(::getpid()) + "-qt");
-  std::filesystem::create_directories(dir);
+// A relightable bake of `order` on an icosphere, its transfer random.
+BakedMesh relightableBake(int order) {
   BakedMesh baked;
   baked.mesh = makeIcosphere(1, 1.0f);
   const std::size_t n = baked.mesh.vertexCount(), count = std::size_t((order + 1) * (order + 1));
@@ -111,6 +139,20 @@ std::pair<std::size_t, std::size_t> relightableFileBytes(int order) {
   baked.radianceGain.assign(n, glm::vec3(0.3f));
   baked.exitancePerRadiance.assign(n, glm::vec3(3.0f));
   baked.relightTransport = "hierarchical,0.01,gauss,halfspace,0.9,0.8,0.7,directional,2,64";
+  return baked;
+}
+
+std::filesystem::path scratchDir() {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("sss-test-" + std::to_string(::getpid()) + "-qt");
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+std::pair<std::size_t, std::size_t> relightableFileBytes(int order) {
+  const std::filesystem::path dir = scratchDir();
+  BakedMesh baked = relightableBake(order);
+  const std::size_t n = baked.mesh.vertexCount(), count = std::size_t((order + 1) * (order + 1));
   const std::vector<glm::vec3> expected = storedTransfer("t", baked.relightTransfer, count);
   const std::string ply = (dir / "q.ply").string(), glb = (dir / "q.glb").string();
   writeBakedPly(ply, baked);
@@ -201,6 +243,139 @@ TEST(QuantizedTransfer, OrderSixFilesCarryTheHighBandsInEightBits) {
   const std::size_t records = n * (16 * 6 + 33 * 3 + 12 + 12 + 24);
   EXPECT_GE(added, records);
   EXPECT_LT(added, records + 8192);  // the header's property lines
+}
+
+// The GLB's steps, decoded from the file as docs/relighting.md lays them out (not through our
+// reader): entry i = 3 k + c of bands 0-3 is component i % 4 of the normalized SHORT VEC4
+// _TRANSFER_LOW_<i / 4>, of bands 4-6 (i = 3 (k - 16) + c) of the BYTE _TRANSFER_HIGH_<i / 4>,
+// tightly packed (8 and 4 bytes a vertex), the padding zero; times the scales of the exponents in
+// _TRANSFER_EXPONENT(_HIGH) they give the stored transfer.
+TEST(QuantizedTransfer, TheGlbPacksTheStepsFourToAnAttribute) {
+  const std::filesystem::path dir = scratchDir();
+  const BakedMesh baked = relightableBake(6);
+  const std::size_t n = baked.mesh.vertexCount(), count = 49;
+  const std::string path = (dir / "packed.glb").string();
+  writeBakedGlb(path, baked);
+  const test::GlbFile glb(path);
+  const std::vector<glm::vec3> stored = storedTransfer("t", baked.relightTransfer, count);
+  const auto& attributes = glb.json["meshes"][0]["primitives"][0]["attributes"];
+  // A non-normalized BYTE VEC4 of exponents e (r, g, b, 0): the scale is normalizer 2^e.
+  const auto scales = [&](const std::string& name, float normalizer) {
+    const auto& accessor = glb.json["accessors"][attributes[name].get<int>()];
+    const auto& view = glb.json["bufferViews"][accessor["bufferView"].get<int>()];
+    EXPECT_EQ(accessor["type"], "VEC4");
+    EXPECT_EQ(accessor["componentType"], 5120);
+    EXPECT_FALSE(accessor.value("normalized", false));
+    EXPECT_EQ(view["byteLength"], 4 * n);
+    std::vector<glm::vec3> out(n);
+    const char* data = glb.bin.data() + view["byteOffset"].get<std::size_t>();
+    for (std::size_t v = 0; v < n; ++v) {
+      EXPECT_EQ(data[4 * v + 3], 0);
+      for (int c = 0; c < 3; ++c) out[v][c] = std::ldexp(normalizer, data[4 * v + c]);
+    }
+    return out;
+  };
+  const std::vector<glm::vec3> scale = scales("_TRANSFER_EXPONENT", kTransferNormalizer);
+  const std::vector<glm::vec3> scaleHigh =
+      scales("_TRANSFER_EXPONENT_HIGH", kHighTransferNormalizer);
+  EXPECT_EQ(glb.sssExtras()["format"], 4);
+  const auto decode = [&](const std::string& prefix, std::size_t first, std::size_t last,
+                          int componentType, std::size_t size, float normalizer,
+                          const std::vector<glm::vec3>& scales) {
+    const std::size_t entries = 3 * (last - first), attributeCount = (entries + 3) / 4;
+    EXPECT_FALSE(attributes.contains(prefix + std::to_string(attributeCount)));
+    for (std::size_t j = 0; j < attributeCount; ++j) {
+      const auto& accessor =
+          glb.json["accessors"][attributes[prefix + std::to_string(j)].get<int>()];
+      const auto& view = glb.json["bufferViews"][accessor["bufferView"].get<int>()];
+      ASSERT_EQ(accessor["type"], "VEC4");
+      ASSERT_EQ(accessor["componentType"], componentType);
+      ASSERT_EQ(accessor["normalized"], true);
+      ASSERT_EQ(accessor["count"], n);
+      ASSERT_EQ(view["byteLength"], 4 * size * n);
+      ASSERT_FALSE(view.contains("byteStride"));
+      const char* data = glb.bin.data() + view["byteOffset"].get<std::size_t>();
+      for (std::size_t v = 0; v < n; ++v)
+        for (std::size_t i = 4 * j; i < 4 * j + 4; ++i) {
+          const char* at = data + (4 * v + i % 4) * size;
+          int16_t q = 0;
+          if (size == 2)
+            std::memcpy(&q, at, 2);
+          else
+            q = static_cast<int8_t>(*at);
+          if (i >= entries) {
+            EXPECT_EQ(q, 0);
+            continue;
+          }
+          const std::size_t k = first + i / 3, c = i % 3;
+          EXPECT_EQ(float(q) / normalizer * scales[v][c], stored[v * count + k][c]) << k;
+        }
+    }
+  };
+  decode("_TRANSFER_LOW_", 0, 16, 5122, 2, kTransferNormalizer, scale);
+  decode("_TRANSFER_HIGH_", 16, 49, 5120, 1, kHighTransferNormalizer, scaleHigh);
+  std::filesystem::remove_all(dir);
+}
+
+// The GLB's exponents and packed steps refused where the writer never puts them: an exponent out
+// of range, a non-zero fourth exponent, a non-zero padding step, a step beyond its limit.
+TEST(QuantizedTransfer, TheGlbRefusesExponentsAndStepsItsWriterNeverWrites) {
+  const std::filesystem::path dir = scratchDir();
+  const std::string good = (dir / "good.glb").string(), bad = (dir / "bad.glb").string();
+  writeBakedGlb(good, relightableBake(4));  // 25 coefficients: 3 padding entries in each list
+  const test::GlbFile glb(good);
+  const std::string bytes = test::readFile(good);
+  const auto& attributes = glb.json["meshes"][0]["primitives"][0]["attributes"];
+  // The file offset of component `component` of attribute `name`'s first element.
+  const auto at = [&](const std::string& name, std::size_t component, std::size_t size) {
+    const auto& accessor = glb.json["accessors"][attributes[name].get<int>()];
+    const auto& view = glb.json["bufferViews"][accessor["bufferView"].get<int>()];
+    return bytes.size() - glb.bin.size() + view["byteOffset"].get<std::size_t>() + component * size;
+  };
+  const struct {
+    std::size_t offset, size;
+    int16_t value;
+    const char* message;
+  } cases[] = {
+      {at("_TRANSFER_EXPONENT", 0, 1), 1, 101,
+       "transfer scale exponent 101 is outside [-126, 100]"},
+      {at("_TRANSFER_EXPONENT", 1, 1), 1, -127, "transfer scale exponent -127 is outside"},
+      {at("_TRANSFER_EXPONENT_HIGH", 3, 1), 1, 1, "_TRANSFER_EXPONENT_HIGH has a non-zero fourth"},
+      {at("_TRANSFER_HIGH_6", 3, 1), 1, 5, "_TRANSFER_HIGH_6 has a non-zero padding component"},
+      {at("_TRANSFER_LOW_0", 1, 2), 2, kTransferSteps + 1,
+       "_TRANSFER_LOW_0 has a step count beyond"},
+  };
+  for (const auto& c : cases) {
+    std::string edited = bytes;
+    std::memcpy(&edited[c.offset], &c.value, c.size);  // little-endian: the low byte first
+    std::ofstream(bad, std::ios::binary) << edited;
+    try {
+      readBakedGlb(bad);
+      ADD_FAILURE() << c.message;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(c.message), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("bad.glb"), std::string::npos) << e.what();
+    }
+  }
+  std::filesystem::remove_all(dir);
+}
+
+// A GLB of format 3 (one normalized VEC3 per coefficient, as written before the packed form) and
+// the PLY of the same bake, both from that build (tests/mesh/legacy/), read to the same transfer,
+// and so does the format 4 GLB written from it.
+TEST(QuantizedTransfer, AFormatThreeGlbStillReads) {
+  const std::string legacy = SSS_SOURCE_DIR "/tests/mesh/legacy/icosahedron_relightable_order4";
+  const BakedPlyContents glb = readBakedGlb(legacy + "_format3.glb");
+  const BakedPlyContents ply = readBakedPly(legacy + "_format3.ply");
+  ASSERT_EQ(glb.baked.relightOrder, 4);
+  ASSERT_EQ(glb.baked.relightTransfer.size(), 25 * glb.baked.mesh.vertexCount());
+  EXPECT_EQ(glb.baked.relightTransfer, ply.baked.relightTransfer);
+  const std::filesystem::path dir = scratchDir();
+  const std::string rewritten = (dir / "format4.glb").string();
+  writeBakedGlb(rewritten, glb.baked);
+  EXPECT_EQ(test::GlbFile(rewritten).sssExtras()["format"], 4);
+  EXPECT_EQ(readBakedGlb(rewritten).baked.relightTransfer, glb.baked.relightTransfer);
+  std::filesystem::remove_all(dir);
 }
 
 // A format 2 file of order 4 (16 bits for every band, written before the high bands had their

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
+#include <vector>
 
 #include <glm/geometric.hpp>
 
@@ -23,25 +25,38 @@ struct BrightTexels {
   double flux = 0.0;
 };
 
-BrightTexels brightestTexels(const Cubemap& radiance, const CompactLightOptions& o) {
+// Cubemap::solidAngle of each texel of a face (the same on every face), computed once: it takes
+// four arc tangents.
+std::vector<float> texelSolidAngles(const Cubemap& radiance) {
+  const int n = radiance.size();
+  std::vector<float> dw(std::size_t(n) * n);
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) dw[std::size_t(y) * n + x] = radiance.solidAngle(0, x, y);
+  return dw;
+}
+
+BrightTexels brightestTexels(const Cubemap& radiance, std::span<const float> texelSolidAngle,
+                             const CompactLightOptions& o) {
+  const int n = radiance.size();
   double flux = 0.0, solidAngle = 0.0;
-  std::vector<Texel> all;
-  forEachTexel(radiance.size(), [&](int f, int x, int y) {
-    const float l = luminance(radiance.at(f, x, y));
-    const float dw = radiance.solidAngle(f, x, y);
-    flux += double(l) * dw;
+  forEachTexel(n, [&](int f, int x, int y) {
+    const float dw = texelSolidAngle[std::size_t(y) * n + x];
+    flux += double(luminance(radiance.at(f, x, y))) * dw;
     solidAngle += dw;
-    all.push_back({f, x, y, l});
   });
   const double threshold = o.minContrast * flux / std::max(solidAngle, 1e-30);
-  std::erase_if(all, [&](const Texel& t) { return !(t.luminance > threshold); });
+  std::vector<Texel> all;
+  forEachTexel(n, [&](int f, int x, int y) {
+    const float l = luminance(radiance.at(f, x, y));
+    if (l > threshold) all.push_back({f, x, y, l});
+  });
   std::stable_sort(all.begin(), all.end(),
                    [](const Texel& a, const Texel& b) { return a.luminance > b.luminance; });
   const double allowed = o.maxSolidAngleFraction * 4.0 * M_PI;
   double covered = 0.0;
   std::size_t kept = 0;
   for (; kept < all.size(); ++kept) {
-    covered += radiance.solidAngle(all[kept].face, all[kept].x, all[kept].y);
+    covered += texelSolidAngle[std::size_t(all[kept].y) * n + all[kept].x];
     if (covered > allowed) break;
   }
   all.resize(kept);
@@ -53,7 +68,8 @@ BrightTexels brightestTexels(const Cubemap& radiance, const CompactLightOptions&
 CompactLightSplit splitCompactLights(const Cubemap& radiance, const CompactLightOptions& o) {
   CompactLightSplit out;
   out.rest = radiance;
-  const BrightTexels selected = brightestTexels(radiance, o);
+  const std::vector<float> texelSolidAngle = texelSolidAngles(radiance);
+  const BrightTexels selected = brightestTexels(radiance, texelSolidAngle, o);
   const std::vector<Texel>& bright = selected.texels;
   const float cosCluster = float(std::cos(o.clusterDeg * M_PI / 180.0));
   std::vector<char> taken(bright.size(), 0);
@@ -67,7 +83,7 @@ CompactLightSplit splitCompactLights(const Cubemap& radiance, const CompactLight
       const glm::vec3 d = radiance.direction(t.face, t.x, t.y);
       if (taken[i] || glm::dot(d, axis) < cosCluster) continue;
       taken[i] = 1;
-      const float dw = radiance.solidAngle(t.face, t.x, t.y);
+      const float dw = texelSolidAngle[std::size_t(t.y) * radiance.size() + t.x];
       const glm::vec3 e = radiance.at(t.face, t.x, t.y) * dw;
       light.irradiance += e;
       light.solidAngle += dw;

@@ -175,7 +175,10 @@ class MaterialReader {
     try {
       if (json.contains("bufferView")) {
         image.bytes = doc_.viewBytes(doc_.index(json, "bufferView"), what);
-        if (image.bytes.size() > kMaxImageBytes) image.bytes.clear();
+        if (image.bytes.size() > kMaxImageBytes) {
+          why = what + " is larger than 1 GiB (" + std::to_string(image.bytes.size()) + " bytes)";
+          return {};
+        }
       } else {
         image.bytes = doc_.uriBytes(doc_.string(json, "uri"), what, kMaxImageBytes);
       }

@@ -289,17 +289,25 @@ class RelightSession::Context {
   }
 
   // B of the environment before g: its compact lights with their shadows and its smooth rest
-  // through the transfer, then the bounces.
-  std::vector<glm::vec3> relitExitance(CompactLightSplit& split) {
+  // through the transfer, then the bounces; each stage's time into `seconds`.
+  std::vector<glm::vec3> relitExitance(CompactLightSplit& split, RelightSeconds& seconds) {
     const RelightTransfer& t = bake_.transfer;
+    Stopwatch clock;
     split = splitCompactLights(*environment_);
+    seconds.compactLights = clock.lap();
     const SphericalHarmonics sh = SphericalHarmonics::project(split.rest, t.order, run_.threads);
     std::vector<glm::vec3> b = transferredExitance(t.relightTransfer, t.order, sh);
+    seconds.smooth = clock.lap();
     if (!split.lights.empty()) {
       const std::vector<glm::vec3> compact = transport(shadows_.irradiance(split.lights));
       for (std::size_t v = 0; v < b.size(); ++v) b[v] += compact[v];
     }
-    return bounced(std::move(b));
+    seconds.compactTransport = clock.lap();
+    if (stored_.bounces > 0) gather();
+    seconds.gather = clock.lap();
+    std::vector<glm::vec3> out = bounced(std::move(b));
+    seconds.bounces = clock.lap();
+    return out;
   }
 
  private:
@@ -356,9 +364,12 @@ RelightSession::~RelightSession() = default;
 RelitLight RelightSession::relight(const Cubemap& environment) {
   context_->lightWith(environment);
   CompactLightSplit split;
-  std::vector<glm::vec3> b = context_->relitExitance(split);
-  return withGain(std::move(b), bake_.transfer.radianceGain, bake_.transfer.exitancePerRadiance,
-                  split);
+  RelightSeconds seconds;
+  std::vector<glm::vec3> b = context_->relitExitance(split, seconds);
+  RelitLight out = withGain(std::move(b), bake_.transfer.radianceGain,
+                            bake_.transfer.exitancePerRadiance, split);
+  out.seconds = seconds;
+  return out;
 }
 
 RelitLight relight(const std::string& path, const RelightableMesh& bake, const Cubemap& environment,
@@ -379,8 +390,10 @@ OwnEnvironmentRelight relightOwnEnvironment(const std::string& path, const Relig
   out.radianceGain = ratios(radianceNormal, c.bounced(c.transport(ownIrradiance)),
                             float(normalExitRadianceScale(float(bake.material.eta))));
   CompactLightSplit split;
-  std::vector<glm::vec3> b = c.relitExitance(split);
+  RelightSeconds seconds;
+  std::vector<glm::vec3> b = c.relitExitance(split, seconds);
   out.relit = withGain(std::move(b), out.radianceGain, bake.transfer.exitancePerRadiance, split);
+  out.relit.seconds = seconds;
   return out;
 }
 

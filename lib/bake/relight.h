@@ -96,10 +96,19 @@ struct RelightableMesh {
   const RelightTransfer& transfer;
 };
 
+// Where one relight's time went, in seconds: finding the compact lights, the smooth rest through
+// the transfer (its SH projection included), the compact lights' shadows and transport, the
+// bounces' gather rays (traced by a session's first relight; their sky swapped after) and the
+// bounces' transports.
+struct RelightSeconds {
+  double compactLights = 0.0, smooth = 0.0, compactTransport = 0.0, gather = 0.0, bounces = 0.0;
+};
+
 struct RelitLight {
   std::vector<glm::vec3> radianceNormal, exitance;
   int compactLights = 0;
   double compactFluxShare = 0.0;
+  RelightSeconds seconds;
 };
 
 // The bake under `environment` (a radiance cubemap in the mesh's frame): compact lights split

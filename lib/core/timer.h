@@ -14,6 +14,13 @@ class Stopwatch {
   }
   double milliseconds() const { return seconds() * 1e3; }
   void restart() { start_ = std::chrono::steady_clock::now(); }
+  // The seconds since the start, and a new start: one stage's time after another's.
+  double lap() {
+    const auto now = std::chrono::steady_clock::now();
+    const double s = std::chrono::duration<double>(now - start_).count();
+    start_ = now;
+    return s;
+  }
 
  private:
   std::chrono::steady_clock::time_point start_;

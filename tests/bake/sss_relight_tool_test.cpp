@@ -9,6 +9,7 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "bake/relight.h"
 #include "core/relative_rms.h"
@@ -137,8 +138,19 @@ TEST_F(SssRelightTool, SeveralEnvironmentsWriteWhatEachAloneWould) {
   test::ToolRun r = relight(path("baked.ply") + envs + " -q -o " + path("multi/") + " --json " +
                             path("reports/"));
   ASSERT_EQ(r.exitCode, 0) << r.output;
-  EXPECT_TRUE(std::filesystem::exists(path("reports/baked_sky_a.json")));
-  EXPECT_TRUE(std::filesystem::exists(path("reports/baked_sky_b.json")));
+  // Each report says where its relight's time went: the stages, none negative, within its total.
+  for (const char* name : {"a", "b"}) {
+    const auto report = nlohmann::json::parse(
+        test::readFile(path(std::string("reports/baked_sky_") + name + ".json")));
+    double stages = 0.0;
+    for (const char* stage :
+         {"compact_lights_s", "smooth_s", "compact_transport_s", "gather_s", "bounces_s"}) {
+      ASSERT_TRUE(report["stages"].contains(stage)) << stage;
+      EXPECT_GE(report["stages"][stage].get<double>(), 0.0) << stage;
+      stages += report["stages"][stage].get<double>();
+    }
+    EXPECT_LE(stages, report["seconds"].get<double>()) << name;
+  }
   for (const char* name : {"a", "b"}) {
     const std::string alone = path(std::string("alone_") + name + ".ply");
     r = relight(path("baked.ply") + " -e " + path(std::string("sky_") + name + ".exr") + " -q -o " +

@@ -23,7 +23,9 @@
 #include "raytrace/triangle_scene.h"
 
 namespace sss {
-namespace {
+// Named, not anonymous: EscapeWalks::State, declared in the header, holds these (GCC's
+// -Wsubobject-linkage, where this file is compiled inside another, as in a unity build).
+namespace escape_walks {
 
 // A walk whose absorption weight exp(-sigma_a l) falls below e^-30 scores 0 (bias < 1e-13).
 constexpr double kNegligibleOpticalDepth = 30.0;
@@ -187,7 +189,11 @@ Smoothing::Smoothing(const std::array<glm::dvec3, 2>& widths) : sigma(widths) {
   reach2 = 9.0 * widest * widest;
 }
 
-}  // namespace
+}  // namespace escape_walks
+
+using escape_walks::EscapeWalker, escape_walks::ProbeEstimates, escape_walks::ProbeSums,
+    escape_walks::SmoothedEstimate, escape_walks::Smoothing, escape_walks::WalkOutcome,
+    escape_walks::kNearSmoothingWindows;
 
 struct EscapeWalks::State {
   State(const TriangleMesh& m, std::span<const float> a, const Material& material,

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <span>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -27,20 +26,26 @@ struct BrightTexels {
 
 // Cubemap::solidAngle of each texel of a face (the same on every face), computed once: it takes
 // four arc tangents.
-std::vector<float> texelSolidAngles(const Cubemap& radiance) {
-  const int n = radiance.size();
-  std::vector<float> dw(std::size_t(n) * n);
-  for (int y = 0; y < n; ++y)
-    for (int x = 0; x < n; ++x) dw[std::size_t(y) * n + x] = radiance.solidAngle(0, x, y);
-  return dw;
-}
+class TexelSolidAngles {
+ public:
+  explicit TexelSolidAngles(const Cubemap& radiance)
+      : n_(radiance.size()), dw_(std::size_t(n_) * n_) {
+    for (int y = 0; y < n_; ++y)
+      for (int x = 0; x < n_; ++x) dw_[std::size_t(y) * n_ + x] = radiance.solidAngle(0, x, y);
+  }
+  float operator()(int x, int y) const { return dw_[std::size_t(y) * n_ + x]; }
 
-BrightTexels brightestTexels(const Cubemap& radiance, std::span<const float> texelSolidAngle,
+ private:
+  int n_;
+  std::vector<float> dw_;
+};
+
+BrightTexels brightestTexels(const Cubemap& radiance, const TexelSolidAngles& texelSolidAngle,
                              const CompactLightOptions& o) {
   const int n = radiance.size();
   double flux = 0.0, solidAngle = 0.0;
   forEachTexel(n, [&](int f, int x, int y) {
-    const float dw = texelSolidAngle[std::size_t(y) * n + x];
+    const float dw = texelSolidAngle(x, y);
     flux += double(luminance(radiance.at(f, x, y))) * dw;
     solidAngle += dw;
   });
@@ -56,7 +61,7 @@ BrightTexels brightestTexels(const Cubemap& radiance, std::span<const float> tex
   double covered = 0.0;
   std::size_t kept = 0;
   for (; kept < all.size(); ++kept) {
-    covered += texelSolidAngle[std::size_t(all[kept].y) * n + all[kept].x];
+    covered += texelSolidAngle(all[kept].x, all[kept].y);
     if (covered > allowed) break;
   }
   all.resize(kept);
@@ -68,7 +73,7 @@ BrightTexels brightestTexels(const Cubemap& radiance, std::span<const float> tex
 CompactLightSplit splitCompactLights(const Cubemap& radiance, const CompactLightOptions& o) {
   CompactLightSplit out;
   out.rest = radiance;
-  const std::vector<float> texelSolidAngle = texelSolidAngles(radiance);
+  const TexelSolidAngles texelSolidAngle(radiance);
   const BrightTexels selected = brightestTexels(radiance, texelSolidAngle, o);
   const std::vector<Texel>& bright = selected.texels;
   const float cosCluster = float(std::cos(o.clusterDeg * M_PI / 180.0));
@@ -83,7 +88,7 @@ CompactLightSplit splitCompactLights(const Cubemap& radiance, const CompactLight
       const glm::vec3 d = radiance.direction(t.face, t.x, t.y);
       if (taken[i] || glm::dot(d, axis) < cosCluster) continue;
       taken[i] = 1;
-      const float dw = texelSolidAngle[std::size_t(t.y) * radiance.size() + t.x];
+      const float dw = texelSolidAngle(t.x, t.y);
       const glm::vec3 e = radiance.at(t.face, t.x, t.y) * dw;
       light.irradiance += e;
       light.solidAngle += dw;

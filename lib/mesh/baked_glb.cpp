@@ -250,6 +250,12 @@ struct AccessorSpan {
   std::uint64_t count = 0, stride = 0, componentType = 0;
 };
 
+// The components of an accessor element of `type` ("SCALAR", "VEC3" or "VEC4").
+std::size_t componentsOf(const char* type) {
+  const std::string t = type;
+  return t == "VEC4" ? 4 : t == "VEC3" ? 3 : 1;
+}
+
 AccessorSpan accessorSpan(const std::string& path, const Json& document, const std::string& bin,
                           std::uint64_t accessorIndex, const char* type, const char* what) {
   const Json& accessor = element(path, document, "accessors", accessorIndex);
@@ -266,10 +272,7 @@ AccessorSpan accessorSpan(const std::string& path, const Json& document, const s
                                       : span.componentType == kByte          ? 1
                                                                              : 0;
   if (componentSize == 0) fail(path, where + " has an unsupported componentType");
-  const std::uint64_t components = std::string(type) == "VEC4"   ? 4
-                                   : std::string(type) == "VEC3" ? 3
-                                                                 : 1;
-  const std::uint64_t elementSize = componentSize * components;
+  const std::uint64_t elementSize = componentSize * componentsOf(type);
   span.count = index(path, accessor, "count");
   if (span.count == 0) fail(path, where + " is empty");
   const Json& view = element(path, document, "bufferViews", index(path, accessor, "bufferView"));
@@ -312,7 +315,7 @@ std::vector<int16_t> readIntegers(const std::string& path, const Json& document,
       normalizedFlag != Json(normalized))
     fail(path, "glTF: " + what + " is not " + (normalized ? "normalized " : "") +
                    (byte ? "BYTE" : "SHORT"));
-  const std::size_t components = std::string(type) == "VEC4" ? 4 : 3;
+  const std::size_t components = componentsOf(type);
   std::vector<int16_t> values(span.count * components);
   for (std::uint64_t i = 0; i < span.count; ++i) {
     const char* p = span.data + i * span.stride;
@@ -406,7 +409,7 @@ struct RelightAttributeSource {
                                 bool normalized = true) const {
     std::vector<int16_t> values =
         readIntegers(path, document, bin, accessor(name), name, type, byte, normalized);
-    if (values.size() != vertices * (std::string(type) == "VEC4" ? 4 : 3))
+    if (values.size() != vertices * componentsOf(type))
       fail(path, "glTF: the attributes have different counts");
     return values;
   }
@@ -474,7 +477,7 @@ void readPackedTransfer(const RelightAttributeSource& in, std::size_t first, std
 // above 3.
 void checkHighScale(const RelightAttributeSource& in, bool present, int format, int order,
                     const char* name) {
-  if (present != (format >= kHighBandsGlbVersion && in.count > kShortTransferCoefficients))
+  if (present != (format >= kHighBandsGlbVersion && hasHighBands(in.count)))
     fail(in.path, present
                       ? std::string("glTF: ") + name + " in a format " + std::to_string(format) +
                             " bake of order " + std::to_string(order)

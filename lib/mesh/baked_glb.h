@@ -9,11 +9,11 @@
 //                preview_scale). Values above 1 are clamped with a warning naming how many.
 //   _IRRADIANCE  float VEC3, E per vertex as baked (custom attribute: leading underscore)
 //   _EXITANCE    float VEC3, B per vertex as baked
-//   _TRANSFER_SCALE, _TRANSFER_LOW_<j>, _TRANSFER_SCALE_HIGH, _TRANSFER_HIGH_<j>
+//   _TRANSFER_EXPONENT, _TRANSFER_LOW_<j>, _TRANSFER_EXPONENT_HIGH, _TRANSFER_HIGH_<j>
 //                a relightable bake's transfer (baked_ply.h's transfer_scale, transfer<k>,
-//                transfer_scale_high): float VEC3 scales, the steps packed in normalized SHORT
-//                (bands 0-3) and BYTE (bands 4-8) VEC4s (quantized_transfer.h,
-//                docs/relighting.md)
+//                transfer_scale_high): the scales as exponents in BYTE VEC4s, the steps packed
+//                in normalized SHORT (bands 0-3) and BYTE (bands 4-8) VEC4s
+//                (quantized_transfer.h, docs/relighting.md)
 //   _RADIANCE_GAIN, _EXITANCE_PER_RADIANCE, _ESCAPE_PROBABILITY
 //                float VEC3, its other values (radiance_gain, exitance_per_radiance,
 //                escape_probability), with extras.sss.relight = {"order": N, "transport": "..."}

@@ -30,11 +30,6 @@ constexpr int kPlyFormatVersion = 3;
 constexpr int kQuantizedTransferVersion = 2;
 constexpr int kHighBandsVersion = 3;
 
-// Whether a relightable bake of `count` coefficients stores its high bands in 8 bits.
-bool highBands(int count) {
-  return std::size_t(count) > kShortTransferCoefficients;
-}
-
 std::string triple(const glm::dvec3& v) {
   return shortestDecimal(v.x) + "," + shortestDecimal(v.y) + "," + shortestDecimal(v.z);
 }
@@ -184,16 +179,16 @@ struct BakedFields {
   std::size_t transferBytes() const {
     const std::size_t count = std::size_t(relightCount);
     const std::size_t low = std::min(count, kShortTransferCoefficients);
-    return 6 * low + (highBands(relightCount) ? 12 + 3 * (count - low) : 0);
+    return 6 * low + (hasHighBands(count) ? 12 + 3 * (count - low) : 0);
   }
 };
 
 // The "comment sss" lines: format version, material, scale and flags, then the caller's.
 void appendComments(std::string& out, const BakedMesh& baked, const BakedFields& fields,
                     double scale) {
-  const int version = baked.relightOrder < 0            ? 1
-                      : highBands(baked.relightCount()) ? kHighBandsVersion
-                                                        : kQuantizedTransferVersion;
+  const int version = baked.relightOrder < 0                            ? 1
+                      : hasHighBands(std::size_t(baked.relightCount())) ? kHighBandsVersion
+                                                                        : kQuantizedTransferVersion;
   out += "comment sss format=" + std::to_string(version) + "\n";
   if (!baked.materialName.empty()) {
     out += "comment sss material=" + baked.materialName + "\n";
@@ -236,7 +231,7 @@ void appendVertexProperties(std::string& out, std::size_t vertices, const BakedF
     out +=
         "property float transfer_scale_r\nproperty float transfer_scale_g\n"
         "property float transfer_scale_b\n";
-  if (highBands(fields.relightCount))
+  if (hasHighBands(std::size_t(fields.relightCount)))
     out +=
         "property float transfer_scale_high_r\nproperty float transfer_scale_high_g\n"
         "property float transfer_scale_high_b\n";
@@ -488,7 +483,7 @@ void readRelight(const std::string& path, const ply::PlyMesh& ply, int formatVer
   checkTransferScales(path, quantized.scale);
   bool high = false;
   quantized.scaleHigh = readChannels(path, ply, "transfer_scale_high", high);
-  if (high != (formatVersion >= kHighBandsVersion && highBands(count)))
+  if (high != (formatVersion >= kHighBandsVersion && hasHighBands(std::size_t(count))))
     fail(path, high ? "transfer_scale_high_r/g/b in a format " + std::to_string(formatVersion) +
                           " file of order " + std::to_string(result.baked.relightOrder)
                     : "relight_order above 3 without transfer_scale_high_r/g/b");

@@ -45,7 +45,7 @@ QuantizedTransfer quantizeTransfer(const std::string& path, std::span<const glm:
   const std::size_t n = count == 0 ? 0 : transfer.size() / count;
   const std::size_t low = std::min(count, kShortTransferCoefficients);
   q.scale.resize(n);
-  if (count > low) q.scaleHigh.resize(n);
+  if (hasHighBands(count)) q.scaleHigh.resize(n);
   q.values.resize(n * count);
   for (std::size_t v = 0; v < n; ++v) {
     const std::span<const glm::vec3> t = transfer.subspan(v * count, count);
@@ -54,7 +54,7 @@ QuantizedTransfer quantizeTransfer(const std::string& path, std::span<const glm:
       for (const glm::vec3& x : t)
         if (!(std::abs(x[c]) <= 1e30f)) fail(path, "relight transfer value out of range");
       q.scale[v][c] = quantizeRange(t, 0, low, c, kTransferSteps, out) * kTransferNormalizer;
-      if (count > low) {
+      if (hasHighBands(count)) {
         q.scaleHigh[v][c] =
             quantizeRange(t, low, count, c, kHighTransferSteps, out) * kHighTransferNormalizer;
       }

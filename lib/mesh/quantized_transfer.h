@@ -60,6 +60,12 @@ int scaleExponent(float scale, float normalizer);
 // Throws Error naming `path` unless `exponent` is one scaleExponent gives.
 float scaleOfExponent(const std::string& path, int exponent, float normalizer);
 
+// Whether a transfer of `count` coefficients per channel has bands from 4 (orders 4-8), which
+// take 8 bits with a scale of their own.
+inline bool hasHighBands(std::size_t count) {
+  return count > kShortTransferCoefficients;
+}
+
 // The largest |q| coefficient k may have (k >= 16: with a high scale).
 inline int transferStepLimit(std::size_t k, bool highScale) {
   return highScale && k >= kShortTransferCoefficients ? kHighTransferSteps : kTransferSteps;

@@ -42,6 +42,15 @@ std::vector<glm::vec3> randomTransfer(std::size_t vertices, std::size_t count) {
   return t;
 }
 
+// The largest |T| of vertex v's channel c over coefficients [first, last), count per vertex.
+float largestMagnitude(const std::vector<glm::vec3>& t, std::size_t count, std::size_t v, int c,
+                       std::size_t first, std::size_t last) {
+  float largest = 0.0f;
+  for (std::size_t k = first; k < last; ++k)
+    largest = std::max(largest, std::abs(t[v * count + k][c]));
+  return largest;
+}
+
 TEST(QuantizedTransfer, KeepsEachCoefficientWithinHalfAStepOfItsVertexsLargest) {
   const std::size_t count = 9, n = 500;
   const std::vector<glm::vec3> t = randomTransfer(n, count);
@@ -50,9 +59,7 @@ TEST(QuantizedTransfer, KeepsEachCoefficientWithinHalfAStepOfItsVertexsLargest) 
   double worst = 0.0;
   for (std::size_t v = 0; v < n; ++v)
     for (int c = 0; c < 3; ++c) {
-      float largest = 0.0f;
-      for (std::size_t k = 0; k < count; ++k)
-        largest = std::max(largest, std::abs(t[v * count + k][c]));
+      const float largest = largestMagnitude(t, count, v, c, 0, count);
       for (std::size_t k = 0; k < count; ++k) {
         const float error = std::abs(stored[v * count + k][c] - t[v * count + k][c]);
         if (largest == 0.0f) {
@@ -214,11 +221,8 @@ TEST(QuantizedTransfer, HighBandsTakeEightBitsWithinHalfAStepOfTheirLargest) {
   double worstLow = 0.0, worstHigh = 0.0;
   for (std::size_t v = 0; v < n; ++v)
     for (int c = 0; c < 3; ++c) {
-      float largestLow = 0.0f, largestHigh = 0.0f;
-      for (std::size_t k = 0; k < count; ++k) {
-        float& largest = k < kShortTransferCoefficients ? largestLow : largestHigh;
-        largest = std::max(largest, std::abs(t[v * count + k][c]));
-      }
+      const float largestLow = largestMagnitude(t, count, v, c, 0, kShortTransferCoefficients);
+      const float largestHigh = largestMagnitude(t, count, v, c, kShortTransferCoefficients, count);
       for (std::size_t k = 0; k < count; ++k) {
         const bool high = k >= kShortTransferCoefficients;
         const int limit = high ? kHighTransferSteps : kTransferSteps;
@@ -395,9 +399,7 @@ TEST(QuantizedTransfer, AFormatTwoFileOfOrderFourStillReads) {
   bool someHighDiffer = false;
   for (std::size_t v = 0; v < a.size() / count; ++v)
     for (int c = 0; c < 3; ++c) {
-      float largestHigh = 0.0f;
-      for (std::size_t k = 16; k < count; ++k)
-        largestHigh = std::max(largestHigh, std::abs(a[v * count + k][c]));
+      const float largestHigh = largestMagnitude(a, count, v, c, 16, count);
       for (std::size_t k = 0; k < count; ++k) {
         const float d = std::abs(a[v * count + k][c] - b[v * count + k][c]);
         if (k < 16) {

@@ -136,10 +136,10 @@ MethodChoice chooseMethod(const DiffusionInput& input, const GaussianSetup& setu
   choice.clusters = buildClusterMoments(tree, mass, threads);
   const GaussianMixtureKernel& kernel = setup.kernel;
   const double gaussCost =
-      kCpuSecondsPerGaussTerm * kernel.count *
+      kCpuSecondsPerGaussTerm *
       estimateInteractionTerms(tree, kernel, 0, choice.clusters, stride, threads);
   const double hierCost =
-      kCpuSecondsPerGaussTerm * kernel.count *
+      kCpuSecondsPerGaussTerm *
       estimateInteractionTerms(tree, kernel, setup.theta, choice.clusters, stride, threads);
   choice.seconds = clock.seconds();
   if (exactCost <= std::min(gaussCost, hierCost)) {

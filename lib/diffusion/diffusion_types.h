@@ -59,7 +59,8 @@ struct DiffusionReport {
   // converged sum on the same mesh; not the mesh's own discretization error (docs/accuracy.md,
   // "Resolution").
   double estimatedError = 0;
-  std::size_t interactions = 0;  // terms: (receiver, source) pairs x K Gaussians (exact: x 1)
+  std::size_t interactions =
+      0;  // terms: (receiver, source) pairs x the Gaussians reaching the source (exact: x 1)
   double fitSeconds = 0, indexSeconds = 0, sumSeconds = 0, totalSeconds = 0;
 };
 

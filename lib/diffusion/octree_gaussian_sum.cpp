@@ -27,44 +27,81 @@ constexpr float kInv2Pi = 0.5f * std::numbers::inv_pi_v<float>;
 #endif
 
 // exp2 for x <= 0 in float, branch-free so that the loops below vectorize: Cody-Waite split
-// into 2^i 2^f, f in [-0.5, 0.5], degree-6 Taylor polynomial (relative error < 3e-7).
+// into 2^i 2^f, f in [-0.5, 0.5], and 2^f by its degree-5 minimax polynomial for relative error
+// (Remez; 7.7e-8 in exact arithmetic, < 3e-7 in float).
 SSS_VECTORIZABLE_FP inline float exp2Negative(float x) {
   x = x < -126.0f ? -126.0f : x;
   const int i = static_cast<int>(x - 0.5f);  // round to nearest for x <= 0
   const float f = x - static_cast<float>(i);
-  const float l = 0.69314718f;
-  float p = 1.0f / 720.0f * l;
-  p = p * f + 1.0f / 120.0f;
-  p = p * f * l + 1.0f / 24.0f;
-  p = p * f * l + 1.0f / 6.0f;
-  p = p * f * l + 0.5f;
-  p = p * f * l + 1.0f;
-  p = p * f * l + 1.0f;
+  float p = 1.327793890e-3f;
+  p = p * f + 9.675757641e-3f;
+  p = p * f + 5.550709598e-2f;
+  p = p * f + 2.402211434e-1f;
+  p = p * f + 6.931469682e-1f;
+  p = p * f + 1.000000073f;
   std::int32_t bits = (i + 127) << 23;
   float scale;
   std::memcpy(&scale, &bits, sizeof scale);
   return p * scale;
 }
 
-// Interaction list of one receiver group, structure of arrays, padded to kLanes with zero mass.
+// The Gaussians an item of spread c at box distance^2 d2 from the receiver group needs: those
+// from the first that reaches it on. Gaussian k reaches as far as its cutoff widened by the
+// item's disc, r_k^2 (1 + c / v_k) (the blurred Gaussian G(v_k + c) has the tail of G(v_k) at
+// r sqrt(1 + c / v_k); on a coarse mesh the discs are far wider than the narrow Gaussians). Beyond
+// it a Gaussian adds less than its share of the truncation budget (makeGaussianMixtureKernel).
+// Only a leading run of Gaussians is skipped, so a ladder whose cutoffs are not increasing loses
+// none it needs.
+int firstGaussianReaching(const GaussianMixtureKernel& kernel, float d2, float spread) {
+  int k = 0;
+  while (k < kernel.count - 1 &&
+         kernel.cutoff[k] * kernel.cutoff[k] * (1.0f + spread / kernel.variance[k]) <= d2)
+    ++k;
+  return k;
+}
+
+// Interaction list of one receiver group, structure of arrays, its items in the order of their
+// first Gaussian (firstGaussianReaching; stable, so the group's own points come first, item r
+// being receiver r, for the self term), padded to kLanes with zero mass. Each block of kLanes
+// items is summed from the first Gaussian of its first item on (the others in the block are
+// reached by more Gaussians than they need: a few terms more, within the budget either way).
 struct InteractionList {
+  struct Item {
+    float x, y, z, spread;
+    glm::vec3 mass;
+    int band;  // its first Gaussian
+  };
+  std::vector<Item> staged;  // as collected
   std::vector<float> x, y, z, spread, mr, mg, mb;
+  std::vector<std::uint8_t> blockBand;  // per block of kLanes items: its first Gaussian
   // Per Gaussian k and item j (index k * padded + j): exponent factor -log2(e) / 2 / (v_k + c_j)
   // and the channel coefficients w_k m_j / (2 pi (v_k + c_j)).
   std::vector<float> expo, cr, cg, cb;
   std::size_t size() const { return x.size(); }
-  void clear() {
-    for (auto* v : {&x, &y, &z, &spread, &mr, &mg, &mb}) v->clear();
+  void stage(float px, float py, float pz, float c, const glm::vec3& m, int band) {
+    staged.push_back({px, py, pz, c, m, band});
   }
-  void push(float px, float py, float pz, float c, const glm::vec3& m) {
-    x.push_back(px), y.push_back(py), z.push_back(pz), spread.push_back(c);
-    mr.push_back(m.x), mg.push_back(m.y), mb.push_back(m.z);
+  // The staged items in the order of their first Gaussian, padded; returns the items' count.
+  std::size_t arrange() {
+    std::array<std::size_t, kMaxKernelGaussians + 1> next{};
+    for (const Item& item : staged) ++next[item.band + 1];
+    for (int b = 0; b < kMaxKernelGaussians; ++b) next[b + 1] += next[b];
+    const std::size_t padded = (staged.size() + kLanes - 1) / kLanes * kLanes;
+    for (auto* v : {&x, &y, &z, &spread, &mr, &mg, &mb}) v->assign(padded, 0.0f);
+    blockBand.resize(padded / kLanes);
+    for (const Item& item : staged) {
+      const std::size_t j = next[item.band]++;
+      x[j] = item.x, y[j] = item.y, z[j] = item.z, spread[j] = item.spread;
+      mr[j] = item.mass.x, mg[j] = item.mass.y, mb[j] = item.mass.z;
+      if (j % kLanes == 0) blockBand[j / kLanes] = static_cast<std::uint8_t>(item.band);
+    }
+    return staged.size();
   }
 };
 
-// The sources of `group` (other than its own points): calls cluster(nodeIndex) for nodes used as
-// one cluster (theta > 0) and point(k) for single source points; nodes beyond every cutoff from
-// the group's box are skipped.
+// The sources of `group` (other than its own points): calls cluster(nodeIndex, d2) for nodes used
+// as one cluster (theta > 0) and point(k, d2) for single source points, d2 their squared box
+// distance from the group; nodes beyond every cutoff from the group's box are skipped.
 template <class OnCluster, class OnPoint>
 void forEachSourceOfGroup(const DiffusionOctree& tree, const OctreeNode& group,
                           const GaussianMixtureKernel& kernel, double theta,
@@ -87,14 +124,15 @@ void forEachSourceOfGroup(const DiffusionOctree& tree, const OctreeNode& group,
       int k = 0;
       while (k < kernel.count - 1 && kernel.cutoff[k] <= d) ++k;
       if (clusters[ni].radius <= theta * kernel.sigma[k]) {
-        cluster(ni);
+        cluster(ni, d2);
         continue;
       }
     }
     if (node.childCount == 0) {
       for (std::uint32_t k = node.begin; k < node.end; ++k) {
         const glm::vec3 q(s.x[k], s.y[k], s.z[k]);
-        if (boxDistanceSquared(Bounds3{q, q}, group.box) < maxCut2) point(k);
+        const float pointD2 = boxDistanceSquared(Bounds3{q, q}, group.box);
+        if (pointD2 < maxCut2) point(k, pointD2);
       }
     } else {
       for (std::uint32_t c = node.childCount; c-- > 0;) stack.push_back(node.firstChild + c);
@@ -102,7 +140,8 @@ void forEachSourceOfGroup(const DiffusionOctree& tree, const OctreeNode& group,
   }
 }
 
-// The sums of one group's list for each receiver: out[r] = sum_j sum_k coefficient 2^(expo d^2).
+// The sums of one group's list for each receiver: out[r] = sum_j sum_k coefficient 2^(expo d^2),
+// k from the first Gaussian of item j's block on (InteractionList::blockBand).
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
 #endif
@@ -111,8 +150,9 @@ sumGaussiansOverList(const float* __restrict rx, const float* __restrict ry,
                      const float* __restrict rz, std::size_t receivers, const float* __restrict x,
                      const float* __restrict y, const float* __restrict z,
                      const float* __restrict expo, const float* __restrict cr,
-                     const float* __restrict cg, const float* __restrict cb, std::size_t padded,
-                     int gaussians, glm::vec3* __restrict out) {
+                     const float* __restrict cg, const float* __restrict cb,
+                     const std::uint8_t* __restrict blockBand, std::size_t padded, int gaussians,
+                     glm::vec3* __restrict out) {
   for (std::size_t r = 0; r < receivers; ++r) {
     float ar[kLanes] = {}, ag[kLanes] = {}, ab[kLanes] = {};
     for (std::size_t j0 = 0; j0 < padded; j0 += kLanes) {
@@ -121,7 +161,7 @@ sumGaussiansOverList(const float* __restrict rx, const float* __restrict ry,
         const float dx = rx[r] - x[j0 + l], dy = ry[r] - y[j0 + l], dz = rz[r] - z[j0 + l];
         d2[l] = dx * dx + dy * dy + dz * dz;
       }
-      for (int k = 0; k < gaussians; ++k) {
+      for (int k = blockBand[j0 / kLanes]; k < gaussians; ++k) {
         const std::size_t o = k * padded + j0;
         for (int l = 0; l < kLanes; ++l) {
           const float g = exp2Negative(expo[o + l] * d2[l]);
@@ -136,46 +176,66 @@ sumGaussiansOverList(const float* __restrict rx, const float* __restrict ry,
 }
 
 // Fills `items` with the group's own points first (item r is receiver r, for the self term),
-// then its sources, padded to kLanes; returns the number of items before padding.
+// then its sources, in the order of their first Gaussian (InteractionList); returns the number of
+// items before padding.
 std::size_t collectInteractionList(const DiffusionOctree& tree, const OctreeNode& group,
                                    const GaussianMixtureKernel& kernel, double theta,
                                    const std::vector<ClusterMoments>& clusters,
                                    const std::vector<glm::vec3>& mass,
                                    std::vector<std::uint32_t>& stack, InteractionList& items) {
   const MortonSortedPoints& s = tree.points;
-  items.clear();
+  items.staged.clear();
   for (std::uint32_t k = group.begin; k < group.end; ++k)
-    items.push(s.x[k], s.y[k], s.z[k], s.spread[k], mass[k]);
+    items.stage(s.x[k], s.y[k], s.z[k], s.spread[k], mass[k], 0);
   forEachSourceOfGroup(
       tree, group, kernel, theta, clusters, stack,
-      [&](std::uint32_t ni) {
+      [&](std::uint32_t ni, float d2) {
         const ClusterMoments& c = clusters[ni];
-        items.push(c.centroid.x, c.centroid.y, c.centroid.z, c.spread, c.mass);
+        items.stage(c.centroid.x, c.centroid.y, c.centroid.z, c.spread, c.mass,
+                    firstGaussianReaching(kernel, d2, c.spread));
       },
-      [&](std::uint32_t k) { items.push(s.x[k], s.y[k], s.z[k], s.spread[k], mass[k]); });
-  const std::size_t used = items.size();
-  const std::size_t padded = (used + kLanes - 1) / kLanes * kLanes;
-  for (std::size_t j = used; j < padded; ++j) items.push(0, 0, 0, 0, glm::vec3(0));
-  return used;
+      [&](std::uint32_t k, float d2) {
+        items.stage(s.x[k], s.y[k], s.z[k], s.spread[k], mass[k],
+                    firstGaussianReaching(kernel, d2, s.spread[k]));
+      });
+  return items.arrange();
 }
 
-// The per-Gaussian exponent factors and channel coefficients of the (padded) list.
+// The per-Gaussian exponent factors and channel coefficients of the (padded) list. The arrays are
+// distinct, which the compiler cannot see through the vectors: the pointers say so, so that the
+// loop vectorizes.
 void computeListCoefficients(const GaussianMixtureKernel& kernel, InteractionList& items) {
   const int K = kernel.count;
   const std::size_t padded = items.size();
   items.expo.resize(K * padded), items.cr.resize(K * padded);
   items.cg.resize(K * padded), items.cb.resize(K * padded);
+  const float* __restrict spread = items.spread.data();
+  const float* __restrict mr = items.mr.data();
+  const float* __restrict mg = items.mg.data();
+  const float* __restrict mb = items.mb.data();
   for (int k = 0; k < K; ++k) {
     const glm::vec3 w = kernel.weight[k] * kInv2Pi;
+    const float variance = kernel.variance[k];
+    float* __restrict expo = items.expo.data() + k * padded;
+    float* __restrict cr = items.cr.data() + k * padded;
+    float* __restrict cg = items.cg.data() + k * padded;
+    float* __restrict cb = items.cb.data() + k * padded;
     for (std::size_t j = 0; j < padded; ++j) {
-      const float inv = 1.0f / (kernel.variance[k] + items.spread[j]);
-      const std::size_t o = k * padded + j;
-      items.expo[o] = -0.5f * kLog2e * inv;
-      items.cr[o] = w.x * inv * items.mr[j];
-      items.cg[o] = w.y * inv * items.mg[j];
-      items.cb[o] = w.z * inv * items.mb[j];
+      const float inv = 1.0f / (variance + spread[j]);
+      expo[j] = -0.5f * kLog2e * inv;
+      cr[j] = w.x * inv * mr[j];
+      cg[j] = w.y * inv * mg[j];
+      cb[j] = w.z * inv * mb[j];
     }
   }
+}
+
+// The (receiver, item, Gaussian) terms of one group's list, padding included.
+std::size_t listTerms(const InteractionList& items, std::size_t receivers, int gaussians) {
+  std::size_t perReceiver = 0;
+  for (const std::uint8_t band : items.blockBand)
+    perReceiver += kLanes * std::size_t(gaussians - band);
+  return receivers * perReceiver;
 }
 
 // Self term: replaces each receiver's own disc-blurred sample (item r of the list) in result by
@@ -241,16 +301,16 @@ std::vector<glm::vec3> sumGaussianMixtureOverOctree(const DiffusionOctree& tree,
     std::size_t count = 0;
     for (std::size_t g = gb; g < ge; ++g) {
       const OctreeNode& group = tree.nodes[tree.groups[g]];
-      const std::size_t used =
-          collectInteractionList(tree, group, kernel, theta, clusters, mass, stack, items);
+      collectInteractionList(tree, group, kernel, theta, clusters, mass, stack, items);
       computeListCoefficients(kernel, items);
       const std::size_t receivers = group.end - group.begin;
       sumGaussiansOverList(&s.x[group.begin], &s.y[group.begin], &s.z[group.begin], receivers,
                            items.x.data(), items.y.data(), items.z.data(), items.expo.data(),
-                           items.cr.data(), items.cg.data(), items.cb.data(), items.size(),
-                           kernel.count, &result[group.begin]);
+                           items.cr.data(), items.cg.data(), items.cb.data(),
+                           items.blockBand.data(), items.size(), kernel.count,
+                           &result[group.begin]);
       replaceSelfTerms(s, group, kernel, items, irradiance, result);
-      count += receivers * used * kernel.count;
+      count += listTerms(items, receivers, kernel.count);
     }
     stats.interactions += count;
     if (progress) progress->advance(ge - gb);
@@ -267,11 +327,28 @@ double estimateInteractionTerms(const DiffusionOctree& tree, const GaussianMixtu
     std::vector<std::uint32_t> stack;
     for (std::size_t i = b; i < e; ++i) {
       const OctreeNode& group = tree.nodes[tree.groups[i * stride]];
-      std::size_t items = group.end - group.begin;
-      const auto count = [&](std::uint32_t) { ++items; };
-      forEachSourceOfGroup(tree, group, kernel, theta, clusters, stack, count, count);
-      groupTerms[i] = static_cast<double>(group.end - group.begin) *
-                      static_cast<double>((items + kLanes - 1) / kLanes * kLanes);
+      std::array<std::size_t, kMaxKernelGaussians> inBand{};
+      inBand[0] = group.end - group.begin;
+      forEachSourceOfGroup(
+          tree, group, kernel, theta, clusters, stack,
+          [&](std::uint32_t ni, float d2) {
+            ++inBand[firstGaussianReaching(kernel, d2, clusters[ni].spread)];
+          },
+          [&](std::uint32_t k, float d2) {
+            ++inBand[firstGaussianReaching(kernel, d2, tree.points.spread[k])];
+          });
+      // As InteractionList::arrange lays them out: blocks of kLanes from the first Gaussian of
+      // their first item.
+      double perReceiver = 0;
+      std::size_t before = 0;  // items in the bands before
+      for (int band = 0; band < kernel.count; ++band) {
+        const std::size_t firstBlock = (before + kLanes - 1) / kLanes;
+        before += inBand[band];
+        const std::size_t endBlock = (before + kLanes - 1) / kLanes;
+        perReceiver +=
+            static_cast<double>((endBlock - firstBlock) * kLanes) * (kernel.count - band);
+      }
+      groupTerms[i] = static_cast<double>(group.end - group.begin) * perReceiver;
     }
   });
   double terms = 0, sampledReceivers = 0;

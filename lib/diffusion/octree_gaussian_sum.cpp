@@ -55,7 +55,7 @@ SSS_VECTORIZABLE_FP inline float exp2Negative(float x) {
 int firstGaussianReaching(const GaussianMixtureKernel& kernel, float d2, float spread) {
   int k = 0;
   while (k < kernel.count - 1 &&
-         kernel.cutoff[k] * kernel.cutoff[k] * (1.0f + spread / kernel.variance[k]) <= d2)
+         kernel.cutoffSquaredPerVariance[k] * (kernel.variance[k] + spread) <= d2)
     ++k;
   return k;
 }
@@ -201,7 +201,9 @@ std::size_t collectInteractionList(const DiffusionOctree& tree, const OctreeNode
   return items.arrange();
 }
 
-// The per-Gaussian exponent factors and channel coefficients of the (padded) list. The arrays are
+// The per-Gaussian exponent factors and channel coefficients of the (padded) list, where the
+// kernel reads them (sumGaussiansOverList, replaceSelfTerms: the group's own points open the list
+// with first Gaussian 0). The arrays are
 // distinct, which the compiler cannot see through the vectors: the pointers say so, so that the
 // loop vectorizes.
 void computeListCoefficients(const GaussianMixtureKernel& kernel, InteractionList& items) {
@@ -220,7 +222,13 @@ void computeListCoefficients(const GaussianMixtureKernel& kernel, InteractionLis
     float* __restrict cr = items.cr.data() + k * padded;
     float* __restrict cg = items.cg.data() + k * padded;
     float* __restrict cb = items.cb.data() + k * padded;
-    for (std::size_t j = 0; j < padded; ++j) {
+    // The blocks summed with Gaussian k: those whose first Gaussian is k or before, a prefix of
+    // the list (its items are in the order of their first Gaussian).
+    const std::size_t used =
+        kLanes * static_cast<std::size_t>(
+                     std::upper_bound(items.blockBand.begin(), items.blockBand.end(), k) -
+                     items.blockBand.begin());
+    for (std::size_t j = 0; j < used; ++j) {
       const float inv = 1.0f / (variance + spread[j]);
       expo[j] = -0.5f * kLog2e * inv;
       cr[j] = w.x * inv * mr[j];
@@ -276,6 +284,7 @@ GaussianMixtureKernel makeGaussianMixtureKernel(const GaussianSum& sum, double t
     kernel.variance[k] = static_cast<float>(v);
     kernel.sigma[k] = static_cast<float>(std::sqrt(v));
     kernel.cutoff[k] = static_cast<float>(std::sqrt(2 * v * lnRatio));
+    kernel.cutoffSquaredPerVariance[k] = static_cast<float>(2 * lnRatio);
     kernel.weight[k] = glm::vec3(sum.weights[k]);
     kernel.maxCutoff = std::max(kernel.maxCutoff, kernel.cutoff[k]);
   }

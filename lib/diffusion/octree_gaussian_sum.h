@@ -51,10 +51,10 @@ struct GaussianSum;  // material/gaussian_sum_fit.h
 inline constexpr int kMaxKernelGaussians = 16;
 
 // A Gaussian mixture sum_k w_k G(v_k, r) in the octree sum's float form, with each Gaussian's
-// cutoff radius.
+// cutoff radius r_k and r_k^2 / v_k (a Gaussian blurred to variance v reaches r_k^2 v / v_k).
 struct GaussianMixtureKernel {
   int count = 0;
-  std::array<float, kMaxKernelGaussians> variance{}, sigma{}, cutoff{};
+  std::array<float, kMaxKernelGaussians> variance{}, sigma{}, cutoff{}, cutoffSquaredPerVariance{};
   std::array<glm::vec3, kMaxKernelGaussians> weight{};
   float maxCutoff = 0;
 };

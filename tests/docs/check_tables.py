@@ -43,7 +43,10 @@ Two checks over README.md and docs/**/*.md (python3, standard library only):
    anchors).
 
 Exits 0 when all hold, 1 naming each document, table, row and cell that disagrees. `--self-test`
-runs the checks on small fixtures and exits non-zero unless they catch what they must.
+runs the checks on small fixtures and exits non-zero unless they catch what they must. `--fix`
+rewrites each number that disagrees with its CSV to the CSV's value, shown to the digits it had
+(numbers in scientific notation and cells that do not have their column's form are left to be
+fixed by hand), then reports what still disagrees.
 """
 
 import argparse
@@ -366,7 +369,26 @@ def compare(placeholder, shown, row, source):
     return f"shows '{shown}', {source.rel} has {placeholder.field}='{value}'"
 
 
-def check_table(root, doc, lines, table, errors):
+def corrected(placeholder, shown, row, source):
+    """The CSV's value shown as `shown` is (its decimals, thousands separators and sign), or None
+    when either is not a plain number."""
+    if placeholder.aggregate:
+        values = [parse_number(r.get(placeholder.field, "")) for r in row]
+        if any(v is None for v in values) or not values:
+            return None
+        number = (min if placeholder.aggregate == "min" else max)(values)
+    else:
+        number = parse_number(row.get(placeholder.field) or "")
+    shown_number = parse_number(shown)
+    if number is None or shown_number is None or re.search(r"[eE]", shown):
+        return None
+    value = placeholder.transform(float(number))
+    decimals = max(0, -shown_number.as_tuple().exponent)
+    text = f"{value:,.{decimals}f}" if "," in shown else f"{value:.{decimals}f}"
+    return "+" + text if shown.strip().startswith("+") and value >= 0 else text
+
+
+def check_table(root, doc, lines, table, errors, fixes=None):
     headers = table["headers"]
     has_digit = any(re.search(r"\d", c) for _, cells in table["body"] for c in cells)
     comment = comment_before(lines, table["line"])
@@ -446,6 +468,11 @@ def check_table(root, doc, lines, table, errors):
                     errors.append(f"{loc}, column '{header}', {{{ph.spec}}}{e}")
                     continue
                 problem = compare(ph, text.strip(), row, source)
+                if problem and fixes is not None:
+                    new = corrected(ph, text.strip(), row, source)
+                    if new is not None:
+                        fixes.append((line_idx, col, text.strip(), new))
+                        continue
                 if problem:
                     errors.append(f"{loc}, column '{header}': {problem}")
     if spec.complete:
@@ -529,14 +556,62 @@ def documents(root):
     return found
 
 
-def run(root, tables=True, links=True):
+def cell_spans(line):
+    """(start, end) of each cell of a table line in the line's text, as split_row splits it."""
+    spans, start, in_code = [], None, False
+    i = 0
+    while i < len(line):
+        c = line[i]
+        if c == "\\" and i + 1 < len(line) and line[i + 1] == "|":
+            i += 2
+            continue
+        if c == "`":
+            in_code = not in_code
+        if c == "|" and not in_code:
+            if start is not None:
+                spans.append((start, i))
+            start = i + 1
+        i += 1
+    if start is not None and line[start:].strip():
+        spans.append((start, len(line)))
+    return spans
+
+
+def apply_fixes(lines, fixes):
+    """Rewrites the numbers of `fixes` (line, column, shown, new) in `lines`, each cell's left to
+    right."""
+    for line_idx in sorted({f[0] for f in fixes}):
+        line = lines[line_idx]
+        spans = cell_spans(line)
+        edits = []  # (start, end, new) in the line
+        cursor = {}
+        for _, col, old, new in (f for f in fixes if f[0] == line_idx):
+            start, end = spans[col]
+            at = line.find(old, cursor.get(col, start), end)
+            if at < 0:
+                continue
+            edits.append((at, at + len(old), new))
+            cursor[col] = at + len(old)
+        for start, end, new in sorted(edits, reverse=True):
+            line = line[:start] + new + line[end:]
+        lines[line_idx] = line
+
+
+def run(root, tables=True, links=True, fix=False):
     errors = []
     for path in documents(root):
         doc = path.relative_to(root)
         if tables:
-            lines = path.read_text(encoding="utf-8").splitlines()
+            text = path.read_text(encoding="utf-8")
+            lines = text.splitlines()
+            fixes = [] if fix else None
             for table in find_tables(lines):
-                check_table(root, doc, lines, table, errors)
+                check_table(root, doc, lines, table, errors, fixes)
+            if fixes:
+                apply_fixes(lines, fixes)
+                path.write_text("\n".join(lines) + ("\n" if text.endswith("\n") else ""),
+                                encoding="utf-8")
+                print(f"{doc}: {len(fixes)} numbers rewritten from their CSVs")
         if links:
             check_links(root, path, errors)
     return errors
@@ -621,7 +696,22 @@ def self_test():
             ok = bool(errors) and all(any(e_part in e for e in errors) for e_part in expected)
         print(f"{'ok  ' if ok else 'FAIL'} {name}" + ("" if ok else f": got {errors}"))
         failures += not ok
-    print(f"self-test: {len(cases) - failures} of {len(cases)} cases behave")
+    # --fix: wrong numbers rewritten to their CSV values at the digits shown, the rest kept.
+    broken = (GOOD_TABLE.replace("(67)", "(68)").replace("**14.9**", "**14.8**")
+              .replace("1.2 %", "1.3 %").replace("115.73 (8.6)", "115.70 (8.6)"))
+    with tempfile.TemporaryDirectory() as tmp:
+        root = Path(tmp)
+        (root / "tests/bench/results/x").mkdir(parents=True)
+        (root / "tests/bench/results/x/table.csv").write_text(FIXTURE_CSV)
+        (root / "README.md").write_text("# Title\n\n" + broken)
+        run(root, links=False, fix=True)
+        fixed = (root / "README.md").read_text()
+        errors = run(root, links=False)
+    ok = not errors and fixed == "# Title\n\n" + GOOD_TABLE
+    print(f"{'ok  ' if ok else 'FAIL'} --fix rewrites wrong numbers" + ("" if ok else f": {errors}"))
+    failures += not ok
+    total = len(cases) + 1
+    print(f"self-test: {total - failures} of {total} cases behave")
     return 1 if failures else 0
 
 
@@ -633,10 +723,14 @@ def main():
                         help="check that the checks catch mistakes in small fixtures")
     parser.add_argument("--tables-only", action="store_true", help="skip the link check")
     parser.add_argument("--links-only", action="store_true", help="skip the table check")
+    parser.add_argument("--fix", action="store_true",
+                        help="rewrite the numbers that disagree with their CSVs, then check")
     args = parser.parse_args()
     if args.self_test:
         return self_test()
     root = Path(args.root).resolve()
+    if args.fix and not args.links_only:
+        run(root, tables=True, links=False, fix=True)
     errors = run(root, tables=not args.links_only, links=not args.tables_only)
     for e in errors:
         print(e)

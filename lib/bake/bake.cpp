@@ -185,6 +185,8 @@ Interreflection bounce(const BakeScene& scene, const TransportInput& transportIn
   const InterreflectionGather& gather = *kept;
   EnergyWeightSums wholeEscapeSums;
   TransportInput in = linearTransportInput(transportIn, direct, wholeEscapeSums);
+  DiffusionMeshCache meshCache;  // one octree for every bounce
+  in.diffusionMeshCache = &meshCache;
   const auto increment = [&](std::span<const glm::vec3> e, double looseness) {
     in.irradiance = e;
     in.diffusionTolerance =

@@ -50,6 +50,8 @@ std::vector<glm::vec3> transportedTransfer(const VisibilityTransfer& transfer,
   const std::size_t n = transfer.coefficients.size() / transfer.count;
   std::vector<glm::vec3> out(transfer.coefficients.size()), basis(n);
   TransportInput in = transportIn;
+  DiffusionMeshCache meshCache;  // one octree for every basis function
+  in.diffusionMeshCache = &meshCache;
   const auto nonNegative = [&](std::span<const glm::vec3> e) {
     in.irradiance = e;
     return transport(in).exitance;
@@ -184,7 +186,8 @@ class StoredTransportRun {
                       .method = bakeMethodOf(stored_.method),
                       .diffusionTolerance = std::min(0.03, looseness * stored_.tolerance),
                       .run = run_,
-                      .weightSums = &sums_};
+                      .weightSums = &sums_,
+                      .diffusionMeshCache = &meshCache_};
     return transport(in).exitance;
   }
 
@@ -194,6 +197,7 @@ class StoredTransportRun {
   std::vector<float> areas_;
   EnergyPlan plan_;
   EnergyWeightSums sums_;
+  DiffusionMeshCache meshCache_;  // one octree for every transport of the session
   RunContext run_;
 };
 

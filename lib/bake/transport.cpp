@@ -37,6 +37,7 @@ std::vector<glm::vec3> diffusionSum(const TransportInput& in, TransportReport& r
   options.method = diffusionMethodOf(in.method);
   options.tolerance = in.diffusionTolerance;
   options.run = in.run;
+  options.meshCache = in.diffusionMeshCache;
   const bool traced = in.farField && in.farField->traced();
   const std::span<const glm::vec3> farExitance =
       traced ? std::span<const glm::vec3>(in.farField->exitance) : std::span<const glm::vec3>();

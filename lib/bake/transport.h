@@ -41,6 +41,9 @@ struct TransportInput {
   // The energy model's sums with E = 1 (finite_object_energy.h), filled by a first transport and
   // reused by later ones on other light with the same method (the bounces); null: not kept.
   EnergyWeightSums* weightSums = nullptr;
+  // The diffusion sums' octree of this mesh, kept for the next transport on it (diffusion.h);
+  // null: built each time.
+  DiffusionMeshCache* diffusionMeshCache = nullptr;
 };
 
 struct PathTraceStageReport {

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <sstream>
 #include <utility>
 
@@ -89,7 +90,7 @@ struct GaussianSetup {
   GaussianSumFit fit;
   GaussianMixtureKernel kernel;
   double theta = 0;  // the hierarchical method's cluster size bound (octree_gaussian_sum.h)
-  DiffusionOctree tree;
+  std::shared_ptr<const DiffusionOctree> tree;
 };
 
 // The fit (half the tolerance), the kernel (truncation: a quarter) and the octree; fills the
@@ -108,7 +109,9 @@ GaussianSetup prepareGaussianSums(const DiffusionInput& input, const DiffusionPr
   report.variances = setup.fit.sum.variances;
   for (int k = 0; k < setup.kernel.count; ++k) report.cutoffs.push_back(setup.kernel.cutoff[k]);
   stage.restart();
-  setup.tree = buildDiffusionOctree(input.positions, input.normals, input.areas);
+  setup.tree = options.meshCache ? options.meshCache->octree(input)
+                                 : std::make_shared<const DiffusionOctree>(buildDiffusionOctree(
+                                       input.positions, input.normals, input.areas));
   report.indexSeconds = stage.seconds();
   return setup;
 }
@@ -126,7 +129,7 @@ struct MethodChoice {
 MethodChoice chooseMethod(const DiffusionInput& input, const GaussianSetup& setup, double exactCost,
                           int threads) {
   const Stopwatch clock;
-  const DiffusionOctree& tree = setup.tree;
+  const DiffusionOctree& tree = *setup.tree;
   const std::size_t n = input.positions.size();
   const std::size_t stride = std::max<std::size_t>(1, tree.groups.size() / kCostSampleGroups);
   std::vector<glm::vec3> mass(n);
@@ -160,7 +163,7 @@ std::vector<glm::vec3> sumInMortonOrder(const DiffusionInput& input, const Gauss
                                         DiffusionMethod method, const DiffusionOptions& options,
                                         std::vector<ClusterMoments> clusters,
                                         DiffusionReport& report) {
-  const DiffusionOctree& tree = setup.tree;
+  const DiffusionOctree& tree = *setup.tree;
   const std::size_t n = input.positions.size();
   const double tol = options.tolerance;
   std::vector<glm::vec3> irradiance(n);
@@ -205,6 +208,24 @@ std::vector<glm::vec3> unitWeightSums(const DiffusionInput& input, const Diffusi
 
 }  // namespace
 
+DiffusionMeshCache::DiffusionMeshCache() = default;
+DiffusionMeshCache::~DiffusionMeshCache() = default;
+
+std::shared_ptr<const DiffusionOctree> DiffusionMeshCache::octree(const DiffusionInput& input) {
+  const auto same = [](const auto& kept, const auto& given) {
+    return std::equal(kept.begin(), kept.end(), given.begin(), given.end());
+  };
+  if (!octree_ || !same(positions_, input.positions) || !same(normals_, input.normals) ||
+      !same(areas_, input.areas)) {
+    octree_ = std::make_shared<const DiffusionOctree>(
+        buildDiffusionOctree(input.positions, input.normals, input.areas));
+    positions_.assign(input.positions.begin(), input.positions.end());
+    normals_.assign(input.normals.begin(), input.normals.end());
+    areas_.assign(input.areas.begin(), input.areas.end());
+  }
+  return octree_;
+}
+
 DiffusionResult diffuse(const DiffusionInput& input, const DiffusionProfile& profile,
                         const DiffusionOptions& options) {
   const Stopwatch total;
@@ -244,7 +265,7 @@ DiffusionResult diffuse(const DiffusionInput& input, const DiffusionProfile& pro
   const std::vector<glm::vec3> sorted =
       sumInMortonOrder(input, setup, method, options, std::move(autoClusters), report);
   result.exitance.resize(n);
-  for (std::size_t k = 0; k < n; ++k) result.exitance[setup.tree.points.original[k]] = sorted[k];
+  for (std::size_t k = 0; k < n; ++k) result.exitance[setup.tree->points.original[k]] = sorted[k];
   if (options.weightSums && options.knownWeightSums.size() == n)
     result.weightSums.assign(options.knownWeightSums.begin(), options.knownWeightSums.end());
   else if (options.weightSums)

@@ -29,9 +29,32 @@
 // Determinism: every vertex sums its terms in a fixed order: identical for any thread count.
 #pragma once
 
+#include <memory>
+
 #include "diffusion/diffusion_types.h"
 
 namespace sss {
+
+struct DiffusionOctree;  // diffusion_octree.h (private to lib/diffusion)
+
+// What diffuse() builds from the mesh alone, the octree over its vertices (Morton order, receiver
+// groups), kept between calls that sum over one mesh many times (a bake's bounces, a relight's
+// transports; DiffusionOptions::meshCache). It is rebuilt when a call's positions, normals or
+// areas differ from the kept ones (compared by value). One caller at a time.
+class DiffusionMeshCache {
+ public:
+  DiffusionMeshCache();
+  ~DiffusionMeshCache();
+  DiffusionMeshCache(const DiffusionMeshCache&) = delete;
+  DiffusionMeshCache& operator=(const DiffusionMeshCache&) = delete;
+  // The octree of `input`'s mesh, built or kept.
+  std::shared_ptr<const DiffusionOctree> octree(const DiffusionInput& input);
+
+ private:
+  std::vector<glm::vec3> positions_, normals_;
+  std::vector<float> areas_;
+  std::shared_ptr<const DiffusionOctree> octree_;
+};
 
 // Throws sss::Error on mismatched array lengths, non-finite input or negative areas.
 DiffusionResult diffuse(const DiffusionInput& input, const DiffusionProfile& profile,

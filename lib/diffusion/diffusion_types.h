@@ -14,7 +14,8 @@
 
 namespace sss {
 
-class DiffusionProfile;  // material/diffusion_profile.h
+class DiffusionProfile;    // material/diffusion_profile.h
+class DiffusionMeshCache;  // diffusion.h
 
 enum class DiffusionMethod { Auto, Exact, Gauss, Incremental, Hierarchical };
 
@@ -45,6 +46,9 @@ struct DiffusionOptions {
   // rho when it is already known (same mesh, profile and method: it does not depend on E), one
   // per vertex: returned as it is instead of the second pass. Empty: computed.
   std::span<const glm::vec3> knownWeightSums;
+  // Keeps what the sums build from the mesh alone for the next call on the same mesh (null: built
+  // each call); the result is the same either way. Not kept.
+  DiffusionMeshCache* meshCache = nullptr;
 };
 
 struct DiffusionReport {

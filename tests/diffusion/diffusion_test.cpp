@@ -197,6 +197,34 @@ TEST(Diffusion, GaussianSumsMatchTheirMixtureSummedPairByPair) {
   }
 }
 
+// A mesh cache keeps the octree between calls and gives the same sums, bit for bit; another
+// mesh, or the same arrays changed, builds a new one.
+TEST(Diffusion, AMeshCacheGivesTheSameSumsAndFollowsTheMesh) {
+  const Scene a = litScene(makeIcosphere(3, 10), true);
+  Scene b = litScene(makeIcosphere(3, 12), false);
+  const DipoleProfile profile(findMaterialPreset("marble"));
+  DiffusionMeshCache cache;
+  DiffusionOptions cached;
+  cached.method = DiffusionMethod::Hierarchical, cached.run.quiet = true;
+  cached.meshCache = &cache;
+  DiffusionOptions plain = cached;
+  plain.meshCache = nullptr;
+  const auto same = [&](const Scene& s) {
+    const DiffusionResult with = diffuse(s.input(), profile, cached);
+    const DiffusionResult without = diffuse(s.input(), profile, plain);
+    ASSERT_EQ(with.exitance.size(), without.exitance.size());
+    EXPECT_EQ(0, std::memcmp(with.exitance.data(), without.exitance.data(),
+                             with.exitance.size() * sizeof(glm::vec3)));
+  };
+  same(a);
+  same(a);  // kept
+  same(b);  // another mesh
+  for (glm::vec3& p : b.mesh.positions) p *= 1.5f;
+  for (float& area : b.areas) area *= 2.25f;
+  same(b);  // the same arrays, changed
+  same(a);
+}
+
 TEST(Diffusion, WideKernelHierarchicalMatchesGauss) {
   // Skim milk (diffuse mean free path 18 mm) on an 80 mm sphere: gauss sums thousands of points
   // per vertex, the clusters stand in for most of them. (Far points take only the wide Gaussians

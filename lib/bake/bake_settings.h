@@ -90,8 +90,8 @@ struct BakeSettings {
   int bounces = kAutoBounces;
   // Cosine rays per vertex for the gather (>= 1); 0: gatherRaysFor(tolerance).
   int interreflectionRays = 0;
-  int environmentFaceSize = 0;   // 0: from the source resolution
-  TextureSettings texture;       // --texture: a UV lightmap beside the per-vertex values
+  int environmentFaceSize = 0;  // 0: from the source resolution
+  TextureSettings texture;      // --texture: a UV lightmap beside the per-vertex values
   // --relightable [ORDER]: the SH order of the stored transfer (bake/relight.h); -1: a plain bake.
   int relightOrder = -1;
 };

@@ -7,8 +7,8 @@
 
 #include "core/enum_names.h"
 #include "envmap/cubemap.h"
-#include "image/image.h"
 #include "envmap/orientation.h"
+#include "image/image.h"
 
 namespace sss {
 

@@ -10,8 +10,8 @@
 #include <glm/geometric.hpp>
 
 #include "envmap/equirect.h"
-#include "image/image.h"
 #include "envmap/orientation.h"
+#include "image/image.h"
 #include "mesh/baked_ply.h"
 #include "mesh/primitives.h"
 #include "mesh/triangle_mesh.h"

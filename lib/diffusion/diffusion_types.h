@@ -63,8 +63,8 @@ struct DiffusionReport {
   // converged sum on the same mesh; not the mesh's own discretization error (docs/accuracy.md,
   // "Resolution").
   double estimatedError = 0;
-  std::size_t interactions =
-      0;  // terms: (receiver, source) pairs x the Gaussians reaching the source (exact: x 1)
+  // Terms: (receiver, source) pairs x the Gaussians reaching the source (exact: x 1).
+  std::size_t interactions = 0;
   double fitSeconds = 0, indexSeconds = 0, sumSeconds = 0, totalSeconds = 0;
 };
 

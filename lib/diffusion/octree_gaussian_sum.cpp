@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstring>
 #include <numbers>
+#include <span>
 
 #include "core/parallel.h"
 #include "core/progress.h"
@@ -28,7 +29,7 @@ constexpr float kInv2Pi = 0.5f * std::numbers::inv_pi_v<float>;
 
 // exp2 for x <= 0 in float, branch-free so that the loops below vectorize: Cody-Waite split
 // into 2^i 2^f, f in [-0.5, 0.5], and 2^f by its degree-5 minimax polynomial for relative error
-// (Remez; 7.7e-8 in exact arithmetic, < 3e-7 in float).
+// (Remez; 7.7e-8 in exact arithmetic, below 2.4e-7 in float over [-126, 0]).
 SSS_VECTORIZABLE_FP inline float exp2Negative(float x) {
   x = x < -126.0f ? -126.0f : x;
   const int i = static_cast<int>(x - 0.5f);  // round to nearest for x <= 0
@@ -60,6 +61,20 @@ int firstGaussianReaching(const GaussianMixtureKernel& kernel, float d2, float s
   return k;
 }
 
+// The (item, Gaussian) terms one receiver sums over a list whose items number inBand[b] with first
+// Gaussian b, laid out as InteractionList::arrange lays them: in that order, in blocks of kLanes,
+// each block from the first Gaussian of its first item on.
+std::size_t termsPerReceiver(std::span<const std::size_t> inBand, int gaussians) {
+  std::size_t terms = 0, before = 0;  // before: the items of the bands before
+  for (int band = 0; band < gaussians; ++band) {
+    const std::size_t firstBlock = (before + kLanes - 1) / kLanes;
+    before += inBand[band];
+    const std::size_t endBlock = (before + kLanes - 1) / kLanes;
+    terms += (endBlock - firstBlock) * kLanes * static_cast<std::size_t>(gaussians - band);
+  }
+  return terms;
+}
+
 // Interaction list of one receiver group, structure of arrays, its items in the order of their
 // first Gaussian (firstGaussianReaching; stable, so the group's own points come first, item r
 // being receiver r, for the self term), padded to kLanes with zero mass. Each block of kLanes
@@ -74,6 +89,7 @@ struct InteractionList {
   std::vector<Item> staged;  // as collected
   std::vector<float> x, y, z, spread, mr, mg, mb;
   std::vector<std::uint8_t> blockBand;  // per block of kLanes items: its first Gaussian
+  std::array<std::size_t, kMaxKernelGaussians> inBand{};  // items per first Gaussian
   // Per Gaussian k and item j (index k * padded + j): exponent factor -log2(e) / 2 / (v_k + c_j)
   // and the channel coefficients w_k m_j / (2 pi (v_k + c_j)).
   std::vector<float> expo, cr, cg, cb;
@@ -81,11 +97,12 @@ struct InteractionList {
   void stage(float px, float py, float pz, float c, const glm::vec3& m, int band) {
     staged.push_back({px, py, pz, c, m, band});
   }
-  // The staged items in the order of their first Gaussian, padded; returns the items' count.
-  std::size_t arrange() {
-    std::array<std::size_t, kMaxKernelGaussians + 1> next{};
-    for (const Item& item : staged) ++next[item.band + 1];
-    for (int b = 0; b < kMaxKernelGaussians; ++b) next[b + 1] += next[b];
+  // The staged items in the order of their first Gaussian, padded.
+  void arrange() {
+    inBand.fill(0);
+    for (const Item& item : staged) ++inBand[item.band];
+    std::array<std::size_t, kMaxKernelGaussians> next{};  // where each band's items go
+    for (int b = 1; b < kMaxKernelGaussians; ++b) next[b] = next[b - 1] + inBand[b - 1];
     const std::size_t padded = (staged.size() + kLanes - 1) / kLanes * kLanes;
     for (auto* v : {&x, &y, &z, &spread, &mr, &mg, &mb}) v->assign(padded, 0.0f);
     blockBand.resize(padded / kLanes);
@@ -95,7 +112,6 @@ struct InteractionList {
       mr[j] = item.mass.x, mg[j] = item.mass.y, mb[j] = item.mass.z;
       if (j % kLanes == 0) blockBand[j / kLanes] = static_cast<std::uint8_t>(item.band);
     }
-    return staged.size();
   }
 };
 
@@ -176,13 +192,12 @@ sumGaussiansOverList(const float* __restrict rx, const float* __restrict ry,
 }
 
 // Fills `items` with the group's own points first (item r is receiver r, for the self term),
-// then its sources, in the order of their first Gaussian (InteractionList); returns the number of
-// items before padding.
-std::size_t collectInteractionList(const DiffusionOctree& tree, const OctreeNode& group,
-                                   const GaussianMixtureKernel& kernel, double theta,
-                                   const std::vector<ClusterMoments>& clusters,
-                                   const std::vector<glm::vec3>& mass,
-                                   std::vector<std::uint32_t>& stack, InteractionList& items) {
+// then its sources, in the order of their first Gaussian (InteractionList).
+void collectInteractionList(const DiffusionOctree& tree, const OctreeNode& group,
+                            const GaussianMixtureKernel& kernel, double theta,
+                            const std::vector<ClusterMoments>& clusters,
+                            const std::vector<glm::vec3>& mass, std::vector<std::uint32_t>& stack,
+                            InteractionList& items) {
   const MortonSortedPoints& s = tree.points;
   items.staged.clear();
   for (std::uint32_t k = group.begin; k < group.end; ++k)
@@ -198,14 +213,13 @@ std::size_t collectInteractionList(const DiffusionOctree& tree, const OctreeNode
         items.stage(s.x[k], s.y[k], s.z[k], s.spread[k], mass[k],
                     firstGaussianReaching(kernel, d2, s.spread[k]));
       });
-  return items.arrange();
+  items.arrange();
 }
 
 // The per-Gaussian exponent factors and channel coefficients of the (padded) list, where the
 // kernel reads them (sumGaussiansOverList, replaceSelfTerms: the group's own points open the list
-// with first Gaussian 0). The arrays are
-// distinct, which the compiler cannot see through the vectors: the pointers say so, so that the
-// loop vectorizes.
+// with first Gaussian 0). The arrays are distinct, which the compiler cannot see through the
+// vectors: the pointers say so, so that the loop vectorizes.
 void computeListCoefficients(const GaussianMixtureKernel& kernel, InteractionList& items) {
   const int K = kernel.count;
   const std::size_t padded = items.size();
@@ -236,14 +250,6 @@ void computeListCoefficients(const GaussianMixtureKernel& kernel, InteractionLis
       cb[j] = w.z * inv * mb[j];
     }
   }
-}
-
-// The (receiver, item, Gaussian) terms of one group's list, padding included.
-std::size_t listTerms(const InteractionList& items, std::size_t receivers, int gaussians) {
-  std::size_t perReceiver = 0;
-  for (const std::uint8_t band : items.blockBand)
-    perReceiver += kLanes * std::size_t(gaussians - band);
-  return receivers * perReceiver;
 }
 
 // Self term: replaces each receiver's own disc-blurred sample (item r of the list) in result by
@@ -319,7 +325,7 @@ std::vector<glm::vec3> sumGaussianMixtureOverOctree(const DiffusionOctree& tree,
                            items.blockBand.data(), items.size(), kernel.count,
                            &result[group.begin]);
       replaceSelfTerms(s, group, kernel, items, irradiance, result);
-      count += listTerms(items, receivers, kernel.count);
+      count += receivers * termsPerReceiver(items.inBand, kernel.count);
     }
     stats.interactions += count;
     if (progress) progress->advance(ge - gb);
@@ -346,18 +352,8 @@ double estimateInteractionTerms(const DiffusionOctree& tree, const GaussianMixtu
           [&](std::uint32_t k, float d2) {
             ++inBand[firstGaussianReaching(kernel, d2, tree.points.spread[k])];
           });
-      // As InteractionList::arrange lays them out: blocks of kLanes from the first Gaussian of
-      // their first item.
-      double perReceiver = 0;
-      std::size_t before = 0;  // items in the bands before
-      for (int band = 0; band < kernel.count; ++band) {
-        const std::size_t firstBlock = (before + kLanes - 1) / kLanes;
-        before += inBand[band];
-        const std::size_t endBlock = (before + kLanes - 1) / kLanes;
-        perReceiver +=
-            static_cast<double>((endBlock - firstBlock) * kLanes) * (kernel.count - band);
-      }
-      groupTerms[i] = static_cast<double>(group.end - group.begin) * perReceiver;
+      groupTerms[i] = static_cast<double>(group.end - group.begin) *
+                      static_cast<double>(termsPerReceiver(inBand, kernel.count));
     }
   });
   double terms = 0, sampledReceivers = 0;

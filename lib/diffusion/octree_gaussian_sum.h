@@ -23,9 +23,9 @@
 // truncation loses at most tailBudget of B. An item (point or cluster) is summed with the
 // Gaussians from the first whose cutoff reaches its box from the group's box on: the narrower
 // ones' terms are within that budget, and for a cluster they would be worse than dropped (its
-// Gaussian blob puts mass past its box, into a narrow Gaussian's reach). The list is kept in bands
-// by that first Gaussian so that each band's loop stays SIMD; on the 150 mm marble dragon this
-// halves the terms of the hierarchical sum (docs/performance.md).
+// Gaussian blob puts mass past its box, into a narrow Gaussian's reach). The list is ordered by
+// that first Gaussian and each SIMD block of it is summed from its first item's Gaussian on; on
+// the 150 mm marble dragon this halves the terms of the hierarchical sum (docs/performance.md).
 //
 // Clusters (theta > 0; Jensen & Buhler 2002's octree of clusters, with a width-based test in
 // place of their solid angle): a node of radius R at box distance d from the group is used as one

@@ -1,5 +1,6 @@
 #include "bake/bake.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -8,6 +9,7 @@
 #include <utility>
 
 #include "bake/error_budget.h"
+#include "bake/material_parts.h"
 #include "core/format.h"
 #include "core/relative_rms.h"
 #include "core/timer.h"
@@ -499,13 +501,28 @@ PreparedMesh prepareMeshStage(const BakeSettings& s) {
       {.path = s.meshPath, .mmPerUnit = s.mmPerUnit, .sizeMm = s.sizeMm, .quiet = s.run.quiet});
 }
 
-// The settings with the material the mesh's parts bake with (material_map.h): -m's unless the
-// material map gives every part another.
-BakeSettings settingsForParts(const BakeSettings& s, const PreparedMesh& mesh) {
+BakeSettings withMaterial(const BakeSettings& s, const Material& material) {
   BakeSettings out = s;
-  out.material = materialForParts(s.meshPath, s.materialMap, mesh.parts, s.material);
-  if (out.material.name != s.material.name) validateBakeSettings(out);
+  out.material = material;
   return out;
+}
+
+// The materials the mesh's parts bake with (material_map.h): -m's unless the material map gives
+// parts others. Several bake whole each (material_parts.h), which the path tracer (one
+// homogeneous medium) and a relightable bake (one material's transfer) do not.
+PartMaterials partMaterialsStage(const BakeSettings& s, const PreparedMesh& mesh) {
+  PartMaterials m = materialsForParts(s.meshPath, s.materialMap, mesh.parts, s.material);
+  if (!m.single()) {
+    const std::string several =
+        "the material map gives the parts " + std::to_string(m.materials.size()) + " materials";
+    if (s.method == BakeMethod::PathTrace)
+      fail(s.meshPath, several + ", and --method pathtrace traces one homogeneous medium");
+    if (s.relightOrder >= 0)
+      fail(s.meshPath, several + ", and --relightable stores one material's transfer");
+  }
+  for (const Material& material : m.materials)
+    if (material.name != s.material.name) validateBakeSettings(withMaterial(s, material));
+  return m;
 }
 
 // Stages 2-12 (bake.h) on a prepared mesh and a loaded environment.
@@ -556,12 +573,80 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
   return out;
 }
 
+// With several materials, the report of each material's bake (MaterialBakeReport).
+MaterialBakeReport materialBakeReport(const BakeReport& r, const PartMaterials& materials,
+                                      const MeshParts& parts, std::size_t m, double areaShare) {
+  MaterialBakeReport out{.material = r.material,
+                         .parts = {},
+                         .areaShare = areaShare,
+                         .method = r.transport.methodName(),
+                         .errors = r.errors,
+                         .seconds = r.totalSeconds};
+  for (std::size_t p = 0; p < parts.parts.size(); ++p) {
+    const std::string& key = parts.parts[p].material;
+    if (materials.partMaterial[p] == m &&
+        std::find(out.parts.begin(), out.parts.end(), key) == out.parts.end())
+      out.parts.push_back(key);
+  }
+  return out;
+}
+
+// Stages 2-12 once per material, the object all of it, mixed per vertex (material_parts.h); the
+// report is the largest material's with the errors mixed and each material's own.
+BakeOutput bakeMaterials(const BakeSettings& s, const PartMaterials& materials, PreparedMesh mesh,
+                         const BakeEnvironment& env, const Stopwatch& clock) {
+  if (materials.single())
+    return bakePrepared(withMaterial(s, materials.materials.front()), std::move(mesh), env, clock);
+  const std::vector<std::vector<float>> shares = vertexMaterialShares(
+      mesh.meshMm, mesh.parts.trianglePart, materials.partMaterial, materials.materials.size());
+  const std::vector<double> area = areaShares(shares, mesh.areasMm2);
+  const std::size_t largest = std::max_element(area.begin(), area.end()) - area.begin();
+  BakeOutput out;  // the largest material's, for its report
+  std::vector<BakedMesh> baked;
+  std::vector<BakeErrorReport> errors;
+  std::vector<MaterialBakeReport> reports;
+  for (std::size_t m = 0; m < materials.materials.size(); ++m) {
+    const Material& material = materials.materials[m];
+    info("material " + std::to_string(m + 1) + " of " + std::to_string(materials.materials.size()) +
+             ": " + material.name + " (" + percent(area[m]) + " of the surface)",
+         s.run.quiet);
+    BakeOutput one = bakePrepared(withMaterial(s, material), mesh, env, Stopwatch());
+    reports.push_back(materialBakeReport(one.report, materials, mesh.parts, m, area[m]));
+    errors.push_back(one.report.errors);
+    baked.push_back(std::move(one.baked));
+    if (m == largest) out = std::move(one);
+  }
+  std::vector<std::span<const glm::vec3>> radiance;
+  std::vector<glm::dvec3> sigmaTr;
+  for (std::size_t m = 0; m < baked.size(); ++m) {
+    radiance.push_back(baked[m].radianceNormal);
+    const Material& material = materials.materials[m];
+    sigmaTr.push_back(glm::sqrt(3.0 * material.sigmaA * (material.sigmaA + material.sigmaSPrime)));
+  }
+  const double interface =
+      materialInterfaceError(mesh.meshMm, mesh.areasMm2, shares, radiance, sigmaTr);
+  out.baked = mixBakedMeshes(std::move(baked), shares, largest);
+  std::string partMaterials = "bake part_materials=";
+  for (const MaterialBakeReport& r : reports)
+    for (const std::string& key : r.parts)
+      partMaterials += (partMaterials.back() == '=' ? "" : ",") + key + ":" + r.material.name;
+  out.baked.extraComments.push_back(partMaterials);
+  BakeErrorReport& e = out.report.errors = mixErrorReports(errors, area);
+  e.model.materialInterface = interface;
+  e.model.total = std::hypot(e.model.total, interface);
+  e.total = std::hypot(e.numerical, e.model.total);
+  warnAboveTolerance(e, s.run.quiet);
+  out.report.materials = std::move(reports);
+  out.report.totalSeconds = clock.seconds();
+  return out;
+}
+
 // Stages 2-12, with the texture's 1b and 13 around them when settings ask for a lightmap.
-BakeOutput bakeMesh(const BakeSettings& s, PreparedMesh mesh, const BakeEnvironment& env,
-                    const Stopwatch& clock) {
-  if (s.texture.size == 0) return bakePrepared(s, std::move(mesh), env, clock);
+BakeOutput bakeMesh(const BakeSettings& s, const PartMaterials& materials, PreparedMesh mesh,
+                    const BakeEnvironment& env, const Stopwatch& clock) {
+  if (s.texture.size == 0) return bakeMaterials(s, materials, std::move(mesh), env, clock);
   TextureMesh texture = refineForTexture(std::move(mesh), s.texture, s.run.quiet);
-  BakeOutput out = bakePrepared(s, std::move(texture.mesh), env, clock);
+  BakeOutput out = bakeMaterials(s, materials, std::move(texture.mesh), env, clock);
   BakedLightmap lightmap = bakeLightmap(texture, out.baked, s.texture, s.run.quiet);
   out.lightmap = std::move(lightmap.map);
   out.lightmapSource = std::move(texture.source);
@@ -593,17 +678,17 @@ BakeOutput bake(const BakeSettings& s) {
   const Stopwatch clock;
   validateBakeSettings(s);
   PreparedMesh mesh = prepareMeshStage(s);
-  const BakeSettings settings = settingsForParts(s, mesh);
-  const BakeEnvironment env = loadBakeEnvironment(settings);
-  return bakeMesh(settings, std::move(mesh), env, clock);
+  const PartMaterials materials = partMaterialsStage(s, mesh);
+  const BakeEnvironment env = loadBakeEnvironment(s);
+  return bakeMesh(s, materials, std::move(mesh), env, clock);
 }
 
 BakeOutput bake(const BakeSettings& s, const BakeEnvironment& env) {
   const Stopwatch clock;
   validateBakeSettings(s);
   PreparedMesh mesh = prepareMeshStage(s);
-  const BakeSettings settings = settingsForParts(s, mesh);
-  return bakeMesh(settings, std::move(mesh), env, clock);
+  const PartMaterials materials = partMaterialsStage(s, mesh);
+  return bakeMesh(s, materials, std::move(mesh), env, clock);
 }
 
 }  // namespace sss

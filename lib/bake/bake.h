@@ -4,6 +4,9 @@
 // writeBakedMesh. bake() runs these stages in this order; each takes a typed input and returns
 // its own result and report (bake_report.h), and none changes an earlier one's result:
 //   1. prepareMesh             load, validate and clean the mesh; scale it to mm (prepare_mesh.h)
+//   1a. partMaterials          the parts' materials (material_map.h); with several, stages 2-12
+//                              run once per material and mixBakedMeshes mixes them per vertex
+//                              (material_parts.h)
 //   1b. refineForTexture       with --texture: the mesh refined to the texels (texture_stage.h)
 //      loadBakeEnvironment     the environment as a radiance cubemap (below; lib/envmap)
 //   2. planEnergy              the energy model (escape walks) and the profile (plan_energy.h)

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "bake/light_vertices.h"
 #include "bake/plan_energy.h"
@@ -63,6 +64,16 @@ struct InterreflectionReport {
   double seconds = 0.0;
 };
 
+// With several materials (material_parts.h), each material's own bake of the whole object.
+struct MaterialBakeReport {
+  Material material;
+  std::vector<std::string> parts;  // the material keys of the parts it bakes (mesh_parts.h)
+  double areaShare = 0.0;          // of the surface
+  std::string method;              // its transport's
+  BakeErrorReport errors;
+  double seconds = 0.0;
+};
+
 struct BakeReport {
   MeshStageReport mesh;
   EnvironmentStageReport environment;
@@ -76,6 +87,9 @@ struct BakeReport {
   BakeErrorReport errors;
   LightmapReport lightmap;  // size 0: no texture
   RelightReport relight;    // order -1: a plain bake
+  // Several materials: each one's bake. The stages above are then those of the material with the
+  // largest share of the surface, and errors the materials' mixed by their shares.
+  std::vector<MaterialBakeReport> materials;
   int threads = 0;
   double totalSeconds = 0.0;
 };

@@ -195,24 +195,26 @@ Json toJson(const UnscatteredLightReport& r) {
 }
 
 Json toJson(const BakeErrorReport& r) {
-  return {{"visibility", r.visibility},
-          {"exitance", r.exitance},
-          {"energy", r.energy},
-          {"interreflection", r.interreflection},
-          {"unscattered", r.unscattered},
-          {"exit_lobe", r.exitLobe},
-          {"numerical", r.numerical},
-          {"model",
-           {{"exit_model", r.model.exitModel},
-            {"facets", r.model.facets},
-            {"facet_light", r.model.facetLight},
-            {"far_field", r.model.farField},
-            {"interreflection", r.model.interreflection},
-            {"total", r.model.total},
-            {"seconds", r.model.seconds}}},
-          {"total", r.total},
-          {"tolerance", r.tolerance},
-          {"tolerance_met", r.total <= r.tolerance}};
+  Json j = {{"visibility", r.visibility},
+            {"exitance", r.exitance},
+            {"energy", r.energy},
+            {"interreflection", r.interreflection},
+            {"unscattered", r.unscattered},
+            {"exit_lobe", r.exitLobe},
+            {"numerical", r.numerical},
+            {"model",
+             {{"exit_model", r.model.exitModel},
+              {"facets", r.model.facets},
+              {"facet_light", r.model.facetLight},
+              {"far_field", r.model.farField},
+              {"interreflection", r.model.interreflection},
+              {"total", r.model.total},
+              {"seconds", r.model.seconds}}},
+            {"total", r.total},
+            {"tolerance", r.tolerance},
+            {"tolerance_met", r.total <= r.tolerance}};
+  if (r.model.materialInterface > 0.0) j["model"]["material_interface"] = r.model.materialInterface;
+  return j;
 }
 
 Json toJson(const LightmapReport& r) {
@@ -245,6 +247,19 @@ Json toJson(const BakeReport& r) {
                       {"convention", r.environment.convention},
                       {"rotate_deg", r.environment.rotateDeg}};
   j["material"] = materialJson(r.material);
+  if (!r.materials.empty()) {
+    Json materials = Json::array();
+    for (const MaterialBakeReport& m : r.materials) {
+      Json one = materialJson(m.material);
+      one["parts"] = m.parts;
+      one["area_share"] = m.areaShare;
+      one["method"] = m.method;
+      one["estimated_error"] = toJson(m.errors);
+      one["seconds"] = m.seconds;
+      materials.push_back(std::move(one));
+    }
+    j["part_materials"] = std::move(materials);
+  }
   if (!r.transport.pathTrace) {
     j["profile"] = profileJson(r.energy);
     j["energy"] = toJson(r.energy);

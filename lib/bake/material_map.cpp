@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/file_extension.h"
+#include "core/format.h"
 #include "core/paths.h"
 
 namespace sss {
@@ -61,9 +62,14 @@ MaterialMap parseMaterialMap(const std::string& spec) {
   return map;
 }
 
-Material materialForParts(const std::string& path, const MaterialMap& map, const MeshParts& parts,
-                          const Material& fallback) {
-  if (map.empty()) return fallback;
+PartMaterials materialsForParts(const std::string& path, const MaterialMap& map,
+                                const MeshParts& parts, const Material& fallback) {
+  PartMaterials out;
+  out.partMaterial.assign(parts.parts.size(), 0);
+  if (map.empty()) {
+    out.materials = {fallback};
+    return out;
+  }
   const std::vector<std::string> keys = parts.materials();
   for (const auto& [key, material] : map.entries) {
     if (std::find(keys.begin(), keys.end(), key) == keys.end()) {
@@ -71,24 +77,32 @@ Material materialForParts(const std::string& path, const MaterialMap& map, const
                      (keys.empty() ? " (it has no parts: only glTF files do)" : ""));
     }
   }
-  const auto materialOf = [&](const std::string& key) -> const Material& {
-    for (const auto& [name, material] : map.entries)
-      if (name == key) return material;
+  // A preset the map names takes -m's g (--g); -m's own material keeps its --eta and --g.
+  const auto materialOf = [&](const std::string& key) {
+    for (const auto& [name, material] : map.entries) {
+      if (name != key || material.name == fallback.name) continue;
+      Material m = material;
+      m.g = fallback.g;
+      return m;
+    }
     return fallback;
   };
-  const Material& first = materialOf(keys.front());
-  for (const std::string& key : keys) {
-    const Material& m = materialOf(key);
-    if (m.name != first.name) {
-      fail(path, "the material map gives the parts different materials ('" + keys.front() + "' " +
-                     first.name + ", '" + key + "' " + m.name +
-                     "): a material per part is not yet supported; bake the parts separately");
+  for (std::size_t p = 0; p < parts.parts.size(); ++p) {
+    const Material m = materialOf(parts.parts[p].material);
+    std::size_t k = 0;
+    while (k < out.materials.size() && out.materials[k].name != m.name) ++k;
+    if (k == out.materials.size()) out.materials.push_back(m);
+    out.partMaterial[p] = std::uint32_t(k);
+  }
+  for (const Material& m : out.materials) {
+    if (m.eta != out.materials.front().eta) {
+      fail(path, "the material map gives the parts materials of different eta (" +
+                     out.materials.front().name + " " + format("%g", out.materials.front().eta) +
+                     ", " + m.name + " " + format("%g", m.eta) +
+                     "): light crossing between them would refract, which the bake does not model");
     }
   }
-  if (first.name == fallback.name) return fallback;  // with its --eta and --g
-  Material chosen = first;
-  chosen.g = fallback.g;
-  return chosen;
+  return out;
 }
 
 }  // namespace sss

@@ -5,12 +5,11 @@
 // material's name, "#<index>" when it has none, or "" for a primitive without a material; parts
 // the map does not name take the bake's material (-m).
 //
-// The bake transports light through one material: the diffusion profile, the escape energy and
-// the far field are the object's. A map that gives the parts more than one distinct material is
-// refused ("not yet supported") rather than baked as if the object were one of them; one that
-// gives every part the same material bakes with it.
+// Parts of different materials bake as one object (bake/material_parts.h): light crosses between
+// them, each vertex taking the light its own material's transport gives.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -29,10 +28,18 @@ struct MaterialMap {
 // object of names to preset names). Throws Error naming the entry or the file.
 MaterialMap parseMaterialMap(const std::string& spec);
 
-// The one material the parts of `parts` bake with: `fallback` for every part the map does not
-// name. Throws Error("<path>: ...") naming the parts and materials when they are more than one,
-// and when the map names a material no part has (a misspelt name would bake the wrong material).
-Material materialForParts(const std::string& path, const MaterialMap& map, const MeshParts& parts,
-                          const Material& fallback);
+// The materials the parts of `parts` bake with, each once, in the order of first use:
+// `fallback` for every part the map does not name, one material for a mesh without parts.
+struct PartMaterials {
+  std::vector<Material> materials;
+  std::vector<std::uint32_t> partMaterial;  // per part of MeshParts::parts: into materials
+  bool single() const { return materials.size() == 1; }
+};
+
+// Throws Error("<path>: ...") when the map names a material no part has (a misspelt name would
+// bake the wrong material), and when the parts' materials differ in eta (the bake has no
+// refraction between them).
+PartMaterials materialsForParts(const std::string& path, const MaterialMap& map,
+                                const MeshParts& parts, const Material& fallback);
 
 }  // namespace sss

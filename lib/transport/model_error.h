@@ -58,7 +58,10 @@ struct ModelErrorReport {
   double facetLight = 0.0;       // likewise
   double farField = 0.0;         // of B, so of the radiance along the normal alike
   double interreflection = 0.0;  // weighted, relative RMS of the radiance along the normal
-  double total = 0.0;            // the five in quadrature
+  // An object of several materials (bake/material_parts.h): the light its rule misplaces near
+  // the borders between them, relative RMS of the radiance along the normal; 0 for one.
+  double materialInterface = 0.0;
+  double total = 0.0;  // the parts above in quadrature
   double seconds = 0.0;
 };
 

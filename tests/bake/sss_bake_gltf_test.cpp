@@ -1,14 +1,17 @@
 // sss-bake on glTF 2.0 input: the same mesh baked from a PLY and from a GLB gives the same light,
 // a glTF needs no unit option (metres) and says so in the report, its parts and materials are in
-// the report, and --material-map bakes parts mapped to one material and refuses several.
+// the report, and --material-map bakes each part with its material.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "core/relative_rms.h"
 #include "envmap/cubemap_io.h"
 #include "mesh/baked_glb.h"
 #include "mesh/baked_mesh.h"
@@ -129,6 +132,59 @@ TEST_F(BakeGltf, PartsWeldAndAMaterialMapToOneMaterialBakes) {
   EXPECT_EQ(json.exitCode, 0) << json.output;
 }
 
+// Each vertex takes its own material's transport (bake/material_parts.h): a vertex whose triangles
+// are all of one part has exactly what the object baked all of that part's material has, and a
+// vertex on the border between parts a blend of the two.
+TEST_F(BakeGltf, TwoMaterialsBakeEachPartWithItsOwnTransport) {
+  writeTwoPartBox("box.glb");
+  const std::string json = " --json " + dir_.path("r.json");
+  ASSERT_EQ(bake("box.glb", "mixed.ply", "-m marble --material-map Lid=skin1" + json).exitCode, 0);
+  const auto report = nlohmann::json::parse(test::readFile(dir_.path("r.json")));
+  ASSERT_EQ(bake("box.glb", "skin1.ply", "-m skin1").exitCode, 0);
+  ASSERT_EQ(bake("box.glb", "marble.ply", "-m marble").exitCode, 0);
+  const BakedMesh mixed = readBakedPly(dir_.path("mixed.ply")).baked;
+  const BakedMesh skin = readBakedPly(dir_.path("skin1.ply")).baked;
+  const BakedMesh marble = readBakedPly(dir_.path("marble.ply")).baked;
+  ASSERT_EQ(mixed.mesh.positions, marble.mesh.positions);
+  int lid = 0, body = 0, border = 0;
+  for (std::size_t i = 0; i < mixed.mesh.vertexCount(); ++i) {
+    const float z = mixed.mesh.positions[i].z;  // the lid is the face z = +half, its rim the border
+    const BakedMesh& own = z > 0.0099f ? skin : marble;
+    const bool onBorder = std::abs(std::abs(mixed.mesh.positions[i].x) - 0.01f) < 1e-4f ||
+                          std::abs(std::abs(mixed.mesh.positions[i].y) - 0.01f) < 1e-4f;
+    if (z > 0.0099f && onBorder) {
+      ++border;
+      for (int c = 0; c < 3; ++c) {
+        const float a = skin.radianceNormal[i][c], b = marble.radianceNormal[i][c];
+        EXPECT_GT(mixed.radianceNormal[i][c], std::min(a, b) + 0.05f * std::abs(a - b)) << i;
+        EXPECT_LT(mixed.radianceNormal[i][c], std::max(a, b) - 0.05f * std::abs(a - b)) << i;
+      }
+      continue;
+    }
+    ++(z > 0.0099f ? lid : body);
+    EXPECT_EQ(mixed.exitance[i], own.exitance[i]) << i;
+    EXPECT_EQ(mixed.radianceNormal[i], own.radianceNormal[i]) << i;
+    EXPECT_EQ(mixed.irradiance[i], own.irradiance[i]) << i;
+  }
+  EXPECT_GT(lid, 0);
+  EXPECT_GT(body, 0);
+  EXPECT_EQ(border, 8);  // a 2 x 2 face's rim
+  // The two materials differ enough on this box for the test to tell them apart.
+  EXPECT_GT(relativeRms(skin.radianceNormal, marble.radianceNormal), 0.1);
+  EXPECT_EQ(mixed.materialName, "marble");  // the larger part's, for the header
+  EXPECT_NE(std::find(mixed.extraComments.begin(), mixed.extraComments.end(),
+                      "bake part_materials=Lid:skin1,Body:marble"),
+            mixed.extraComments.end());
+  ASSERT_EQ(report["part_materials"].size(), 2u);
+  EXPECT_EQ(report["part_materials"][0]["name"], "skin1");
+  EXPECT_EQ(report["part_materials"][0]["parts"], nlohmann::json::array({"Lid"}));
+  EXPECT_EQ(report["part_materials"][1]["name"], "marble");
+  const double lidShare = report["part_materials"][0]["area_share"].get<double>();
+  EXPECT_NEAR(lidShare, 1.0 / 6.0, 0.02);  // a face of six, less its border's half
+  EXPECT_NEAR(lidShare + report["part_materials"][1]["area_share"].get<double>(), 1.0, 1e-6);
+  EXPECT_EQ(report["material"]["name"], "marble");
+}
+
 TEST_F(BakeGltf, MaterialMapErrors) {
   writeTwoPartBox("box.glb");
   const auto refused = [&](const std::string& options, int exitCode, const std::string& text) {
@@ -139,8 +195,11 @@ TEST_F(BakeGltf, MaterialMapErrors) {
     EXPECT_NE(r.output.find(text), std::string::npos) << r.output;
     EXPECT_FALSE(std::filesystem::exists(dir_.path("out.ply")));
   };
-  refused("-m marble --material-map Lid=skin1", 1, "a material per part is not yet supported");
-  refused("-m marble --material-map Lid=marble,Body=ketchup", 1, "not yet supported");
+  refused("-m marble --material-map Lid=skin1 --method pathtrace", 1,
+          "2 materials, and --method pathtrace traces one homogeneous medium");
+  refused("-m marble --material-map Lid=skin1 --relightable", 1,
+          "--relightable stores one material's transfer");
+  refused("-m marble --eta 1.5 --material-map Lid=skin1", 1, "materials of different eta");
   refused("-m marble --material-map Top=skin1", 1, "names the material 'Top', which no part");
   refused("-m marble --material-map Lid=chalk", 2, "chalk");
   refused("-m marble --material-map Lid", 2, "is not name=preset");

@@ -10,3 +10,7 @@ sss_add_benchmark(concavity_study SOURCES ${CMAKE_CURRENT_LIST_DIR}/concavity_st
 # A volumetric path tracer's cost at the bake's error (tests/bench/pathtracer_cost.sh).
 sss_add_benchmark(pathtracer_cost SOURCES ${CMAKE_CURRENT_LIST_DIR}/pathtracer_cost.cpp
                   LIBS sss_pathtrace sss_bake sss_mesh sss_material sss_envmap)
+# The material-interface study: a sphere of two materials against a Monte Carlo of both media.
+sss_add_benchmark(material_interface_study
+                  SOURCES ${CMAKE_CURRENT_LIST_DIR}/material_interface_study.cpp
+                  LIBS sss_bake sss_mesh sss_material sss_envmap nlohmann_json::nlohmann_json)

@@ -21,9 +21,10 @@ inline glm::vec3 sphereDirection(float u, float v) {
   return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
 }
 
-// `segments` x `rings` quads (triangles at the poles), radius in metres, as a primitive of b.
+// `segments` x `rings` quads (triangles at the poles), radius in metres, as a primitive of b;
+// only the rings [firstRing, endRing) (endRing -1: to the last), for a sphere made of parts.
 inline GltfBuilder::Primitive uvSpherePrimitive(GltfBuilder& b, int segments, int rings,
-                                                float radius) {
+                                                float radius, int firstRing = 0, int endRing = -1) {
   std::vector<glm::vec3> positions, normals;
   std::vector<glm::vec2> uv;
   for (int r = 0; r <= rings; ++r) {
@@ -37,7 +38,7 @@ inline GltfBuilder::Primitive uvSpherePrimitive(GltfBuilder& b, int segments, in
   }
   std::vector<unsigned> idx;
   const auto at = [&](int r, int s) { return unsigned(r * (segments + 1) + s); };
-  for (int r = 0; r < rings; ++r) {
+  for (int r = firstRing; r < (endRing < 0 ? rings : endRing); ++r) {
     for (int s = 0; s < segments; ++s) {
       // Outward winding: u turns anticlockwise about +z, v runs from +z down.
       if (r > 0) idx.insert(idx.end(), {at(r, s), at(r + 1, s), at(r, s + 1)});

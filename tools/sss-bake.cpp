@@ -244,8 +244,8 @@ void writeOutputs(const std::string& output, const std::string& jsonPath,
   sss::Json report = sss::toJson(result.report);
   report["output"] = output;
   if (result.lightmap.size > 0 && sss::lowerExtension(output) == "glb") {
-    const sss::LightmappedAsset asset =
-        sss::lightmappedAsset(result.lightmapSource, result.lightmap, result.baked, report.dump());
+    const sss::LightmappedAsset asset = sss::lightmappedAsset(
+        result.lightmapSource, result.lightmap, result.baked, result.partMaterials, report.dump());
     if (!quiet)
       for (const std::string& note : sss::droppedSurfaceNotes(asset))
         sss::warn(output + ": " + note);

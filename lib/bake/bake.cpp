@@ -637,6 +637,8 @@ BakeOutput bakeMaterials(const BakeSettings& s, const PartMaterials& materials, 
   e.total = std::hypot(e.numerical, e.model.total);
   warnAboveTolerance(e, s.run.quiet);
   out.report.materials = std::move(reports);
+  for (const std::uint32_t m : materials.partMaterial)
+    out.partMaterials.push_back(materials.materials[m]);
   out.report.totalSeconds = clock.seconds();
   return out;
 }

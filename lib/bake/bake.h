@@ -45,6 +45,8 @@ struct BakeOutput {
   BakedMesh baked;               // positions in the mesh's own units, mmPerUnit recorded
   Lightmap lightmap;             // with --texture (size > 0): radiance along the normal, then B
   TextureSource lightmapSource;  // with --texture: the mesh the lightmap is drawn on
+  // With several materials (material_parts.h): each part's (mesh_parts.h), else empty.
+  std::vector<Material> partMaterials;
   BakeReport report;
 };
 

@@ -137,7 +137,9 @@ std::string lightmapExtras(const LightmappedAsset& a, int size, const std::strin
 }  // namespace
 
 LightmappedAsset lightmappedAsset(const TextureSource& source, const Lightmap& map,
-                                  const BakedMesh& baked, const std::string& reportJson) {
+                                  const BakedMesh& baked,
+                                  const std::vector<Material>& partMaterials,
+                                  const std::string& reportJson) {
   const std::vector<glm::vec3>& radiance = map.images[0];
   const double coatWeight = coatWeightFor(baked.eta);
   const double coatTransmittance = 1.0 - coatWeight * kCoatNormalReflectance;
@@ -164,6 +166,8 @@ LightmappedAsset lightmappedAsset(const TextureSource& source, const Lightmap& m
   asset.sigmaAPerMm = baked.sigmaA;
   asset.sigmaSPrimePerMm = baked.sigmaSPrime;
   asset.eta = baked.eta;
+  for (const Material& m : partMaterials)
+    asset.partMedia.push_back({m.name, m.sigmaA, m.sigmaSPrime});
   asset.thicknessM = typicalThicknessMm(source.mesh, baked.mmPerUnit) / 1000.0;
   asset.extrasJson = lightmapExtras(asset, map.size, reportJson);
   return asset;

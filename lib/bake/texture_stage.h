@@ -6,11 +6,13 @@
 
 #include <cstddef>
 #include <string>
+#include <vector>
 
 #include "bake/prepare_mesh.h"
 #include "bake/texture_settings.h"
 #include "lightmap/lightmap.h"
 #include "lightmap/uv_refinement.h"
+#include "material/material.h"
 #include "mesh/baked_ply.h"
 #include "mesh/lightmapped_glb.h"
 
@@ -63,7 +65,11 @@ namespace sss {
 // it by that much there), stored as 8-bit sRGB over its largest value, which becomes
 // emissiveStrength. asset.extras.sss holds the source's unit, the material,
 // how the emission was made and `reportJson` (the bake's report, JSON text, or empty).
+// partMaterials: each part's material where they differ (BakeOutput::partMaterials), each
+// written in its part's KHR_materials_volume; empty: the baked mesh's for all.
 LightmappedAsset lightmappedAsset(const TextureSource& source, const Lightmap& map,
-                                  const BakedMesh& baked, const std::string& reportJson);
+                                  const BakedMesh& baked,
+                                  const std::vector<Material>& partMaterials,
+                                  const std::string& reportJson);
 
 }  // namespace sss

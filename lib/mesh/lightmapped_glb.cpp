@@ -129,8 +129,9 @@ Json nodeMatrix(const glm::dmat4& m) {
 // sigma_tr = sqrt(3 sigma_a (sigma_a + sigma_s')) per mm: the diffuse light's attenuation
 // (Jensen et al. 2001, the dipole's effective transport coefficient), as attenuationColor over
 // attenuationDistance: the colour left after the shortest channel's 1 / sigma_tr.
-Json volumeExtension(const LightmappedAsset& a, double thicknessLocal) {
-  const glm::dvec3 sa = a.sigmaAPerMm, sigmaTr = glm::sqrt(3.0 * sa * (sa + a.sigmaSPrimePerMm));
+Json volumeExtension(const LightmappedAsset::Medium& medium, double thicknessLocal) {
+  const glm::dvec3 sa = medium.sigmaAPerMm;
+  const glm::dvec3 sigmaTr = glm::sqrt(3.0 * sa * (sa + medium.sigmaSPrimePerMm));
   const double largest = std::max({sigmaTr.x, sigmaTr.y, sigmaTr.z});
   Json volume = {{"thicknessFactor", thicknessLocal}};
   if (largest > 0.0) {
@@ -232,11 +233,11 @@ void keepSurface(const SurfaceMaterial& s, TextureTable& textures, Json& m) {
 }
 
 // The material of the parts whose source material is `surface` (null: none).
-Json materialJson(const LightmappedAsset& a, double thicknessLocal, const SurfaceMaterial* surface,
-                  TextureTable& textures) {
+Json materialJson(const LightmappedAsset& a, const LightmappedAsset::Medium& medium,
+                  double thicknessLocal, const SurfaceMaterial* surface, TextureTable& textures) {
   const std::string name = surface && !surface->name.empty() ? surface->name
-                           : a.materialName.empty()          ? "baked"
-                                                             : a.materialName;
+                           : medium.name.empty()             ? "baked"
+                                                             : medium.name;
   Json m = {{"name", name + " (baked translucency: emission, coat)"},
             {"pbrMetallicRoughness",
              {{"baseColorFactor", {0.0, 0.0, 0.0, 1.0}},
@@ -251,7 +252,7 @@ Json materialJson(const LightmappedAsset& a, double thicknessLocal, const Surfac
               {"KHR_materials_specular", {{"specularFactor", 0.0}}},
               {"KHR_materials_ior", {{"ior", a.eta}}},
               {"KHR_materials_transmission", {{"transmissionFactor", 0.0}}},
-              {"KHR_materials_volume", volumeExtension(a, thicknessLocal)}}}};
+              {"KHR_materials_volume", volumeExtension(medium, thicknessLocal)}}}};
   if (surface) keepSurface(*surface, textures, m);
   return m;
 }
@@ -275,6 +276,15 @@ MaterialSlots materialSlots(const LightmappedAsset& a) {
   }
   if (slots.source.empty()) slots.source.push_back(-1);
   return slots;
+}
+
+// The medium of the parts a written material draws: the asset's, or (partMedia) its first
+// part's; the parts of one source material have one medium (the material map is keyed by it).
+LightmappedAsset::Medium mediumOfSlot(const LightmappedAsset& a, const MaterialSlots& slots,
+                                      std::size_t slot) {
+  for (std::size_t p = 0; p < a.partMedia.size() && p < slots.ofPart.size(); ++p)
+    if (slots.ofPart[p] == slot) return a.partMedia[p];
+  return {a.materialName, a.sigmaAPerMm, a.sigmaSPrimePerMm};
 }
 
 // The scene: a node per source node (its world transform, scaled to metres), a mesh per node.
@@ -356,9 +366,11 @@ void writeLightmappedGlb(const std::string& path, const LightmappedAsset& a) {
     TextureTable textures(a, bin);
     const double thicknessLocal = a.thicknessM / meanScale(a);
     Json materials = Json::array();
-    for (const std::int64_t m : slots.source) {
+    for (std::size_t slot = 0; slot < slots.source.size(); ++slot) {
+      const std::int64_t m = slots.source[slot];
       const SurfaceMaterial* surface = m >= 0 ? &a.parts.surfaces.materials[m] : nullptr;
-      materials.push_back(materialJson(a, thicknessLocal, surface, textures));
+      materials.push_back(
+          materialJson(a, mediumOfSlot(a, slots, slot), thicknessLocal, surface, textures));
     }
     for (const Json& m : materials)
       for (const auto& [name, value] : m["extensions"].items())

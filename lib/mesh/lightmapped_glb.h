@@ -59,6 +59,13 @@ struct LightmappedAsset {
   std::string materialName;
   glm::dvec3 sigmaAPerMm{0.0}, sigmaSPrimePerMm{0.0};
   double eta = 1.0;
+  // Per part (parts.parts) where the parts are of different media (a bake of several materials):
+  // each one's, written in its material's KHR_materials_volume; empty: every part the one above.
+  struct Medium {
+    std::string name;
+    glm::dvec3 sigmaAPerMm{0.0}, sigmaSPrimePerMm{0.0};
+  };
+  std::vector<Medium> partMedia;
   double thicknessM = 0;   // a typical thickness of the object in metres (KHR_materials_volume)
   std::string extrasJson;  // asset.extras.sss (a JSON object)
 };

@@ -4,9 +4,11 @@
 // an EXR nor a GLB, a size out of range) are one clear line with no output.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -14,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "image/image.h"
+#include "material/material.h"
 #include "mesh/baked_glb.h"
 #include "mesh/baked_mesh.h"
 #include "mesh/glb_chunks.h"
@@ -181,6 +184,40 @@ TEST_F(BakeTexture, GlbKeepsTheSourceSurfaceAndNamesWhatItDrops) {
                               view["byteLength"].get<std::size_t>()),
             normalMap);
   EXPECT_TRUE(doc["meshes"][0]["primitives"][0]["attributes"].contains("TANGENT"));
+}
+
+// A sphere of two materials (--material-map) baked to a lightmapped GLB: each half's material
+// carries its own medium in KHR_materials_volume (attenuation from its sigma_tr), and the report
+// inside says which parts are which.
+TEST_F(BakeTexture, GlbGivesEachPartItsOwnMedium) {
+  test::GltfBuilder b;
+  std::vector<test::GltfBuilder::Primitive> halves = {
+      test::uvSpherePrimitive(b, 24, 12, kRadiusM, 0, 6),
+      test::uvSpherePrimitive(b, 24, 12, kRadiusM, 6, 12)};
+  halves[0].material = b.material("Upper");
+  halves[1].material = b.material("Lower");
+  b.scene({b.node({{"name", "ball"}, {"mesh", b.mesh(halves, "ball")}})});
+  test::writeText(dir_.path("ball.glb"), b.glb());
+  const ToolRun r = bake("ball.glb", "ball_baked.glb", "--texture 64 --material-map Upper=skin1");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const auto doc = nlohmann::json::parse(readGlbChunks(dir_.path("ball_baked.glb")).json);
+  ASSERT_EQ(doc["materials"].size(), 2u);
+  const auto attenuation = [](const Material& m) {  // the colour after the shortest 1 / sigma_tr
+    const glm::dvec3 sigmaTr = glm::sqrt(3.0 * m.sigmaA * (m.sigmaA + m.sigmaSPrime));
+    const double largest = std::max({sigmaTr.x, sigmaTr.y, sigmaTr.z});
+    return std::pair(glm::exp(-sigmaTr / largest), 1e-3 / largest);
+  };
+  const char* presets[2] = {"skin1", "marble"};
+  for (int k = 0; k < 2; ++k) {
+    SCOPED_TRACE(presets[k]);
+    const auto& volume = doc["materials"][k]["extensions"]["KHR_materials_volume"];
+    const auto [colour, distanceM] = attenuation(findMaterialPreset(presets[k]));
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(volume["attenuationColor"][c], colour[c], 1e-9);
+    EXPECT_NEAR(volume["attenuationDistance"].get<double>(), distanceM, 1e-12);
+  }
+  const auto& report = doc["asset"]["extras"]["sss"]["report"];
+  ASSERT_EQ(report["part_materials"].size(), 2u);
+  EXPECT_EQ(report["part_materials"][0]["parts"], nlohmann::json::array({"Upper"}));
 }
 
 TEST_F(BakeTexture, MistakesAreOneLineAndWriteNothing) {

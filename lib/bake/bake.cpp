@@ -525,9 +525,38 @@ PartMaterials partMaterialsStage(const BakeSettings& s, const PreparedMesh& mesh
   return m;
 }
 
-// Stages 2-12 (bake.h) on a prepared mesh and a loaded environment.
+// With several materials, this material's part of the symmetric kernel's change from the
+// receiver's rule (material_parts.h): (T(s E) - s T(E)) / 2 for the vertices' share s of the
+// material and its transport T (the bounces' linear transport: the traced far field keeps the
+// receiver's rule), in B and in the radiance along the normal.
+struct SymmetricChange {
+  std::vector<glm::vec3> exitance, radiance;
+};
+
+SymmetricChange symmetricChange(const BakeScene& scene, const TransportInput& transportIn,
+                                const VertexExitance& direct, const FarField& far,
+                                std::span<const float> share) {
+  if (share.empty() || !scene.diffusion()) return {};
+  EnergyWeightSums sums;
+  DiffusionMeshCache meshCache;
+  TransportInput in = linearTransportInput(transportIn, direct, sums);
+  in.diffusionMeshCache = &meshCache;
+  const std::span<const glm::vec3> all = transportIn.irradiance;
+  std::vector<glm::vec3> entering(all.begin(), all.end());
+  for (std::size_t i = 0; i < entering.size(); ++i) entering[i] *= share[i];
+  const std::vector<glm::vec3> received = transport(in).exitance;
+  in.irradiance = entering;
+  std::vector<glm::vec3> change = transport(in).exitance;
+  for (std::size_t i = 0; i < change.size(); ++i)
+    change[i] = 0.5f * (change[i] - share[i] * received[i]);
+  std::vector<glm::vec3> radiance = radianceOf(change, far, scene.settings.material.eta);
+  return {std::move(change), std::move(radiance)};
+}
+
+// Stages 2-12 (bake.h) on a prepared mesh and a loaded environment; share (several materials):
+// each vertex's share of this material, for symmetricChange.
 BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvironment& env,
-                        const Stopwatch& clock) {
+                        const Stopwatch& clock, std::span<const float> share = {}) {
   const BakeScene scene{s, mesh, env.radiance, ErrorBudget(s.tolerance),
                         DirectionalAlbedoWeight(s.material)};
   const EnergyStageInput energyIn = energyInput(scene);
@@ -540,6 +569,7 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
       transportInput(scene, energy, energyReport, lighting, far, weightSums);
   VertexExitance direct = transport(transportIn);
   Interreflection bounced = interreflectionStage(scene, energy, transportIn, lighting, direct);
+  SymmetricChange symmetric = symmetricChange(scene, transportIn, direct, far, share);
   BakedLight light = combineInterreflection(lighting, direct, bounced);
   const RadianceAlongNormal normal = radianceAlongNormal(light.exitance, far, s.material.eta);
   const UnscatteredLight unscattered = unscatteredStage(scene, normal.all);
@@ -565,10 +595,12 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
   report.interreflection = bounced.report;
   report.unscattered = unscattered.report;
   report.errors = errorReport(report, model, s.tolerance);
-  warnAboveTolerance(report.errors, s.run.quiet);
+  if (share.empty()) warnAboveTolerance(report.errors, s.run.quiet);  // else the mix warns
   report.relight = relight.report;
   out.baked = assembleBakedMesh(std::move(mesh.mesh), std::move(light), std::move(radianceNormal),
                                 std::move(far), std::move(relight), s, report);
+  out.symmetricChange = std::move(symmetric.exitance);
+  out.symmetricChangeRadiance = std::move(symmetric.radiance);
   report.totalSeconds = clock.seconds();
   return out;
 }
@@ -591,54 +623,98 @@ MaterialBakeReport materialBakeReport(const BakeReport& r, const PartMaterials& 
   return out;
 }
 
-// Stages 2-12 once per material, the object all of it, mixed per vertex (material_parts.h); the
-// report is the largest material's with the errors mixed and each material's own.
-BakeOutput bakeMaterials(const BakeSettings& s, const PartMaterials& materials, PreparedMesh mesh,
-                         const BakeEnvironment& env, const Stopwatch& clock) {
-  if (materials.single())
-    return bakePrepared(withMaterial(s, materials.materials.front()), std::move(mesh), env, clock);
-  const std::vector<std::vector<float>> shares = vertexMaterialShares(
-      mesh.meshMm, mesh.parts.trianglePart, materials.partMaterial, materials.materials.size());
-  const std::vector<double> area = areaShares(shares, mesh.areasMm2);
-  const std::size_t largest = std::max_element(area.begin(), area.end()) - area.begin();
-  BakeOutput out;  // the largest material's, for its report
-  std::vector<BakedMesh> baked;
-  std::vector<BakeErrorReport> errors;
-  std::vector<MaterialBakeReport> reports;
+// Several materials: each one's share of each vertex and of the surface.
+struct MaterialShares {
+  std::vector<std::vector<float>> vertex;  // per material, per vertex (vertexMaterialShares)
+  std::vector<double> surface;             // per material
+  std::size_t largest = 0;                 // the material with the largest surface share
+};
+
+MaterialShares materialShares(const PartMaterials& materials, const PreparedMesh& mesh) {
+  MaterialShares out;
+  out.vertex = vertexMaterialShares(mesh.meshMm, mesh.parts.trianglePart, materials.partMaterial,
+                                    materials.materials.size());
+  out.surface = areaShares(out.vertex, mesh.areasMm2);
+  out.largest = std::max_element(out.surface.begin(), out.surface.end()) - out.surface.begin();
+  return out;
+}
+
+// Stages 2-12 once per material, the object all of it, with the symmetric change unless the
+// receiver's rule alone is asked for.
+std::vector<BakeOutput> bakeEachMaterial(const BakeSettings& s, const PartMaterials& materials,
+                                         const PreparedMesh& mesh, const MaterialShares& shares,
+                                         const BakeEnvironment& env) {
+  std::vector<BakeOutput> bakes;
   for (std::size_t m = 0; m < materials.materials.size(); ++m) {
     const Material& material = materials.materials[m];
     info("material " + std::to_string(m + 1) + " of " + std::to_string(materials.materials.size()) +
-             ": " + material.name + " (" + percent(area[m]) + " of the surface)",
+             ": " + material.name + " (" + percent(shares.surface[m]) + " of the surface)",
          s.run.quiet);
-    BakeOutput one = bakePrepared(withMaterial(s, material), mesh, env, Stopwatch());
-    reports.push_back(materialBakeReport(one.report, materials, mesh.parts, m, area[m]));
-    errors.push_back(one.report.errors);
-    baked.push_back(std::move(one.baked));
-    if (m == largest) out = std::move(one);
+    const bool symmetric = s.materialRule != MaterialRule::Receiver;
+    bakes.push_back(bakePrepared(withMaterial(s, material), mesh, env, Stopwatch(),
+                                 symmetric ? shares.vertex[m] : std::span<const float>()));
   }
+  return bakes;
+}
+
+// The error near the borders (materialInterfaceError) from the materials' own bakes.
+double borderError(const std::vector<BakeOutput>& bakes, const PartMaterials& materials,
+                   const PreparedMesh& mesh, const MaterialShares& shares) {
   std::vector<std::span<const glm::vec3>> radiance;
   std::vector<glm::dvec3> sigmaTr;
-  for (std::size_t m = 0; m < baked.size(); ++m) {
-    radiance.push_back(baked[m].radianceNormal);
+  for (std::size_t m = 0; m < bakes.size(); ++m) {
+    radiance.push_back(bakes[m].baked.radianceNormal);
     const Material& material = materials.materials[m];
     sigmaTr.push_back(glm::sqrt(3.0 * material.sigmaA * (material.sigmaA + material.sigmaSPrime)));
   }
-  const double interface =
-      materialInterfaceError(mesh.meshMm, mesh.areasMm2, shares, radiance, sigmaTr);
-  out.baked = mixBakedMeshes(std::move(baked), shares, largest);
+  return materialInterfaceError(mesh.meshMm, mesh.areasMm2, shares.vertex, radiance, sigmaTr);
+}
+
+// The materials' bakes mixed (material_parts.h): the light per vertex by the rule, the report the
+// largest material's with the errors mixed and the border's added, each material's own beside.
+BakeOutput mixMaterialBakes(std::vector<BakeOutput> bakes, const BakeSettings& s,
+                            const PartMaterials& materials, const PreparedMesh& mesh,
+                            const MaterialShares& shares) {
+  const double border = borderError(bakes, materials, mesh, shares);
+  std::vector<BakedMesh> baked;
+  std::vector<BakeErrorReport> errors;
+  std::vector<MaterialBakeReport> reports;
+  std::vector<std::vector<glm::vec3>> changes, radianceChanges;
+  for (std::size_t m = 0; m < bakes.size(); ++m) {
+    BakeOutput& one = bakes[m];
+    reports.push_back(materialBakeReport(one.report, materials, mesh.parts, m, shares.surface[m]));
+    errors.push_back(one.report.errors);
+    baked.push_back(std::move(one.baked));
+    changes.push_back(std::move(one.symmetricChange));
+    radianceChanges.push_back(std::move(one.symmetricChangeRadiance));
+  }
+  BakeOutput out = std::move(bakes[shares.largest]);
+  out.baked = mixBakedMeshes(std::move(baked), shares.vertex, shares.largest);
+  applySymmetricChange(out.baked, changes, radianceChanges, s.materialRule);
   std::string partMaterials = "bake part_materials=";
   for (const MaterialBakeReport& r : reports)
     for (const std::string& key : r.parts)
       partMaterials += (partMaterials.back() == '=' ? "" : ",") + key + ":" + r.material.name;
   out.baked.extraComments.push_back(partMaterials);
-  BakeErrorReport& e = out.report.errors = mixErrorReports(errors, area);
-  e.model.materialInterface = interface;
-  e.model.total = std::hypot(e.model.total, interface);
+  BakeErrorReport& e = out.report.errors = mixErrorReports(errors, shares.surface);
+  e.model.materialInterface = border;
+  e.model.total = std::hypot(e.model.total, border);
   e.total = std::hypot(e.numerical, e.model.total);
   warnAboveTolerance(e, s.run.quiet);
   out.report.materials = std::move(reports);
   for (const std::uint32_t m : materials.partMaterial)
     out.partMaterials.push_back(materials.materials[m]);
+  return out;
+}
+
+// Stages 2-12 on one material, or once per material and mixed (material_parts.h).
+BakeOutput bakeMaterials(const BakeSettings& s, const PartMaterials& materials, PreparedMesh mesh,
+                         const BakeEnvironment& env, const Stopwatch& clock) {
+  if (materials.single())
+    return bakePrepared(withMaterial(s, materials.materials.front()), std::move(mesh), env, clock);
+  const MaterialShares shares = materialShares(materials, mesh);
+  BakeOutput out = mixMaterialBakes(bakeEachMaterial(s, materials, mesh, shares, env), s, materials,
+                                    mesh, shares);
   out.report.totalSeconds = clock.seconds();
   return out;
 }

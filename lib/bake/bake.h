@@ -47,6 +47,10 @@ struct BakeOutput {
   TextureSource lightmapSource;  // with --texture: the mesh the lightmap is drawn on
   // With several materials (material_parts.h): each part's (mesh_parts.h), else empty.
   std::vector<Material> partMaterials;
+  // With several materials, one material's bake (bakeMaterials): what the symmetric kernel
+  // changes from the receiver's rule in B and in the radiance along the normal
+  // (material_parts.h); else empty.
+  std::vector<glm::vec3> symmetricChange, symmetricChangeRadiance;
   BakeReport report;
 };
 

@@ -68,6 +68,8 @@ struct BakeSettings {
   Material material;
   // glTF material names -> materials (--material-map); parts it does not name take `material`.
   MaterialMap materialMap;
+  // How parts of different materials share their light (material_parts.h).
+  MaterialRule materialRule = MaterialRule::Border;
   // Millimetres per mesh unit (> 0), unless sizeMm > 0; 0: the unit the file fixes (glTF's
   // metres), an error for formats without one.
   double mmPerUnit = 0.0;

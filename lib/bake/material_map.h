@@ -19,6 +19,11 @@
 
 namespace sss {
 
+// How light crosses between parts of different materials (bake/material_parts.h): the border
+// rule (the lower of the receiver's rule and the symmetric kernel, per vertex and channel), and
+// the two alone (the study's comparison).
+enum class MaterialRule { Border, Symmetric, Receiver };
+
 struct MaterialMap {
   std::vector<std::pair<std::string, Material>> entries;  // material key -> material
   bool empty() const { return entries.empty(); }

@@ -6,6 +6,7 @@
 #include <queue>
 #include <utility>
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 #include "core/error.h"
@@ -159,6 +160,24 @@ BakeErrorReport mixErrorReports(std::span<const BakeErrorReport> errors,
     mixed.model.*f = mix([f](const BakeErrorReport& e) { return e.model.*f; });
   for (const BakeErrorReport& e : errors) mixed.model.seconds += e.model.seconds;
   return mixed;
+}
+
+void applySymmetricChange(BakedMesh& mixed, const std::vector<std::vector<glm::vec3>>& exitance,
+                          const std::vector<std::vector<glm::vec3>>& radiance, MaterialRule rule) {
+  if (rule == MaterialRule::Receiver) return;
+  const float largest =
+      rule == MaterialRule::Symmetric ? std::numeric_limits<float>::infinity() : 0.0f;
+  const auto add = [&](std::vector<glm::vec3>& field,
+                       const std::vector<std::vector<glm::vec3>>& changes) {
+    for (std::size_t i = 0; i < field.size(); ++i) {
+      glm::vec3 sum(0.0f);
+      for (const std::vector<glm::vec3>& change : changes)
+        if (!change.empty()) sum += change[i];
+      field[i] += glm::min(sum, glm::vec3(largest));
+    }
+  };
+  add(mixed.exitance, exitance);
+  add(mixed.radianceNormal, radiance);
 }
 
 std::vector<double> areaShares(const std::vector<std::vector<float>>& shares,

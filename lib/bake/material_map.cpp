@@ -1,8 +1,12 @@
 #include "bake/material_map.h"
 
 #include <algorithm>
+#include <cstdint>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -26,17 +30,37 @@ void addEntry(MaterialMap& map, const std::string& name, const std::string& pres
   }
 }
 
+// A material map names a few parts; a larger file is not one (and is not parsed into memory).
+constexpr std::uintmax_t kMaxMapBytes = 1 << 20;
+
 MaterialMap parseJsonMap(const std::string& path) {
   checkInputFile(path);
+  std::error_code error;
+  const std::uintmax_t bytes = std::filesystem::file_size(path, error);
+  if (!error && bytes > kMaxMapBytes)
+    fail(path, "material map: " + std::to_string(bytes) + " bytes, more than a map's 1 MiB");
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path, "cannot open the material map");
   nlohmann::json json;
+  // The object's names as parsed: JSON keeps the last of a repeated name, which would bake a part
+  // with a material the file also contradicts.
+  std::vector<std::string> names;
+  std::string repeated;
+  const auto seeNames = [&](int depth, nlohmann::json::parse_event_t event, nlohmann::json& value) {
+    if (depth == 1 && event == nlohmann::json::parse_event_t::key && value.is_string()) {
+      const std::string& name = value.get_ref<const std::string&>();
+      if (std::find(names.begin(), names.end(), name) != names.end()) repeated = name;
+      names.push_back(name);
+    }
+    return true;
+  };
   try {
-    json = nlohmann::json::parse(in);
+    json = nlohmann::json::parse(in, seeNames);
   } catch (const nlohmann::json::exception& e) {
     fail(path, std::string("material map: ") + e.what());
   }
   if (!json.is_object()) fail(path, "material map: not a JSON object of names to presets");
+  if (!repeated.empty()) fail(path, "material map: names the material '" + repeated + "' twice");
   MaterialMap map;
   for (const auto& [name, preset] : json.items()) {
     if (!preset.is_string()) fail(path, "material map: '" + name + "' is not a preset name");

@@ -210,6 +210,17 @@ TEST_F(BakeGltf, MaterialMapErrors) {
   refused("-m marble --material-map Lid=skin1,Lid=marble", 2, "twice");
   test::writeText(dir_.path("bad.json"), "[1]");
   refused("-m marble --material-map " + dir_.path("bad.json"), 2, "not a JSON object");
+  // Hostile map files: one line naming the file and the problem (the fuzz target's corpus has
+  // more).
+  const auto hostile = [&](const std::string& bytes, const std::string& text) {
+    test::writeText(dir_.path("hostile.json"), bytes);
+    refused("-m marble --material-map " + dir_.path("hostile.json"), 2, text);
+  };
+  hostile("", "hostile.json: material map");
+  hostile("{\"Lid\": ", "hostile.json: material map");
+  hostile("{\"Lid\": 3}", "'Lid' is not a preset name");
+  hostile("{\"Lid\": \"skin1\", \"Lid\": \"marble\"}", "names the material 'Lid' twice");
+  hostile(std::string(2 << 20, ' ') + "{}", "more than a map's 1 MiB");
 }
 
 TEST_F(BakeGltf, AHostileGltfIsOneErrorAndNoOutput) {

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "bake/material_map.h"
 #include "bake/relight.h"
 #include "core/error.h"
 #include "envmap/environment.h"
@@ -56,17 +57,18 @@ bool isImageTarget(std::string_view target) {
 }  // namespace
 
 const std::vector<std::string>& targetNames() {
-  static const std::vector<std::string> names = {"ply",         "obj",       "off",       "stl",
-                                                 "environment", "baked_ply", "baked_glb", "gltf",
-                                                 "glb",         "exr",       "hdr",       "png"};
+  static const std::vector<std::string> names = {
+      "ply",  "obj", "off", "stl", "environment", "baked_ply",   "baked_glb",
+      "gltf", "glb", "exr", "hdr", "png",         "material_map"};
   return names;
 }
 
 void readInput(std::string_view target, std::string_view bytes, const std::string& dir) {
-  const std::string ext = target == "environment" ? imageExtension(bytes)
-                          : target == "baked_ply" ? "ply"
-                          : target == "baked_glb" ? "glb"
-                                                  : std::string(target);
+  const std::string ext = target == "environment"    ? imageExtension(bytes)
+                          : target == "baked_ply"    ? "ply"
+                          : target == "baked_glb"    ? "glb"
+                          : target == "material_map" ? "json"
+                                                     : std::string(target);
   const std::string path = (std::filesystem::path(dir) / ("input." + ext)).string();
   {
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
@@ -77,6 +79,8 @@ void readInput(std::string_view target, std::string_view bytes, const std::strin
     readEnvironment(path);
   } else if (isImageTarget(target)) {
     readImageFile(path);
+  } else if (target == "material_map") {
+    parseMaterialMap(path);
   } else if (target == "baked_ply") {
     checkRelightTransport(path, readBakedPly(path).baked);
   } else if (target == "baked_glb") {

@@ -13,7 +13,8 @@ namespace sss::fuzz {
 
 // The targets: "ply", "obj", "off", "stl", "environment", "baked_ply", "baked_glb", "gltf" (a
 // .gltf with data: URIs), "glb" (a glTF scene in a GLB, through loadMesh).
-// The image readers of lib/image: "exr", "hdr", "png".
+// The image readers of lib/image: "exr", "hdr", "png". "material_map": sss-bake's --material-map
+// JSON file (bake/material_map.h).
 const std::vector<std::string>& targetNames();
 
 // Writes `bytes` to `dir`/input.<ext> and reads it as the target's tools do. Bad input must end

@@ -14,7 +14,7 @@ set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 seconds=${1:-60}
 build=$(realpath -m "${2:-$root/build-checked}")
-read -r -a targets <<<"${SSS_FUZZ_TARGETS:-ply obj off stl environment baked_ply baked_glb gltf glb exr hdr png}"
+read -r -a targets <<<"${SSS_FUZZ_TARGETS:-ply obj off stl environment baked_ply baked_glb gltf glb exr hdr png material_map}"
 jobs=$(nproc)
 cd "$root"
 

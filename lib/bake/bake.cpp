@@ -450,11 +450,15 @@ void warnAboveTolerance(const BakeErrorReport& e, bool quiet) {
   std::snprintf(line, sizeof line,
                 "the estimated error, %.1f%% of the radiance along the normal, is above "
                 "--tolerance %g%%: numerical %.1f%%, model %.1f%% (exit model %.1f%%, facets "
-                "%.1f%%, light across facets %.1f%%, far field %.1f%%, interreflection %.1f%%)",
+                "%.1f%%, light across facets %.1f%%, far field %.1f%%, interreflection %.1f%%",
                 100.0 * e.total, 100.0 * e.tolerance, 100.0 * e.numerical, 100.0 * m.total,
                 100.0 * m.exitModel, 100.0 * m.facets, 100.0 * m.facetLight, 100.0 * m.farField,
                 100.0 * m.interreflection);
-  warn(line);
+  const std::string borders =
+      m.materialInterface > 0.0
+          ? format(", borders between materials %.1f%%)", 100.0 * m.materialInterface)
+          : std::string(")");
+  warn(line + borders);
 }
 
 // Stage 12: the baked mesh in the file's units, with what made it in a comment.

@@ -505,6 +505,7 @@ PreparedMesh prepareMeshStage(const BakeSettings& s) {
       {.path = s.meshPath, .mmPerUnit = s.mmPerUnit, .sizeMm = s.sizeMm, .quiet = s.run.quiet});
 }
 
+// The settings with another material (a part's, material_map.h).
 BakeSettings withMaterial(const BakeSettings& s, const Material& material) {
   BakeSettings out = s;
   out.material = material;

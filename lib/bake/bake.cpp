@@ -120,10 +120,13 @@ double diffusionTolerance(const BakeScene& scene, const EnergyStageReport& energ
       budgetedRays ? std::optional<double>(lighting.estimatedError) : std::nullopt);
 }
 
-// Stage 6's input. weightSums: the energy model's sums with E = 1, kept for the bounces.
+// Stage 6's input. weightSums: the energy model's sums with E = 1, kept for the bounces;
+// meshCache: the diffusion sums' octree of the mesh, kept for every later transport on it (the
+// bounces, the symmetric change, the relightable transfer), which copy this input.
 TransportInput transportInput(const BakeScene& scene, const EnergyStage& energy,
                               const EnergyStageReport& energyReport, const VertexLighting& lighting,
-                              const FarField& far, EnergyWeightSums& weightSums) {
+                              const FarField& far, EnergyWeightSums& weightSums,
+                              DiffusionMeshCache& meshCache) {
   const BakeSettings& s = scene.settings;
   return {.meshMm = scene.mesh.meshMm,
           .areasMm2 = scene.mesh.areasMm2,
@@ -137,7 +140,8 @@ TransportInput transportInput(const BakeScene& scene, const EnergyStage& energy,
           .walks = s.walks,
           .run = s.run,
           .farField = &far,
-          .weightSums = &weightSums};
+          .weightSums = &weightSums,
+          .diffusionMeshCache = &meshCache};
 }
 
 // The gather's options from the settings: the bounces and the pilot trace the same rays, weighted
@@ -187,8 +191,6 @@ Interreflection bounce(const BakeScene& scene, const TransportInput& transportIn
   const InterreflectionGather& gather = *kept;
   EnergyWeightSums wholeEscapeSums;
   TransportInput in = linearTransportInput(transportIn, direct, wholeEscapeSums);
-  DiffusionMeshCache meshCache;  // one octree for every bounce
-  in.diffusionMeshCache = &meshCache;
   const auto increment = [&](std::span<const glm::vec3> e, double looseness) {
     in.irradiance = e;
     in.diffusionTolerance =
@@ -543,9 +545,7 @@ SymmetricChange symmetricChange(const BakeScene& scene, const TransportInput& tr
                                 std::span<const float> share) {
   if (share.empty() || !scene.diffusion()) return {};
   EnergyWeightSums sums;
-  DiffusionMeshCache meshCache;
   TransportInput in = linearTransportInput(transportIn, direct, sums);
-  in.diffusionMeshCache = &meshCache;
   const std::span<const glm::vec3> all = transportIn.irradiance;
   std::vector<glm::vec3> entering(all.begin(), all.end());
   for (std::size_t i = 0; i < entering.size(); ++i) entering[i] *= share[i];
@@ -570,8 +570,9 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
   FarField far = farFieldStage(scene, energy, lighting);
   EnergyStageReport energyReport = energyForTransport(scene, energyIn, energy, far);
   EnergyWeightSums weightSums;
+  DiffusionMeshCache meshCache;
   const TransportInput transportIn =
-      transportInput(scene, energy, energyReport, lighting, far, weightSums);
+      transportInput(scene, energy, energyReport, lighting, far, weightSums, meshCache);
   VertexExitance direct = transport(transportIn);
   Interreflection bounced = interreflectionStage(scene, energy, transportIn, lighting, direct);
   SymmetricChange symmetric = symmetricChange(scene, transportIn, direct, far, share);
@@ -650,12 +651,12 @@ std::vector<BakeOutput> bakeEachMaterial(const BakeSettings& s, const PartMateri
                                          const PreparedMesh& mesh, const MaterialShares& shares,
                                          const BakeEnvironment& env) {
   std::vector<BakeOutput> bakes;
+  const bool symmetric = s.materialRule != MaterialRule::Receiver;
   for (std::size_t m = 0; m < materials.materials.size(); ++m) {
     const Material& material = materials.materials[m];
     info("material " + std::to_string(m + 1) + " of " + std::to_string(materials.materials.size()) +
              ": " + material.name + " (" + percent(shares.surface[m]) + " of the surface)",
          s.run.quiet);
-    const bool symmetric = s.materialRule != MaterialRule::Receiver;
     bakes.push_back(bakePrepared(withMaterial(s, material), mesh, env, Stopwatch(),
                                  symmetric ? shares.vertex[m] : std::span<const float>()));
   }
@@ -669,8 +670,7 @@ double borderError(const std::vector<BakeOutput>& bakes, const PartMaterials& ma
   std::vector<glm::dvec3> sigmaTr;
   for (std::size_t m = 0; m < bakes.size(); ++m) {
     radiance.push_back(bakes[m].baked.radianceNormal);
-    const Material& material = materials.materials[m];
-    sigmaTr.push_back(glm::sqrt(3.0 * material.sigmaA * (material.sigmaA + material.sigmaSPrime)));
+    sigmaTr.push_back(materials.materials[m].sigmaTr());
   }
   return materialInterfaceError(mesh.meshMm, mesh.areasMm2, shares.vertex, radiance, sigmaTr);
 }

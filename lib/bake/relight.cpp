@@ -50,8 +50,8 @@ std::vector<glm::vec3> transportedTransfer(const VisibilityTransfer& transfer,
   const std::size_t n = transfer.coefficients.size() / transfer.count;
   std::vector<glm::vec3> out(transfer.coefficients.size()), basis(n);
   TransportInput in = transportIn;
-  DiffusionMeshCache meshCache;  // one octree for every basis function
-  in.diffusionMeshCache = &meshCache;
+  DiffusionMeshCache meshCache;  // one octree for every basis function, unless the input has one
+  if (!in.diffusionMeshCache) in.diffusionMeshCache = &meshCache;
   const auto nonNegative = [&](std::span<const glm::vec3> e) {
     in.irradiance = e;
     return transport(in).exitance;

@@ -118,9 +118,9 @@ double coatWeightFor(double eta) {
 // asset.extras.sss of a lightmapped GLB (mesh/lightmapped_glb.h).
 std::string lightmapExtras(const LightmappedAsset& a, int size, const std::string& reportJson) {
   using Json = nlohmann::ordered_json;
-  const glm::dvec3 &sa = a.sigmaAPerMm, &ss = a.sigmaSPrimePerMm;
+  const glm::dvec3 &sa = a.medium.sigmaAPerMm, &ss = a.medium.sigmaSPrimePerMm;
   Json sss = {{"format", 1}, {"position_unit", "m"}, {"mm_per_unit", a.mmPerUnit}};
-  sss["material"] = {{"name", a.materialName},
+  sss["material"] = {{"name", a.medium.name},
                      {"sigma_a_per_mm", {sa.x, sa.y, sa.z}},
                      {"sigma_s_prime_per_mm", {ss.x, ss.y, ss.z}},
                      {"eta", a.eta}};
@@ -162,9 +162,7 @@ LightmappedAsset lightmappedAsset(const TextureSource& source, const Lightmap& m
       encodePng("the lightmap",
                 {.width = map.size, .height = map.size, .srgb8 = srgb.data(), .attributes = {}});
   asset.emissiveStrength = strength;
-  asset.materialName = baked.materialName;
-  asset.sigmaAPerMm = baked.sigmaA;
-  asset.sigmaSPrimePerMm = baked.sigmaSPrime;
+  asset.medium = {baked.materialName, baked.sigmaA, baked.sigmaSPrime};
   asset.eta = baked.eta;
   for (const Material& m : partMaterials)
     asset.partMedia.push_back({m.name, m.sigmaA, m.sigmaSPrime});

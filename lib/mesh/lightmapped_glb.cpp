@@ -284,7 +284,7 @@ LightmappedAsset::Medium mediumOfSlot(const LightmappedAsset& a, const MaterialS
                                       std::size_t slot) {
   for (std::size_t p = 0; p < a.partMedia.size() && p < slots.ofPart.size(); ++p)
     if (slots.ofPart[p] == slot) return a.partMedia[p];
-  return {a.materialName, a.sigmaAPerMm, a.sigmaSPrimePerMm};
+  return a.medium;
 }
 
 // The scene: a node per source node (its world transform, scaled to metres), a mesh per node.

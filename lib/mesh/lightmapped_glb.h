@@ -55,17 +55,16 @@ struct LightmappedAsset {
   std::string emissivePng;      // the lightmap's PNG bytes (sRGB, row 0 at v = 0)
   double emissiveStrength = 1;  // linear emission = emissiveStrength * decoded texel
   double coatWeight = 1;        // clearcoatFactor: reflectance c F_Schlick(mu_o, 1.5)
-  // The medium: name, coefficients per mm, relative index.
-  std::string materialName;
-  glm::dvec3 sigmaAPerMm{0.0}, sigmaSPrimePerMm{0.0};
-  double eta = 1.0;
-  // Per part (parts.parts) where the parts are of different media (a bake of several materials):
-  // each one's, written in its material's KHR_materials_volume; empty: every part the one above.
+  // A medium: its name and coefficients per mm.
   struct Medium {
     std::string name;
     glm::dvec3 sigmaAPerMm{0.0}, sigmaSPrimePerMm{0.0};
   };
+  Medium medium;
+  // Per part (parts.parts) where the parts are of different media (a bake of several materials):
+  // each one's, written in its material's KHR_materials_volume; empty: every part `medium`.
   std::vector<Medium> partMedia;
+  double eta = 1.0;        // relative index, of every part
   double thicknessM = 0;   // a typical thickness of the object in metres (KHR_materials_volume)
   std::string extrasJson;  // asset.extras.sss (a JSON object)
 };

@@ -203,7 +203,7 @@ TEST_F(BakeTexture, GlbGivesEachPartItsOwnMedium) {
   const auto doc = nlohmann::json::parse(readGlbChunks(dir_.path("ball_baked.glb")).json);
   ASSERT_EQ(doc["materials"].size(), 2u);
   const auto attenuation = [](const Material& m) {  // the colour after the shortest 1 / sigma_tr
-    const glm::dvec3 sigmaTr = glm::sqrt(3.0 * m.sigmaA * (m.sigmaA + m.sigmaSPrime));
+    const glm::dvec3 sigmaTr = m.sigmaTr();
     const double largest = std::max({sigmaTr.x, sigmaTr.y, sigmaTr.z});
     return std::pair(glm::exp(-sigmaTr / largest), 1e-3 / largest);
   };

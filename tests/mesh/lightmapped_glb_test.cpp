@@ -45,9 +45,7 @@ LightmappedAsset assetOf(const std::string& path) {
   a.mmPerUnit = a.parts.mmPerUnit;
   a.emissivePng = "not checked by the writer: stored as given";
   a.emissiveStrength = 2.5;
-  a.materialName = "marble";
-  a.sigmaAPerMm = {0.0021, 0.0041, 0.0071};
-  a.sigmaSPrimePerMm = {2.19, 2.62, 3.0};
+  a.medium = {"marble", {0.0021, 0.0041, 0.0071}, {2.19, 2.62, 3.0}};
   a.eta = 1.3;
   a.thicknessM = 0.02;
   a.extrasJson = R"({"format": 1})";

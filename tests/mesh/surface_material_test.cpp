@@ -132,9 +132,7 @@ LightmappedAsset surfaceAssetOf(const std::string& path) {
   a.mmPerUnit = a.parts.mmPerUnit;
   a.emissivePng = png(8, 8, 128);
   a.emissiveStrength = 2.0;
-  a.materialName = "skin1";
-  a.sigmaAPerMm = {0.032, 0.17, 0.48};
-  a.sigmaSPrimePerMm = {0.74, 0.88, 1.01};
+  a.medium = {"skin1", {0.032, 0.17, 0.48}, {0.74, 0.88, 1.01}};
   a.eta = 1.4;
   a.thicknessM = 0.01;
   a.extrasJson = R"({"format": 1})";

@@ -199,8 +199,11 @@ Interreflection bounce(const BakeScene& scene, const TransportInput& transportIn
   };
   // Auto: converged to a tenth of the tolerance, well inside the budget of B.
   const std::vector<glm::vec3>& directLight = lighting.transportIrradiance();
+  // Auto ends the series with its geometric tail: fewer bounces for the same error.
+  const bool automatic = s.bounces == kAutoBounces;
   BounceResult r = iterateInterreflection(gather, directLight, direct.exitance, increment,
-                                          s.bounces, 0.1 * s.tolerance);
+                                          s.bounces, 0.1 * s.tolerance,
+                                          automatic ? BounceTail::Geometric : BounceTail::None);
   InterreflectionOptions replicaOptions = options;
   replicaOptions.run.seed = options.run.seed + kReplicaSeedOffset;
   replicaOptions.vertices = pilotVertices(m.positions.size(), kPilotVertices);
@@ -220,8 +223,9 @@ Interreflection bounce(const BakeScene& scene, const TransportInput& transportIn
   out.irradiance = std::move(r.irradiance);
   out.exitance = std::move(r.exitance);
   report.enabled = true;
-  report.automatic = s.bounces == kAutoBounces;
+  report.automatic = automatic;
   report.bounces = r.bounces;
+  report.tail = r.tail;
   report.change = r.change;
   report.remaining = r.remaining;
   report.blockedFraction = gather.blockedFraction();
@@ -420,6 +424,7 @@ RelightTransfer relightStage(const BakeScene& scene, const TransportInput& trans
                        .order = s.relightOrder,
                        .rays = kRelightRays,
                        .bounces = bounces.enabled ? bounces.bounces : 0,
+                       .bounceTail = bounces.enabled && bounces.tail,
                        .gatherRays = gatherRaysOf(s),
                        .exitance = light.exitance,
                        .radianceNormal = radianceNormal,

@@ -61,6 +61,7 @@ struct InterreflectionReport {
   int pilotVertices = 0;
   double gatherNoise = 0.0;  // with bounces: predicted relative RMS noise of B from the gather
   double remaining = 0.0;    // with bounces: what the bounces not done would add (BounceResult)
+  bool tail = false;         // with bounces: their geometric tail was added (auto)
   double seconds = 0.0;
 };
 

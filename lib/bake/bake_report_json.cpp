@@ -274,6 +274,7 @@ Json toJson(const BakeReport& r) {
                           {"blocked_fraction", r.interreflection.blockedFraction},
                           {"gather_noise", r.interreflection.gatherNoise},
                           {"remaining", r.interreflection.remaining},
+                          {"geometric_tail", r.interreflection.tail},
                           {"seconds", r.interreflection.seconds}};
   if (r.interreflection.estimated) {
     j["interreflection"]["estimated_missing"] = r.interreflection.estimatedMissing;

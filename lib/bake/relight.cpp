@@ -80,16 +80,16 @@ std::vector<glm::vec3> ratios(std::span<const glm::vec3> numerator,
 
 // The transport as one word: method,tolerance,profile,energy,R_r,R_g,R_b,entry,bounces,rays
 // (shortest round-trip numbers; entry: directional or diffuse; bounces: the bake's count, 0 for
-// none; rays: the gather's per vertex).
+// none, followed by '+' where the bake added their geometric tail; rays: the gather's per vertex).
 std::string transportKey(const TransportInput& in, bool directionalEntry, int bounces,
-                         int gatherRays) {
+                         bool bounceTail, int gatherRays) {
   const glm::dvec3 r = in.energy.halfSpaceAlbedo;
   return std::string(kDiffusionMethodNames.name(diffusionMethodOf(in.method))) + "," +
          shortestDecimal(in.diffusionTolerance) + "," + in.profile.name() + "," +
          kEnergyModelNames.name(in.energy.model) + "," + shortestDecimal(r.x) + "," +
          shortestDecimal(r.y) + "," + shortestDecimal(r.z) + "," +
          kEntryModelNames.name(directionalEntry ? EntryModel::Directional : EntryModel::Diffuse) +
-         "," + std::to_string(bounces) + "," + std::to_string(gatherRays);
+         "," + std::to_string(bounces) + (bounceTail ? "+" : "") + "," + std::to_string(gatherRays);
 }
 
 }  // namespace
@@ -106,6 +106,7 @@ struct StoredTransport {
   glm::dvec3 albedo{0.0};
   EntryModel entry = EntryModel::Directional;
   int bounces = 0, gatherRays = 64;
+  bool bounceTail = false;
 };
 
 StoredTransport parseTransportKey(const std::string& path, const std::string& key,
@@ -135,6 +136,8 @@ StoredTransport parseTransportKey(const std::string& path, const std::string& ke
   t.energy = named(kEnergyModelNames, f[3]);
   t.albedo = {real(f[4]), real(f[5]), real(f[6])};
   t.entry = named(kEntryModelNames, f[7]);
+  t.bounceTail = f[8].size() > 1 && f[8].back() == '+';
+  if (t.bounceTail) f[8].pop_back();
   const double bounces = real(f[8]), rays = real(f[9]);
   if (bounces != std::floor(bounces) || bounces > 64 || rays != std::floor(rays) || rays < 1 ||
       rays > 4096)
@@ -225,7 +228,8 @@ RelightTransfer relightTransfer(const RelightInput& in) {
   out.exitancePerRadiance = ratios(in.exitance, in.radianceNormal, 1.0f / exitScale);
   if (in.transport.energy.model == EnergyModel::Escape)
     out.escapeProbability = in.transport.energy.escape.probability;
-  out.relightTransport = transportKey(in.transport, in.entry != nullptr, in.bounces, in.gatherRays);
+  out.relightTransport =
+      transportKey(in.transport, in.entry != nullptr, in.bounces, in.bounceTail, in.gatherRays);
   report.order = in.order;
   report.coefficients = transfer.count;
   report.rays = in.rays;
@@ -288,7 +292,8 @@ class RelightSession::Context {
       return transportRun_(e, *environment_, looseness);
     };
     return iterateInterreflection(gather(), light, std::move(direct), increment, stored_.bounces,
-                                  0.0)
+                                  0.0,
+                                  stored_.bounceTail ? BounceTail::Geometric : BounceTail::None)
         .exitance;
   }
 

@@ -151,4 +151,27 @@ void TriangleScene::occluded(std::span<const OcclusionRay> rays, std::vector<cha
   for (std::size_t k = 0; k < rays.size(); ++k) blocked[k] = stream[k].tfar < 0.0f;
 }
 
+void TriangleScene::intersect(std::span<const OcclusionRay> rays,
+                              std::vector<SceneHit>& hits) const {
+  thread_local std::vector<RTCRayHit> stream;
+  stream.resize(rays.size());
+  for (std::size_t k = 0; k < rays.size(); ++k) {
+    stream[k].ray = makeRay(rays[k].origin, rays[k].direction, rays[k].tNear, rays[k].tFar,
+                            static_cast<unsigned>(k));
+    stream[k].hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    stream[k].hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  }
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+  rtcIntersect1M(impl_->scene, &context, stream.data(), static_cast<unsigned>(stream.size()),
+                 sizeof(RTCRayHit));
+  hits.assign(rays.size(), SceneHit{});
+  for (std::size_t k = 0; k < rays.size(); ++k) {
+    const RTCRayHit& rh = stream[k];
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+    hits[k] = {rh.ray.tfar, faceNormals_[rh.hit.primID], rh.hit.primID, true};
+  }
+}
+
 }  // namespace sss

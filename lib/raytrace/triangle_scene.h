@@ -31,7 +31,8 @@ inline float surfaceRayOffset(const glm::vec3& p, float extent) {
   return 2e-5f * std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z), extent});
 }
 
-// One ray of an occlusion stream: blocked if the mesh meets it within (tNear, tFar).
+// One ray of a stream: blocked if the mesh meets it within (tNear, tFar); for intersect, the
+// nearest hit there.
 struct OcclusionRay {
   glm::vec3 origin{0.0f};
   glm::vec3 direction{0.0f};
@@ -81,6 +82,9 @@ class TriangleScene {
   // Occlusion of a batch of incoherent rays as one Embree stream (rtcOccluded1M), cheaper than
   // one query per ray; blocked[k] = 1 if rays[k] is occluded, else 0. Thread-safe.
   void occluded(std::span<const OcclusionRay> rays, std::vector<char>& blocked) const;
+  // The nearest hits of a batch of incoherent rays as one stream (rtcIntersect1M); hits[k] for
+  // rays[k]. Thread-safe.
+  void intersect(std::span<const OcclusionRay> rays, std::vector<SceneHit>& hits) const;
 
   // A length for ray offsets: 4e-6 of the larger of the bounding box diagonal and the largest
   // coordinate magnitude (~70 float spacings there).

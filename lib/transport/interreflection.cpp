@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
+#include <optional>
+#include <utility>
 
 #include <glm/geometric.hpp>
 
@@ -42,11 +45,10 @@ struct SurfaceHit {
   float mu = 0.0f;  // cosine between the normal and -direction
 };
 
-SurfaceHit traceSurface(const TriangleScene& scene, std::span<const glm::vec3> positions,
+SurfaceHit surfaceHitOf(const SceneHit& hit, std::span<const glm::vec3> positions,
                         std::span<const glm::vec3> normals, std::span<const glm::uvec3> triangles,
-                        const glm::vec3& origin, const glm::vec3& direction, float offset) {
+                        const glm::vec3& origin, const glm::vec3& direction) {
   SurfaceHit s;
-  const SceneHit hit = scene.intersect(origin, direction, offset);
   if (!hit.hit) return s;
   s.hit = true;
   s.vertices = triangles[hit.triangle];
@@ -64,6 +66,15 @@ SurfaceHit traceSurface(const TriangleScene& scene, std::span<const glm::vec3> p
   s.valid = s.mu > 0.0f;  // else the back of a surface: no light leaves towards the origin
   return s;
 }
+
+// One vertex's gather rays as streams (TriangleScene::intersect): the first hits, then the
+// mirror rays of those that met the front of a surface. Reused per thread.
+struct GatherStreams {
+  std::vector<OcclusionRay> rays, mirrorRays;
+  std::vector<glm::vec3> entry;  // per ray: pi / N F_t w / pdf over the facets (the throughput)
+  std::vector<SceneHit> hits, mirrorHits;
+  std::vector<SurfaceHit> firsts;
+};
 
 }  // namespace
 
@@ -89,26 +100,23 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
   std::vector<std::vector<Mirror>> perVertexMirrors(options.keepMirrors ? n : 0);
   std::atomic<uint64_t> blocked{0};
   // The light leaving a hit towards where the ray came from: its exit radiance from B, and the
-  // sky it mirrors; where the mirror direction meets the object again, the light leaving that
-  // second hit instead (its exit radiance and its mirrored sky: one specular bounce more, which
-  // keeps a white furnace at 1 up to third-order mirror paths).
+  // sky it mirrors; where the mirror direction meets the object again (`second`, the mirror ray's
+  // hit; null for a second hit itself), the light leaving that second hit instead (its exit
+  // radiance and its mirrored sky: one specular bounce more, which keeps a white furnace at 1 up
+  // to third-order mirror paths).
   const auto addHit = [&](uint32_t v, const SurfaceHit& h, const glm::vec3& incoming,
-                          const glm::vec3& throughput, bool followMirror) {
-    const bool sameRay = !followMirror;  // the second hit continues the first's ray
+                          const glm::vec3& throughput, const SurfaceHit* second) {
     const glm::vec3 mirror = incoming + 2.0f * h.mu * h.normal;
     const float fr = fresnelDielectric(h.mu, eta);
-    const float offset = surfaceRayOffset(h.point, extent);
-    const SurfaceHit second = followMirror
-                                  ? traceSurface(scene, positions, normals, triangles,
-                                                 h.point + offset * h.faceNormal, mirror, offset)
-                                  : SurfaceHit{};
-    const bool open = !followMirror || (!second.hit && glm::dot(mirror, h.faceNormal) > 0.0f);
+    const bool open = !second || (!second->hit && glm::dot(mirror, h.faceNormal) > 0.0f);
     const glm::vec3 mirrorWeight = open ? throughput * fr : glm::vec3(0.0f);
     perVertex[v].push_back(
         {h.vertices, h.barycentric, throughput * fresnelTransmittance(h.mu, eta) * exitScale,
-         open ? mirrorWeight * mirrorSky.sample(mirror) : glm::vec3(0.0f), sameRay});
+         open ? mirrorWeight * mirrorSky.sample(mirror) : glm::vec3(0.0f), second == nullptr});
     if (options.keepMirrors) perVertexMirrors[v].push_back({mirror, mirrorWeight});
-    return std::make_pair(second, mirror);
+  };
+  const auto mirrorOf = [](const SurfaceHit& h, const glm::vec3& incoming) {
+    return incoming + 2.0f * h.mu * h.normal;
   };
   std::vector<uint32_t> traced = options.vertices;
   if (traced.empty()) {
@@ -118,6 +126,7 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
   for (const uint32_t v : traced)
     if (v >= n) fail("", "interreflection: a traced vertex is not in the mesh");
   parallelFor(traced.size(), options.run.threads, 64, [&](std::size_t begin, std::size_t end) {
+    thread_local GatherStreams g;
     uint64_t count = 0;
     for (std::size_t i = begin; i < end; ++i) {
       const uint32_t v = traced[i];
@@ -125,6 +134,8 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
       const float r0 = rng.uniform(), r1 = rng.uniform();
       const glm::vec3 nv = normals[v], p = positions[v];
       const float offset = surfaceRayOffset(p, extent);
+      g.rays.clear();
+      g.entry.clear();
       for (uint32_t j = 0; j < rays; ++j) {
         float u1, u2;
         hammersley(j, rays, r0, r1, u1, u2);
@@ -132,15 +143,35 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
         const glm::vec3 w = sampleFacetCosine(facets, v, nv, u1, u2);
         const FacetIntake intake = facetIntake(facets, v, nv, w, eta, &weight);
         if (!(intake.transmitted > 0.0f)) continue;
-        const SurfaceHit first =
-            traceSurface(scene, positions, normals, triangles, p + offset * nv, w, offset);
-        if (!first.hit) continue;
-        ++count;
+        g.rays.push_back({p + offset * nv, w, offset, std::numeric_limits<float>::infinity()});
+        g.entry.push_back(perRay / intake.cosinePdf * intake.entryWeighted);
+      }
+      scene.intersect(g.rays, g.hits);
+      g.firsts.clear();
+      g.mirrorRays.clear();
+      for (std::size_t k = 0; k < g.rays.size(); ++k) {
+        const OcclusionRay& ray = g.rays[k];
+        g.firsts.push_back(
+            surfaceHitOf(g.hits[k], positions, normals, triangles, ray.origin, ray.direction));
+        const SurfaceHit& first = g.firsts.back();
+        count += first.hit;
         if (!first.valid) continue;
-        const glm::vec3 entry = perRay / intake.cosinePdf * intake.entryWeighted;
-        const auto [second, mirror] = addHit(v, first, w, entry, true);
+        const float o = surfaceRayOffset(first.point, extent);
+        g.mirrorRays.push_back({first.point + o * first.faceNormal, mirrorOf(first, ray.direction),
+                                o, std::numeric_limits<float>::infinity()});
+      }
+      scene.intersect(g.mirrorRays, g.mirrorHits);
+      std::size_t m = 0;
+      for (std::size_t k = 0; k < g.rays.size(); ++k) {
+        const SurfaceHit& first = g.firsts[k];
+        if (!first.valid) continue;
+        const OcclusionRay& mirrorRay = g.mirrorRays[m];
+        const SurfaceHit second = surfaceHitOf(g.mirrorHits[m++], positions, normals, triangles,
+                                               mirrorRay.origin, mirrorRay.direction);
+        addHit(v, first, g.rays[k].direction, g.entry[k], &second);
         if (second.valid)
-          addHit(v, second, mirror, entry * fresnelDielectric(first.mu, eta), false);
+          addHit(v, second, mirrorRay.direction, g.entry[k] * fresnelDielectric(first.mu, eta),
+                 nullptr);
       }
     }
     blocked += count;
@@ -327,11 +358,61 @@ double predictGatherNoise(const InterreflectionGather& gather, const Interreflec
   return std::sqrt(noise / std::max(effectiveVertices, 1.0) / squaredB);
 }
 
+namespace {
+
+// Per vertex and channel the ratio last / previous of two increments, capped at kMaxTailRatio; 0
+// where the previous one is 0.
+constexpr double kMaxTailRatio = 0.95;
+
+glm::dvec3 ratioOf(const glm::vec3& previous, const glm::vec3& last) {
+  glm::dvec3 r(0.0);
+  for (int c = 0; c < 3; ++c)
+    if (previous[c] > 0.0f) r[c] = std::clamp(double(last[c]) / previous[c], 0.0, kMaxTailRatio);
+  return r;
+}
+
+}  // namespace
+
+GeometricTail bounceTail(std::span<const glm::vec3> earlier, std::span<const glm::vec3> previous,
+                         std::span<const glm::vec3> last, std::span<const glm::vec3> lastLight) {
+  const std::size_t n = last.size();
+  if (previous.size() != n || lastLight.size() != n || (!earlier.empty() && earlier.size() != n))
+    fail("", "interreflection: the tail needs its increments and light per vertex");
+  GeometricTail t{std::vector<glm::vec3>(n), std::vector<glm::vec3>(n), 0.0};
+  double squares = 0.0;  // of the tail's change between the two ratios (or of the tail)
+  for (std::size_t v = 0; v < n; ++v) {
+    const glm::dvec3 rho = ratioOf(previous[v], last[v]);
+    const glm::dvec3 tail = glm::dvec3(last[v]) * rho / (1.0 - rho);
+    t.exitance[v] = glm::vec3(tail);
+    t.irradiance[v] = glm::vec3(glm::dvec3(lastLight[v]) * rho / (1.0 - rho));
+    glm::dvec3 d = tail;
+    if (!earlier.empty()) {
+      const glm::dvec3 before = ratioOf(earlier[v], previous[v]);
+      d -= glm::dvec3(last[v]) * before / (1.0 - before);
+    }
+    squares += glm::dot(d, d);
+  }
+  t.error = std::sqrt(squares / double(std::max<std::size_t>(n, 1)));
+  return t;
+}
+
+namespace {
+
+void addTo(std::vector<glm::vec3>& sum, std::span<const glm::vec3> x) {
+  for (std::size_t v = 0; v < sum.size(); ++v) sum[v] += x[v];
+}
+
+double rms(std::span<const glm::vec3> values) {
+  return std::sqrt(squaredNorm(values) / double(std::max<std::size_t>(values.size(), 1)));
+}
+
+}  // namespace
+
 BounceResult iterateInterreflection(const InterreflectionGather& gather,
                                     std::span<const glm::vec3> direct,
                                     std::vector<glm::vec3> initial,
                                     const BounceTransport& increment, int maxBounces,
-                                    double tolerance) {
+                                    double tolerance, BounceTail tail) {
   constexpr int kAutoBounceLimit = 64;
   const std::size_t n = direct.size();
   if (initial.size() != n) fail("", "interreflection: one initial exitance per vertex needed");
@@ -339,26 +420,39 @@ BounceResult iterateInterreflection(const InterreflectionGather& gather,
   r.irradiance.assign(direct.begin(), direct.end());
   r.exitance = std::move(initial);
   std::vector<glm::vec3> added = r.exitance;  // what the last bounce added to B (B_0 at first)
+  std::vector<glm::vec3> previous, earlier, light;  // dB_(k-1), dB_(k-2); dE_k
   const double directSquares = squaredNorm(direct);
   double lastLight = 0.0;  // |dE_k|^2 of the last bounce
   const int limit = maxBounces > 0 ? maxBounces : kAutoBounceLimit;
+  const bool geometric = tail == BounceTail::Geometric;
+  std::optional<GeometricTail> extrapolated;
   for (int bounce = 0; bounce < limit; ++bounce) {
-    const std::vector<glm::vec3> light = gather.gather(added, nullptr, bounce == 0);
+    light = gather.gather(added, nullptr, bounce == 0);
     lastLight = squaredNorm(light);
     const double share = std::sqrt(lastLight / std::max(directSquares, 1e-300));
     const double looseness = std::max(1.0, std::ldexp(1.0, -(bounce + 2)) / share);
-    added = increment(light, looseness);
+    earlier = std::exchange(previous, std::exchange(added, increment(light, looseness)));
     if (added.size() != n) fail("", "interreflection: one exitance per vertex needed");
     const double before = squaredNorm(r.exitance);  // |B_(k-1)|^2
-    for (std::size_t v = 0; v < n; ++v) {
-      r.irradiance[v] += light[v];
-      r.exitance[v] += added[v];
-    }
+    addTo(r.irradiance, light);
+    addTo(r.exitance, added);
     r.change = before > 0.0 ? std::sqrt(squaredNorm(added) / before) : 0.0;
     r.bounces = bounce + 1;
-    if (maxBounces <= 0 && r.change < tolerance) break;
+    // The tail needs two increments of the bounces' own light (dB_0 is the direct light's B).
+    if (geometric && r.bounces >= 2)
+      extrapolated =
+          bounceTail(r.bounces >= 3 ? earlier : std::vector<glm::vec3>{}, previous, added, light);
+    if (maxBounces > 0) continue;
+    if (extrapolated && extrapolated->error < tolerance * rms(r.exitance)) break;
+    if (r.change < tolerance) break;
   }
-  if (r.bounces > 0 && lastLight > 0.0) {
+  if (extrapolated) {
+    addTo(r.irradiance, extrapolated->irradiance);
+    addTo(r.exitance, extrapolated->exitance);
+    const double b = rms(r.exitance);
+    r.remaining = b > 0.0 ? extrapolated->error / b : 0.0;
+    r.tail = true;
+  } else if (r.bounces > 0 && lastLight > 0.0) {
     const double ratio = std::sqrt(squaredNorm(gather.gather(added, nullptr, false)) / lastLight);
     const double rho = std::min(ratio, 0.95);
     r.remaining = r.change * rho / (1.0 - rho);

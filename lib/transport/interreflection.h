@@ -93,15 +93,37 @@ class InterreflectionGather {
 };
 
 struct BounceResult {
-  std::vector<glm::vec3> irradiance;  // E_direct + E_ir of the last bounce
+  std::vector<glm::vec3> irradiance;  // E_direct + E_ir of the last bounce (and the tail)
   std::vector<glm::vec3> exitance;    // B = transport(irradiance)
   int bounces = 0;                    // gathers done
   double change = 0.0;                // relative RMS change of B at the last bounce
-  // What the bounces not done would still add, relative RMS against B: the last change times
-  // rho / (1 - rho), the series' ratio rho estimated by one more gather (no transport) as
-  // |gather(dB_k)| / |dE_k|, capped at 0.95.
+  // What the bounces not done would still add, relative RMS against B. Without a tail: the last
+  // change times rho / (1 - rho), the series' ratio rho estimated by one more gather (no
+  // transport) as |gather(dB_k)| / |dE_k|, capped at 0.95. With the geometric tail: its error
+  // (bounceTail).
   double remaining = 0.0;
+  bool tail = false;  // the geometric tail was added
 };
+
+// What follows the last bounce done. None: nothing (B holds the bounces done). Geometric: the
+// rest of the series as a geometric one (bounceTail), so that the bounces can stop once the
+// series' ratios have settled rather than once its terms are small.
+enum class BounceTail { None, Geometric };
+
+// The geometric tail of the bounces' series (Aitken's extrapolation of a power iteration): once
+// the increments dB_k shrink by a steady ratio rho per bounce, the bounces still to come add
+// dB_k rho / (1 - rho), and their light dE_k rho / (1 - rho). rho is taken per vertex and channel,
+// the ratio of the last two increments (capped at 0.95): a concavity's light decays by its own
+// ratio (how much of its sky the object fills there, and the albedo per channel), and one ratio
+// for the whole object leaves the deep ones short. The error returned is how much the tail moves
+// between the ratios of the last two pairs of increments (`earlier`, dB_(k-2), empty where there
+// is none: then the whole tail), absolute RMS in B's units: small once the ratios have settled.
+struct GeometricTail {
+  std::vector<glm::vec3> exitance, irradiance;  // what the tail adds to B and E
+  double error = 0.0;
+};
+GeometricTail bounceTail(std::span<const glm::vec3> earlier, std::span<const glm::vec3> previous,
+                         std::span<const glm::vec3> last, std::span<const glm::vec3> lastLight);
 
 // Without bounces, how much the light the object sends itself would change B, estimated at the
 // traced vertices of a pilot gather (InterreflectionOptions::vertices) from one gather of the
@@ -166,10 +188,12 @@ using BounceTransport =
 // the increments, small against B, need less precision: bounce k (from 1) allows a looseness of
 // 2^-(k+1) / s_k, s_k the relative RMS of dE_k against E_direct (at least 1), so that their errors
 // add up to at most half of the transport's own, even all in one direction.
+// With BounceTail::Geometric, from the second bounce on, the tail is added after the last bounce:
+// auto stops once the tail's error is below tolerance (relative RMS against B) or the change is.
 BounceResult iterateInterreflection(const InterreflectionGather& gather,
                                     std::span<const glm::vec3> direct,
                                     std::vector<glm::vec3> initial,
                                     const BounceTransport& increment, int maxBounces,
-                                    double tolerance);
+                                    double tolerance, BounceTail tail = BounceTail::None);
 
 }  // namespace sss

@@ -68,6 +68,9 @@ LightingInput lightingInput(const BakeScene& scene, const EnergyStage& energy) {
           .visibilityBudget = scene.budget.visibilityBudget(escape),
           .visibilityShare = scene.budget.visibilityShare(escape),
           .tolerance = s.tolerance,
+          // The bounces' gather takes the visibility's cosine rays (interreflection.h) up to
+          // twice its own count; above, it traces its own.
+          .keepCosineHitsUpTo = s.bounces != 0 ? 2 * gatherRaysOf(s) : 0,
           .run = s.run};
 }
 
@@ -151,7 +154,8 @@ InterreflectionOptions interreflectionOptions(const BakeScene& scene,
   const BakeSettings& s = scene.settings;
   return {.rays = gatherRaysOf(s),
           .entry = lighting.entryWeighted.empty() ? nullptr : &scene.entryWeight,
-          .run = s.run};
+          .run = s.run,
+          .visibilityCosineRays = lighting.cosineHits.perVertex};
 }
 
 // The interreflection pilot's vertices (spread over the mesh): the estimate without bounces, and
@@ -184,7 +188,9 @@ Interreflection bounce(const BakeScene& scene, const TransportInput& transportIn
   const Stopwatch clock;
   const BakeSettings& s = scene.settings;
   const TriangleMesh& m = scene.mesh.meshMm;
-  const InterreflectionOptions options = interreflectionOptions(scene, lighting);
+  InterreflectionOptions options = interreflectionOptions(scene, lighting);
+  // One ray set, both uses: the visibility's cosine rays that met the object, not traced again.
+  if (lighting.cosineHits.perVertex > 0) options.traced = &lighting.cosineHits;
   const float eta = float(s.material.eta);
   const auto kept = std::make_shared<InterreflectionGather>(m.positions, m.normals, m.triangles,
                                                             scene.radiance, eta, options);
@@ -204,7 +210,9 @@ Interreflection bounce(const BakeScene& scene, const TransportInput& transportIn
   BounceResult r = iterateInterreflection(gather, directLight, direct.exitance, increment,
                                           s.bounces, 0.1 * s.tolerance,
                                           automatic ? BounceTail::Geometric : BounceTail::None);
+  // The replica: the same rays with another seed, traced for it.
   InterreflectionOptions replicaOptions = options;
+  replicaOptions.traced = nullptr;
   replicaOptions.run.seed = options.run.seed + kReplicaSeedOffset;
   replicaOptions.vertices = pilotVertices(m.positions.size(), kPilotVertices);
   const InterreflectionGather replica(m.positions, m.normals, m.triangles, scene.radiance, eta,
@@ -226,6 +234,8 @@ Interreflection bounce(const BakeScene& scene, const TransportInput& transportIn
   report.automatic = automatic;
   report.bounces = r.bounces;
   report.tail = r.tail;
+  report.gatherRays = gather.rays();
+  report.reusedRays = gather.visibilityCosineRays();
   report.change = r.change;
   report.remaining = r.remaining;
   report.blockedFraction = gather.blockedFraction();
@@ -425,7 +435,8 @@ RelightTransfer relightStage(const BakeScene& scene, const TransportInput& trans
                        .rays = kRelightRays,
                        .bounces = bounces.enabled ? bounces.bounces : 0,
                        .bounceTail = bounces.enabled && bounces.tail,
-                       .gatherRays = gatherRaysOf(s),
+                       .gatherRays = bounces.enabled ? bounces.gatherRays : gatherRaysOf(s),
+                       .gatherVisibilityRays = bounces.enabled ? bounces.reusedRays : 0,
                        .exitance = light.exitance,
                        .radianceNormal = radianceNormal,
                        .run = s.run});

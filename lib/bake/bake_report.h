@@ -62,6 +62,8 @@ struct InterreflectionReport {
   double gatherNoise = 0.0;  // with bounces: predicted relative RMS noise of B from the gather
   double remaining = 0.0;    // with bounces: what the bounces not done would add (BounceResult)
   bool tail = false;         // with bounces: their geometric tail was added (auto)
+  int gatherRays = 0;        // with bounces: the gather's rays per vertex
+  int reusedRays = 0;        // of them, the visibility's cosine rays (0: all traced for it)
   double seconds = 0.0;
 };
 

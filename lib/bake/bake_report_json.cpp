@@ -275,6 +275,8 @@ Json toJson(const BakeReport& r) {
                           {"gather_noise", r.interreflection.gatherNoise},
                           {"remaining", r.interreflection.remaining},
                           {"geometric_tail", r.interreflection.tail},
+                          {"gather_rays", r.interreflection.gatherRays},
+                          {"gather_rays_reused", r.interreflection.reusedRays},
                           {"seconds", r.interreflection.seconds}};
   if (r.interreflection.estimated) {
     j["interreflection"]["estimated_missing"] = r.interreflection.estimatedMissing;

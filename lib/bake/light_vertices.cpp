@@ -52,12 +52,14 @@ std::string samplesReason(const LightingInput& in, double error, double share) {
 
 // E with the mesh's own shadows, the ray count from the pilot's noise model when auto.
 std::vector<glm::vec3> lightWithRays(const LightingInput& in, LightingReport& report,
-                                     std::vector<glm::vec3>& entryWeighted) {
+                                     std::vector<glm::vec3>& entryWeighted,
+                                     CosineHits& cosineHits) {
   RayLightingReport& rays = report.rays;
   VisibilityOptions options;
   options.samples = in.samples;
   options.run = in.run;
   options.entry = in.entry;
+  options.keepCosineHitsUpTo = in.keepCosineHitsUpTo;
   options.pilot = VisibilityPilotOptions{};
   options.chooseSamples = [&](const VisibilityPilot& pilot) {
     const Stopwatch clock;
@@ -78,6 +80,8 @@ std::vector<glm::vec3> lightWithRays(const LightingInput& in, LightingReport& re
   rays.irradianceError = rays.noiseModel.irradianceErrorAt(rays.visibility.pilot, rays.samples);
   rays.budget = in.samples == 0 ? in.visibilityBudget : in.tolerance;
   entryWeighted = std::move(rays.visibility.entryWeighted);
+  cosineHits = std::move(rays.visibility.cosineHits);
+  rays.visibility.cosineHits = {};
   return e;
 }
 
@@ -89,7 +93,7 @@ VertexLighting lightVertices(const LightingInput& in) {
   out.report.mode = in.mode;
   out.irradiance = in.mode == VisibilityMode::None
                        ? lightFromCubemap(in, out.report)
-                       : lightWithRays(in, out.report, out.entryWeighted);
+                       : lightWithRays(in, out.report, out.entryWeighted, out.cosineHits);
   out.report.entry = out.entryWeighted.empty() ? EntryModel::Diffuse : EntryModel::Directional;
   out.report.seconds = clock.seconds();
   info("irradiance (" + std::string(kVisibilityModeNames.name(in.mode)) +

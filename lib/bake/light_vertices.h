@@ -37,6 +37,9 @@ struct LightingInput {
   double visibilityBudget = 0.0;  // auto samples: the noise in B the rays may leave
   double visibilityShare = 0.0;   // the same as a share of the tolerance (for the report)
   double tolerance = 0.01;        // the irradiance cubemap's (mode none)
+  // Rays: keep the cosine rays that meet the mesh for the bounces' gather when there are at most
+  // this many per vertex (VisibilityOptions::keepCosineHitsUpTo); 0: never.
+  int keepCosineHitsUpTo = 0;
   RunContext run;
 };
 
@@ -77,6 +80,7 @@ struct VertexLighting {
   const std::vector<glm::vec3>& transportIrradiance() const {
     return entryWeighted.empty() ? irradiance : entryWeighted;
   }
+  CosineHits cosineHits;  // per LightingInput::keepCosineHitsUpTo, else empty
   LightingReport report;
 };
 

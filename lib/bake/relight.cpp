@@ -80,16 +80,20 @@ std::vector<glm::vec3> ratios(std::span<const glm::vec3> numerator,
 
 // The transport as one word: method,tolerance,profile,energy,R_r,R_g,R_b,entry,bounces,rays
 // (shortest round-trip numbers; entry: directional or diffuse; bounces: the bake's count, 0 for
-// none, followed by '+' where the bake added their geometric tail; rays: the gather's per vertex).
+// none, followed by '+' where the bake added their geometric tail; rays: the gather's per vertex,
+// followed by ':N' where the first N are the visibility's cosine set).
 std::string transportKey(const TransportInput& in, bool directionalEntry, int bounces,
-                         bool bounceTail, int gatherRays) {
+                         bool bounceTail, int gatherRays, int gatherVisibilityRays) {
   const glm::dvec3 r = in.energy.halfSpaceAlbedo;
+  std::string visibilitySet;
+  if (gatherVisibilityRays > 0) visibilitySet = ':' + std::to_string(gatherVisibilityRays);
   return std::string(kDiffusionMethodNames.name(diffusionMethodOf(in.method))) + "," +
          shortestDecimal(in.diffusionTolerance) + "," + in.profile.name() + "," +
          kEnergyModelNames.name(in.energy.model) + "," + shortestDecimal(r.x) + "," +
          shortestDecimal(r.y) + "," + shortestDecimal(r.z) + "," +
          kEntryModelNames.name(directionalEntry ? EntryModel::Directional : EntryModel::Diffuse) +
-         "," + std::to_string(bounces) + (bounceTail ? "+" : "") + "," + std::to_string(gatherRays);
+         "," + std::to_string(bounces) + (bounceTail ? "+" : "") + "," +
+         std::to_string(gatherRays) + visibilitySet;
 }
 
 }  // namespace
@@ -105,7 +109,7 @@ struct StoredTransport {
   EnergyModel energy = EnergyModel::HalfSpace;
   glm::dvec3 albedo{0.0};
   EntryModel entry = EntryModel::Directional;
-  int bounces = 0, gatherRays = 64;
+  int bounces = 0, gatherRays = 64, gatherVisibilityRays = 0;
   bool bounceTail = false;
 };
 
@@ -138,7 +142,13 @@ StoredTransport parseTransportKey(const std::string& path, const std::string& ke
   t.entry = named(kEntryModelNames, f[7]);
   t.bounceTail = f[8].size() > 1 && f[8].back() == '+';
   if (t.bounceTail) f[8].pop_back();
+  const std::size_t colon = f[9].find(':');
+  const double visibilityRays = colon == std::string::npos ? 0.0 : real(f[9].substr(colon + 1));
+  if (colon != std::string::npos) f[9].resize(colon);
   const double bounces = real(f[8]), rays = real(f[9]);
+  if (visibilityRays != std::floor(visibilityRays) || visibilityRays > 4096)
+    fail(path, "bad relight_transport '" + key + "'");
+  t.gatherVisibilityRays = int(visibilityRays);
   if (bounces != std::floor(bounces) || bounces > 64 || rays != std::floor(rays) || rays < 1 ||
       rays > 4096)
     fail(path, "bad relight_transport '" + key + "'");
@@ -228,8 +238,8 @@ RelightTransfer relightTransfer(const RelightInput& in) {
   out.exitancePerRadiance = ratios(in.exitance, in.radianceNormal, 1.0f / exitScale);
   if (in.transport.energy.model == EnergyModel::Escape)
     out.escapeProbability = in.transport.energy.escape.probability;
-  out.relightTransport =
-      transportKey(in.transport, in.entry != nullptr, in.bounces, in.bounceTail, in.gatherRays);
+  out.relightTransport = transportKey(in.transport, in.entry != nullptr, in.bounces, in.bounceTail,
+                                      in.gatherRays, in.gatherVisibilityRays);
   report.order = in.order;
   report.coefficients = transfer.count;
   report.rays = in.rays;
@@ -325,8 +335,11 @@ class RelightSession::Context {
       const TriangleMesh& m = bake_.meshMm;
       gather_ = std::make_shared<InterreflectionGather>(
           m.positions, m.normals, m.triangles, *environment_, float(bake_.material.eta),
-          InterreflectionOptions{
-              .rays = stored_.gatherRays, .entry = entry_, .run = run_, .keepMirrors = reusable_});
+          InterreflectionOptions{.rays = stored_.gatherRays,
+                                 .entry = entry_,
+                                 .run = run_,
+                                 .keepMirrors = reusable_,
+                                 .visibilityCosineRays = stored_.gatherVisibilityRays});
     }
     return *gather_;
   }

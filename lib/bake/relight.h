@@ -58,9 +58,10 @@ struct RelightInput {
   const DirectionalAlbedoWeight* entry = nullptr;  // the transport's, null for diffuse entry
   int order = kDefaultRelightOrder;
   int rays = kRelightRays;
-  int bounces = 0;          // the bake's (interreflection.h), done again at relight time
-  bool bounceTail = false;  // the bake ended its bounces with their geometric tail
-  int gatherRays = 64;      // the bounces' gather rays per vertex
+  int bounces = 0;               // the bake's (interreflection.h), done again at relight time
+  bool bounceTail = false;       // the bake ended its bounces with their geometric tail
+  int gatherRays = 64;           // the bounces' gather rays per vertex
+  int gatherVisibilityRays = 0;  // of them, the visibility's cosine set (InterreflectionOptions)
   std::span<const glm::vec3> exitance;        // the bake's B (with its bounces)
   std::span<const glm::vec3> radianceNormal;  // its radiance along the normal
   RunContext run{};

@@ -41,7 +41,8 @@ void validateInput(std::size_t vertexCount, std::span<const glm::vec3> normals,
 
 struct FullPass {
   std::vector<glm::vec3> irradiance, entryWeighted;
-  std::vector<float> relativeVariance;  // < 0: unlit vertex
+  std::vector<std::vector<CosineHit>> cosineHits;  // per vertex, when kept
+  std::vector<float> relativeVariance;             // < 0: unlit vertex
   uint64_t rays = 0, occluded = 0;
   double seconds = 0.0;
 };
@@ -53,11 +54,16 @@ FullPass traceAllVertices(std::size_t vertexCount, int samples, const Visibility
   pass.irradiance.assign(vertexCount, glm::vec3(0.0f));
   if (options.entry) pass.entryWeighted.assign(vertexCount, glm::vec3(0.0f));
   pass.relativeVariance.assign(vertexCount, -1.0f);
+  const uint32_t cosineSamples = static_cast<uint32_t>(samples) - (samples + 1) / 2;
+  const bool keep = options.keepCosineHitsUpTo > 0 &&
+                    cosineSamples <= static_cast<uint32_t>(options.keepCosineHitsUpTo);
+  if (keep) pass.cosineHits.resize(vertexCount);
   std::atomic<uint64_t> totalRays{0}, totalOccluded{0};
   Progress progress("visibility", vertexCount, options.run.quiet);
   Stopwatch traceClock;
   parallelFor(vertexCount, options.run.threads, 256, [&](std::size_t begin, std::size_t end) {
     VertexEstimator estimator = makeEstimator();
+    estimator.keepCosineHits(keep);
     uint64_t rays = 0, occluded = 0;
     for (std::size_t v = begin; v < end; ++v) {
       Pcg32 rng(options.run.seed, v);
@@ -65,6 +71,7 @@ FullPass traceAllVertices(std::size_t vertexCount, int samples, const Visibility
       pass.irradiance[v] = e.irradiance;
       if (options.entry) pass.entryWeighted[v] = e.entryWeighted;
       pass.relativeVariance[v] = e.relativeVariance;
+      if (keep) pass.cosineHits[v] = estimator.cosineHits();
       rays += e.rays;
       occluded += e.occluded;
     }
@@ -77,6 +84,22 @@ FullPass traceAllVertices(std::size_t vertexCount, int samples, const Visibility
   pass.rays = totalRays;
   pass.occluded = totalOccluded;
   return pass;
+}
+
+// The kept cosine hits, one array with offsets.
+CosineHits flatten(std::vector<std::vector<CosineHit>>& perVertex, int samples) {
+  CosineHits out;
+  if (perVertex.empty()) return out;
+  out.perVertex = samples - (samples + 1) / 2;
+  out.offsets.assign(perVertex.size() + 1, 0);
+  for (std::size_t v = 0; v < perVertex.size(); ++v)
+    out.offsets[v + 1] = out.offsets[v] + static_cast<uint32_t>(perVertex[v].size());
+  out.hits.reserve(out.offsets.back());
+  for (auto& hits : perVertex) {
+    out.hits.insert(out.hits.end(), hits.begin(), hits.end());
+    std::vector<CosineHit>().swap(hits);
+  }
+  return out;
 }
 
 // Root mean square of the lit vertices' relative variances.
@@ -137,6 +160,7 @@ std::vector<glm::vec3> transmittedIrradianceWithVisibility(std::span<const glm::
     report->samples = samples;
     report->pilot = std::move(pilot);
     report->entryWeighted = std::move(pass.entryWeighted);
+    report->cosineHits = flatten(pass.cosineHits, samples);
   }
   return std::move(pass.irradiance);
 }

@@ -43,6 +43,7 @@
 
 #include "core/run_context.h"
 #include "envmap/cubemap.h"
+#include "lighting/cosine_hits.h"
 #include "lighting/visibility_pilot.h"
 #include "material/directional_albedo_weight.h"
 
@@ -60,6 +61,9 @@ struct VisibilityOptions {
   // unoccluded_intake.h): the rays estimate only the blocked fraction. false: the plain sum of
   // the unblocked samples (the tests' comparison).
   bool ratioToUnoccluded = true;
+  // Keep the cosine rays that meet the mesh (CosineHits) when the full pass's cosine samples per
+  // vertex are at most this many (their memory and the gather's work grow with them); 0: never.
+  int keepCosineHitsUpTo = 0;
   // Called with the pilot (if one runs) before the full pass; returns the rays per vertex to use
   // (>= 2). Empty: `samples`.
   std::function<int(const VisibilityPilot&)> chooseSamples;
@@ -77,6 +81,7 @@ struct VisibilityReport {
   int samples = 0;                       // rays per vertex of the full pass
   VisibilityPilot pilot;                 // empty if none ran
   std::vector<glm::vec3> entryWeighted;  // E_w per vertex when VisibilityOptions::entry is set
+  CosineHits cosineHits;                 // per keepCosineHitsUpTo, else empty
 };
 
 // Per-vertex transmitted irradiance with shadows from the mesh itself. `normals` are unit vertex

@@ -13,41 +13,79 @@
 
 namespace sss {
 
+int VertexEstimator::addCandidate(std::size_t v, const glm::vec3& w, const glm::vec3& l,
+                                  float pdfEnv, int technique, bool traced) {
+  const FacetIntake facet = facetIntake(facets_, v, normals_[v], w, eta_, entry_);
+  const glm::vec3 f = facet.transmitted * l;
+  if (f.r <= 0.0f && f.g <= 0.0f && f.b <= 0.0f) return -1;
+  if (traced) rays_.push_back({origin_, w, offset_, std::numeric_limits<float>::infinity()});
+  candidates_.push_back({f / (envCount_ * pdfEnv + cosCount_ * facet.cosinePdf),
+                         facet.entryWeighted / facet.transmitted, technique});
+  return static_cast<int>(candidates_.size() - 1);
+}
+
 void VertexEstimator::traceCandidates(std::size_t v, uint32_t envCount, uint32_t cosCount,
                                       Pcg32& rng) {
-  const float nEnv = static_cast<float>(envCount), nCos = static_cast<float>(cosCount);
+  envCount_ = static_cast<float>(envCount);
+  cosCount_ = static_cast<float>(cosCount);
   const glm::vec3 n = normals_[v];
   const glm::vec3 p = positions_[v];
   const float r0 = rng.uniform(), r1 = rng.uniform(), r2 = rng.uniform(), r3 = rng.uniform();
-  const float offset = surfaceRayOffset(p, extent_);
-  const glm::vec3 origin = p + offset * n;
+  offset_ = surfaceRayOffset(p, extent_);
+  origin_ = p + offset_ * n;
 
   // Candidate rays: direction and unoccluded contribution f / (n_env p_env + n_cos p_cos).
   rays_.clear();
   candidates_.clear();
   // The cosine technique samples the facets' mixture of cosine lobes (facet_light.h); the
   // environment's reaches every direction the facets face.
-  auto add = [&](const glm::vec3& w, const glm::vec3& l, float pdfEnv, int tech) {
-    const FacetIntake facet = facetIntake(facets_, v, n, w, eta_, entry_);
-    const glm::vec3 f = facet.transmitted * l;
-    if (f.r <= 0.0f && f.g <= 0.0f && f.b <= 0.0f) return;
-    rays_.push_back({origin, w, offset, std::numeric_limits<float>::infinity()});
-    candidates_.push_back({f / (nEnv * pdfEnv + nCos * facet.cosinePdf),
-                           facet.entryWeighted / facet.transmitted, tech});
-  };
   for (uint32_t j = 0; j < envCount; ++j) {
     float u1, u2;
     hammersley(j, envCount, r0, r1, u1, u2);
     const EnvironmentSampler::Sample s = sampler_.sample(u1, u2);
-    add(s.direction, s.radiance, s.pdf, 0);
+    addCandidate(v, s.direction, s.radiance, s.pdf, 0, true);
+  }
+  if (keepCosineHits_) {
+    traceCosineHits(v, cosCount, r2, r3);
+    return;
   }
   for (uint32_t j = 0; j < cosCount; ++j) {
     float u1, u2;
     hammersley(j, cosCount, r2, r3, u1, u2);
     const glm::vec3 w = sampleFacetCosine(facets_, v, n, u1, u2);
-    add(w, sampler_.radiance(w), sampler_.pdf(w), 1);
+    addCandidate(v, w, sampler_.radiance(w), sampler_.pdf(w), 1, true);
   }
   scene_.occluded(rays_, blocked_);
+}
+
+// The cosine samples as nearest-hit rays: every one the facets take light in is traced (the
+// gather needs them where the sky is black too), those with light are candidates as before, and
+// those that meet the mesh are kept. The environment's samples, in rays_, stay occlusion rays.
+void VertexEstimator::traceCosineHits(std::size_t v, uint32_t cosCount, float r2, float r3) {
+  const glm::vec3 n = normals_[v];
+  const DirectionalAlbedoWeight diffuse;
+  const DirectionalAlbedoWeight& weight = entry_ ? *entry_ : diffuse;
+  cosineRays_.clear();
+  cosineWeights_.clear();
+  cosineCandidate_.clear();
+  for (uint32_t j = 0; j < cosCount; ++j) {
+    float u1, u2;
+    hammersley(j, cosCount, r2, r3, u1, u2);
+    const glm::vec3 w = sampleFacetCosine(facets_, v, n, u1, u2);
+    const FacetIntake gathered = facetIntake(facets_, v, n, w, eta_, &weight);
+    if (!(gathered.transmitted > 0.0f)) continue;
+    cosineRays_.push_back({origin_, w, offset_, std::numeric_limits<float>::infinity()});
+    cosineWeights_.push_back(gathered.entryWeighted / gathered.cosinePdf);
+    cosineCandidate_.push_back(addCandidate(v, w, sampler_.radiance(w), sampler_.pdf(w), 1, false));
+  }
+  scene_.occluded(rays_, blocked_);
+  scene_.intersect(cosineRays_, sceneHits_);
+  cosineHits_.clear();
+  for (std::size_t k = 0; k < cosineRays_.size(); ++k) {
+    if (cosineCandidate_[k] >= 0) blocked_.push_back(sceneHits_[k].hit);
+    if (sceneHits_[k].hit)
+      cosineHits_.push_back({cosineRays_[k].direction, cosineWeights_[k], sceneHits_[k]});
+  }
 }
 
 namespace {
@@ -69,7 +107,7 @@ VertexEstimate VertexEstimator::estimate(std::size_t v, int samples, Pcg32& rng)
   traceCandidates(v, envCount, cosCount, rng);
 
   VertexEstimate result{glm::vec3(0.0f), glm::vec3(0.0f), -1.0f,
-                        static_cast<uint32_t>(rays_.size()), 0};
+                        static_cast<uint32_t>(candidates_.size()), 0};
   glm::dvec3 visible(0.0), all(0.0), visibleW(0.0), allW(0.0);
   for (std::size_t k = 0; k < candidates_.size(); ++k) {
     const glm::dvec3 c(candidates_[k].contribution);

@@ -24,6 +24,7 @@
 
 #include "core/random.h"
 #include "envmap/environment_sampler.h"
+#include "lighting/cosine_hits.h"
 #include "lighting/unoccluded_intake.h"
 #include "material/directional_albedo_weight.h"
 #include "mesh/triangle_mesh.h"
@@ -60,6 +61,10 @@ class VertexEstimator {
   // E at vertex v from `samples` rays (half environment, rounded up, half cosine); rng supplies
   // the four rotations of the two Hammersley sets.
   VertexEstimate estimate(std::size_t v, int samples, Pcg32& rng);
+  // With keep, estimate() traces the cosine samples for their nearest hit (the environment's as
+  // before) and keeps those that meet the mesh: cosineHits() after each estimate.
+  void keepCosineHits(bool keep) { keepCosineHits_ = keep; }
+  const std::vector<CosineHit>& cosineHits() const { return cosineHits_; }
 
  private:
   struct Candidate {
@@ -69,6 +74,10 @@ class VertexEstimator {
   };
   // Fills rays_ and candidates_ with the samples that can contribute, and traces them.
   void traceCandidates(std::size_t v, uint32_t envCount, uint32_t cosCount, Pcg32& rng);
+  // A sample as a candidate if it can contribute (its index, else -1), and in rays_ if traced.
+  int addCandidate(std::size_t v, const glm::vec3& w, const glm::vec3& l, float pdfEnv,
+                   int technique, bool traced);
+  void traceCosineHits(std::size_t v, uint32_t cosCount, float r2, float r3);
 
   std::span<const glm::vec3> positions_, normals_;
   const VertexFacets& facets_;
@@ -77,9 +86,18 @@ class VertexEstimator {
   const DirectionalAlbedoWeight* entry_;  // null: no E_w
   const UnoccludedIntake* unoccluded_;    // null: the plain sum of the unblocked samples
   float eta_, extent_;
+  // The current vertex's: the samples per technique, the rays' origin and offset.
+  float envCount_ = 0.0f, cosCount_ = 0.0f, offset_ = 0.0f;
+  glm::vec3 origin_{0.0f};
   std::vector<OcclusionRay> rays_;
   std::vector<Candidate> candidates_;
   std::vector<char> blocked_;
+  bool keepCosineHits_ = false;
+  std::vector<OcclusionRay> cosineRays_;
+  std::vector<glm::vec3> cosineWeights_;
+  std::vector<int> cosineCandidate_;  // per cosine ray its candidate, -1 for none (no light)
+  std::vector<SceneHit> sceneHits_;
+  std::vector<CosineHit> cosineHits_;
 };
 
 }  // namespace sss

@@ -76,6 +76,73 @@ struct GatherStreams {
   std::vector<SurfaceHit> firsts;
 };
 
+// What every vertex's rays share.
+struct GatherSetup {
+  std::span<const glm::vec3> positions, normals;
+  std::span<const glm::uvec3> triangles;
+  const VertexFacets& facets;
+  const DirectionalAlbedoWeight& weight;
+  float eta, extent, perRay;
+};
+
+// Appends vertex v's rays of one stratified set (Hammersley, `count` points rotated by (ra, rb))
+// from the facets' cosine lobes, those the facets take light in (facet_light.h), as the
+// environment's light is taken. visibilityOrder: the throughput rounded as the visibility's kept
+// hits hold it (lighting/cosine_hits.h), so that a set traced here equals the one taken from them.
+void appendCosineRays(const GatherSetup& s, uint32_t v, uint32_t count, float ra, float rb,
+                      bool visibilityOrder, GatherStreams& g) {
+  const glm::vec3 nv = s.normals[v], p = s.positions[v];
+  const float offset = surfaceRayOffset(p, s.extent);
+  for (uint32_t j = 0; j < count; ++j) {
+    float u1, u2;
+    hammersley(j, count, ra, rb, u1, u2);
+    const glm::vec3 w = sampleFacetCosine(s.facets, v, nv, u1, u2);
+    const FacetIntake intake = facetIntake(s.facets, v, nv, w, s.eta, &s.weight);
+    if (!(intake.transmitted > 0.0f)) continue;
+    g.rays.push_back({p + offset * nv, w, offset, std::numeric_limits<float>::infinity()});
+    g.entry.push_back(visibilityOrder ? s.perRay * (intake.entryWeighted / intake.cosinePdf)
+                                      : s.perRay / intake.cosinePdf * intake.entryWeighted);
+  }
+}
+
+// Appends vertex v's kept visibility hits as first hits (no tracing).
+void appendTracedRays(const GatherSetup& s, const CosineHits& traced, uint32_t v,
+                      GatherStreams& g) {
+  const glm::vec3 p = s.positions[v], nv = s.normals[v];
+  const float offset = surfaceRayOffset(p, s.extent);
+  for (uint32_t k = traced.offsets[v]; k < traced.offsets[v + 1]; ++k) {
+    const CosineHit& c = traced.hits[k];
+    g.rays.push_back(
+        {p + offset * nv, c.direction, offset, std::numeric_limits<float>::infinity()});
+    g.entry.push_back(s.perRay * c.weight);
+    g.firsts.push_back(surfaceHitOf(c.hit, s.positions, s.normals, s.triangles,
+                                    g.rays.back().origin, c.direction));
+  }
+}
+
+// Traces the rays from index `from` on (their first hits), then the mirror rays of every valid
+// first hit; returns how many first hits met the mesh.
+uint64_t traceGatherRays(const GatherSetup& s, const TriangleScene& scene, std::size_t from,
+                         GatherStreams& g) {
+  scene.intersect(std::span(g.rays).subspan(from), g.hits);
+  for (std::size_t k = from; k < g.rays.size(); ++k)
+    g.firsts.push_back(surfaceHitOf(g.hits[k - from], s.positions, s.normals, s.triangles,
+                                    g.rays[k].origin, g.rays[k].direction));
+  g.mirrorRays.clear();
+  uint64_t met = 0;
+  for (std::size_t k = 0; k < g.rays.size(); ++k) {
+    const SurfaceHit& first = g.firsts[k];
+    met += first.hit;
+    if (!first.valid) continue;
+    const float o = surfaceRayOffset(first.point, s.extent);
+    g.mirrorRays.push_back({first.point + o * first.faceNormal,
+                            g.rays[k].direction + 2.0f * first.mu * first.normal, o,
+                            std::numeric_limits<float>::infinity()});
+  }
+  scene.intersect(g.mirrorRays, g.mirrorHits);
+  return met;
+}
+
 }  // namespace
 
 InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> positions,
@@ -85,17 +152,29 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
                                              const InterreflectionOptions& options) {
   const std::size_t n = positions.size();
   if (normals.size() != n || triangles.empty()) fail("", "interreflection: empty mesh");
-  if (options.rays < 1) fail("", "interreflection: at least one ray per vertex");
+  if (options.rays < 1 || options.visibilityCosineRays < 0)
+    fail("", "interreflection: at least one ray per vertex");
+  const CosineHits* traced = options.traced;
+  if (traced && (traced->offsets.size() != n + 1 || !options.vertices.empty() ||
+                 traced->perVertex != options.visibilityCosineRays))
+    fail("", "interreflection: the traced rays must be the whole mesh's visibility set");
   const TriangleScene scene(positions, triangles,
                             TriangleSceneOptions::surfaceRays(options.run.threads));
-  const float extent = boundsOf(positions).longestSide();
   const float exitScale = float(exitRadianceScale(eta));
   const Cubemap mirrorSky = mirrorSkyOf(radiance);
   const DirectionalAlbedoWeight diffuse;
-  const DirectionalAlbedoWeight& weight = options.entry ? *options.entry : diffuse;
-  const uint32_t rays = uint32_t(options.rays);
-  const float perRay = 1.0f / float(options.rays);
+  const uint32_t visibilitySet = uint32_t(options.visibilityCosineRays);
+  const uint32_t total = std::max(uint32_t(options.rays), visibilitySet);
+  const uint32_t ownSet = total - visibilitySet;
   const VertexFacets facets = lightFacets(positions, normals, triangles);
+  const GatherSetup setup{positions,
+                          normals,
+                          triangles,
+                          facets,
+                          options.entry ? *options.entry : diffuse,
+                          eta,
+                          boundsOf(positions).longestSide(),
+                          1.0f / float(total)};
   std::vector<std::vector<Hit>> perVertex(n);
   std::vector<std::vector<Mirror>> perVertexMirrors(options.keepMirrors ? n : 0);
   std::atomic<uint64_t> blocked{0};
@@ -115,52 +194,32 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
          open ? mirrorWeight * mirrorSky.sample(mirror) : glm::vec3(0.0f), second == nullptr});
     if (options.keepMirrors) perVertexMirrors[v].push_back({mirror, mirrorWeight});
   };
-  const auto mirrorOf = [](const SurfaceHit& h, const glm::vec3& incoming) {
-    return incoming + 2.0f * h.mu * h.normal;
-  };
-  std::vector<uint32_t> traced = options.vertices;
-  if (traced.empty()) {
-    traced.resize(n);
-    for (std::size_t v = 0; v < n; ++v) traced[v] = uint32_t(v);
+  std::vector<uint32_t> vertices = options.vertices;
+  if (vertices.empty()) {
+    vertices.resize(n);
+    for (std::size_t v = 0; v < n; ++v) vertices[v] = uint32_t(v);
   }
-  for (const uint32_t v : traced)
+  for (const uint32_t v : vertices)
     if (v >= n) fail("", "interreflection: a traced vertex is not in the mesh");
-  parallelFor(traced.size(), options.run.threads, 64, [&](std::size_t begin, std::size_t end) {
+  parallelFor(vertices.size(), options.run.threads, 64, [&](std::size_t begin, std::size_t end) {
     thread_local GatherStreams g;
     uint64_t count = 0;
     for (std::size_t i = begin; i < end; ++i) {
-      const uint32_t v = traced[i];
+      const uint32_t v = vertices[i];
+      // The same stream as the visibility's (visibility_vertex_estimator.cpp): its first two
+      // numbers rotate the set traced here, its next two the visibility's cosine set.
       Pcg32 rng(options.run.seed, v);
-      const float r0 = rng.uniform(), r1 = rng.uniform();
-      const glm::vec3 nv = normals[v], p = positions[v];
-      const float offset = surfaceRayOffset(p, extent);
+      const float r0 = rng.uniform(), r1 = rng.uniform(), r2 = rng.uniform(), r3 = rng.uniform();
       g.rays.clear();
       g.entry.clear();
-      for (uint32_t j = 0; j < rays; ++j) {
-        float u1, u2;
-        hammersley(j, rays, r0, r1, u1, u2);
-        // The light the vertex's facets take in (facet_light.h), as the environment's is taken.
-        const glm::vec3 w = sampleFacetCosine(facets, v, nv, u1, u2);
-        const FacetIntake intake = facetIntake(facets, v, nv, w, eta, &weight);
-        if (!(intake.transmitted > 0.0f)) continue;
-        g.rays.push_back({p + offset * nv, w, offset, std::numeric_limits<float>::infinity()});
-        g.entry.push_back(perRay / intake.cosinePdf * intake.entryWeighted);
-      }
-      scene.intersect(g.rays, g.hits);
       g.firsts.clear();
-      g.mirrorRays.clear();
-      for (std::size_t k = 0; k < g.rays.size(); ++k) {
-        const OcclusionRay& ray = g.rays[k];
-        g.firsts.push_back(
-            surfaceHitOf(g.hits[k], positions, normals, triangles, ray.origin, ray.direction));
-        const SurfaceHit& first = g.firsts.back();
-        count += first.hit;
-        if (!first.valid) continue;
-        const float o = surfaceRayOffset(first.point, extent);
-        g.mirrorRays.push_back({first.point + o * first.faceNormal, mirrorOf(first, ray.direction),
-                                o, std::numeric_limits<float>::infinity()});
-      }
-      scene.intersect(g.mirrorRays, g.mirrorHits);
+      if (traced)
+        appendTracedRays(setup, *traced, v, g);
+      else
+        appendCosineRays(setup, v, visibilitySet, r2, r3, true, g);
+      const std::size_t from = g.firsts.size();  // the rays from here on are traced below
+      appendCosineRays(setup, v, ownSet, r0, r1, false, g);
+      count += traceGatherRays(setup, scene, from, g);
       std::size_t m = 0;
       for (std::size_t k = 0; k < g.rays.size(); ++k) {
         const SurfaceHit& first = g.firsts[k];
@@ -184,8 +243,9 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
     mirrors_.reserve(offsets_[n]);
     for (auto& m : perVertexMirrors) mirrors_.insert(mirrors_.end(), m.begin(), m.end());
   }
-  rays_ = options.rays;
-  blockedFraction_ = double(blocked) / double(std::max<std::size_t>(traced.size() * rays, 1));
+  rays_ = int(total);
+  visibilityCosineRays_ = options.visibilityCosineRays;
+  blockedFraction_ = double(blocked) / double(std::max<std::size_t>(vertices.size() * total, 1));
 }
 
 void InterreflectionGather::setSky(const Cubemap& radiance) {

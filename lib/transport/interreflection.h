@@ -31,6 +31,7 @@
 
 #include "core/run_context.h"
 #include "envmap/cubemap.h"
+#include "lighting/cosine_hits.h"
 #include "material/directional_albedo_weight.h"
 
 namespace sss {
@@ -50,6 +51,15 @@ struct InterreflectionOptions {
   // sky (the rays do not depend on the light: one gather serves every environment a relightable
   // bake is relit under). 24 bytes more per hit.
   bool keepMirrors = false;
+  // One ray set, both uses: the first `visibilityCosineRays` rays per vertex are the visibility's
+  // cosine samples (the same stratified set, seeded as visibility_vertex_estimator.cpp seeds it,
+  // so that the set is a function of the mesh, the seed and the count), the rest of
+  // max(rays, visibilityCosineRays) a set of its own. `traced`: those samples' hits kept by the
+  // visibility pass (lighting/cosine_hits.h; perVertex must equal visibilityCosineRays; not
+  // kept), taken instead of tracing them again. A relight, which has no visibility pass, traces
+  // the same set itself.
+  int visibilityCosineRays = 0;
+  const CosineHits* traced = nullptr;
 };
 
 class InterreflectionGather {
@@ -69,6 +79,8 @@ class InterreflectionGather {
                                 bool mirrored = true) const;
   // Of the rays traced, the fraction that met the object.
   double blockedFraction() const { return blockedFraction_; }
+  int rays() const { return rays_; }  // per vertex, the visibility's set included
+  int visibilityCosineRays() const { return visibilityCosineRays_; }
   // The mirrored sky of `radiance` instead of the one built with: the same values as a gather
   // built under `radiance`. Needs InterreflectionOptions::keepMirrors.
   void setSky(const Cubemap& radiance);
@@ -86,6 +98,7 @@ class InterreflectionGather {
     glm::vec3 weight;     // pi / N F_t(mu) w(mu) F_r(mu_h), 0 where the mirror meets the object
   };
   int rays_ = 0;
+  int visibilityCosineRays_ = 0;
   std::vector<uint32_t> offsets_;  // hits of vertex v: [offsets_[v], offsets_[v + 1])
   std::vector<Hit> hits_;
   std::vector<Mirror> mirrors_;  // per hit, with keepMirrors

@@ -14,6 +14,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "core/bounds.h"
 #include "core/error.h"
 #include "core/luminance.h"
 #include "core/relative_rms.h"
@@ -25,6 +26,7 @@
 #include "material/material.h"
 #include "mesh/primitives.h"
 #include "optics/fresnel.h"
+#include "raytrace/triangle_scene.h"
 
 namespace sss {
 namespace {
@@ -439,6 +441,55 @@ TEST(Visibility, SameResultForAnyThreadCount) {
   const auto other = transmittedIrradianceWithVisibility(mesh.positions, mesh.normals,
                                                          mesh.triangles, env, kEta, options);
   EXPECT_NE(one, other);
+}
+
+// Keeping the cosine rays that meet the mesh for the bounces' gather (CosineHits) traces them for
+// their nearest hit: E, E_w and the report are the same bits as without, and every kept hit is
+// where a ray of its own finds the mesh.
+TEST(Visibility, KeepingTheCosineHitsChangesNothing) {
+  const Cubemap env = testEnvironment(16);
+  const TriangleMesh mesh = floorAndWall(12);
+  const DirectionalAlbedoWeight entry(glm::dvec3(0.9, 0.7, 0.4), kEta);
+  VisibilityOptions options;
+  options.samples = 32;
+  options.entry = &entry;
+  VisibilityReport plainReport, keptReport;
+  const auto plain = transmittedIrradianceWithVisibility(
+      mesh.positions, mesh.normals, mesh.triangles, env, kEta, options, &plainReport);
+  options.keepCosineHitsUpTo = 16;
+  const auto kept = transmittedIrradianceWithVisibility(
+      mesh.positions, mesh.normals, mesh.triangles, env, kEta, options, &keptReport);
+  EXPECT_EQ(plain, kept);
+  EXPECT_EQ(plainReport.entryWeighted, keptReport.entryWeighted);
+  EXPECT_EQ(plainReport.rays, keptReport.rays);
+  EXPECT_EQ(plainReport.occludedFraction, keptReport.occludedFraction);
+  EXPECT_TRUE(plainReport.cosineHits.hits.empty());
+  const CosineHits& hits = keptReport.cosineHits;
+  ASSERT_EQ(hits.perVertex, 16);
+  ASSERT_EQ(hits.offsets.size(), mesh.positions.size() + 1);
+  ASSERT_GT(hits.hits.size(), 100u);  // the wall and the floor see each other
+  const TriangleScene scene(mesh.positions, mesh.triangles, TriangleSceneOptions::surfaceRays(1));
+  const float extent = boundsOf(mesh.positions).longestSide();
+  for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+    ASSERT_LE(hits.offsets[v + 1] - hits.offsets[v], 16u);
+    const float offset = surfaceRayOffset(mesh.positions[v], extent);
+    for (uint32_t k = hits.offsets[v]; k < hits.offsets[v + 1]; ++k) {
+      const CosineHit& h = hits.hits[k];
+      EXPECT_GT(glm::dot(h.direction, mesh.normals[v]), -0.5f);
+      EXPECT_GT(h.weight.g, 0.0f);
+      const SceneHit own =
+          scene.intersect(mesh.positions[v] + offset * mesh.normals[v], h.direction, offset);
+      ASSERT_TRUE(own.hit);
+      EXPECT_EQ(own.triangle, h.hit.triangle);
+      EXPECT_NEAR(own.t, h.hit.t, 1e-5f * extent);
+    }
+  }
+  // Above the count asked for, none are kept.
+  options.keepCosineHitsUpTo = 15;
+  VisibilityReport none;
+  transmittedIrradianceWithVisibility(mesh.positions, mesh.normals, mesh.triangles, env, kEta,
+                                      options, &none);
+  EXPECT_EQ(none.cosineHits.perVertex, 0);
 }
 
 TEST(Visibility, BadInputThrows) {

@@ -26,19 +26,37 @@
 namespace sss {
 namespace {
 
-TEST(Interreflection, WhiteFurnaceSendsRadianceOneFromEveryVertex) {
+// The furnace for one gather's rays: `rays` its own count, `reused` how many of the visibility's
+// cosine rays per vertex it takes (0: none, all traced for it).
+void expectWhiteFurnace(int rays, int reused) {
   const TriangleMesh mesh = boxWithPit();
   const Cubemap white(8, glm::vec3(1.0f));
   const float eta = 1.3f;
   const double full = M_PI * (1.0 - diffuseFresnelReflectance(eta));  // E under a full sky
   VisibilityOptions vis;
-  vis.samples = 256;
+  vis.samples = reused > 0 ? 2 * reused : 256;
+  vis.keepCosineHitsUpTo = reused;
+  VisibilityReport visibility;
   const std::vector<glm::vec3> direct = transmittedIrradianceWithVisibility(
-      mesh.positions, mesh.normals, mesh.triangles, white, eta, vis);
+      mesh.positions, mesh.normals, mesh.triangles, white, eta, vis, &visibility);
+  ASSERT_EQ(visibility.cosineHits.perVertex, reused);
   InterreflectionOptions options;
-  options.rays = 256;
+  options.rays = rays;
+  options.visibilityCosineRays = reused;
+  if (reused > 0) options.traced = &visibility.cosineHits;
   const InterreflectionGather gather(mesh.positions, mesh.normals, mesh.triangles, white, eta,
                                      options);
+  if (reused > 0) {
+    // The same set traced by the gather itself (as a relight, which has no visibility pass, does):
+    // the same light, bit for bit.
+    InterreflectionOptions alone = options;
+    alone.traced = nullptr;
+    const InterreflectionGather again(mesh.positions, mesh.normals, mesh.triangles, white, eta,
+                                      alone);
+    const std::vector<glm::vec3> b(mesh.positions.size(), glm::vec3(0.3f, 0.5f, 0.7f));
+    EXPECT_EQ(gather.gather(b), again.gather(b));
+  }
+  EXPECT_EQ(gather.rays(), std::max(rays, reused));
   EXPECT_GT(gather.blockedFraction(), 0.02);
   // A non-absorbing object under uniform light returns all it receives where it receives it: the
   // transport of any normalized model maps a uniform E to B = E.
@@ -66,6 +84,17 @@ TEST(Interreflection, WhiteFurnaceSendsRadianceOneFromEveryVertex) {
   ASSERT_GT(pit, 10);
   EXPECT_LT(pitDirect / pit, 0.75);        // without interreflection: dark
   EXPECT_NEAR(pitAfter / pit, 1.0, 0.01);  // with it: the furnace's radiance 1
+}
+
+TEST(Interreflection, WhiteFurnaceSendsRadianceOneFromEveryVertex) {
+  expectWhiteFurnace(256, 0);
+}
+
+// One ray set, both uses: the gather takes the visibility's cosine rays that met the mesh, all of
+// its rays or some (then it traces the rest itself), and the furnace holds as with its own.
+TEST(Interreflection, WhiteFurnaceHoldsWithTheVisibilitysRays) {
+  expectWhiteFurnace(64, 128);
+  expectWhiteFurnace(256, 128);
 }
 
 // Without bounces, a pilot gather estimates the share of B the bounces would add. With a local

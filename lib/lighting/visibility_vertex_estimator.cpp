@@ -15,7 +15,12 @@ namespace sss {
 
 int VertexEstimator::addCandidate(std::size_t v, const glm::vec3& w, const glm::vec3& l,
                                   float pdfEnv, int technique, bool traced) {
-  const FacetIntake facet = facetIntake(facets_, v, normals_[v], w, eta_, entry_);
+  return addCandidate(facetIntake(facets_, v, normals_[v], w, eta_, entry_), w, l, pdfEnv,
+                      technique, traced);
+}
+
+int VertexEstimator::addCandidate(const FacetIntake& facet, const glm::vec3& w, const glm::vec3& l,
+                                  float pdfEnv, int technique, bool traced) {
   const glm::vec3 f = facet.transmitted * l;
   if (f.r <= 0.0f && f.g <= 0.0f && f.b <= 0.0f) return -1;
   if (traced) rays_.push_back({origin_, w, offset_, std::numeric_limits<float>::infinity()});
@@ -58,34 +63,51 @@ void VertexEstimator::traceCandidates(std::size_t v, uint32_t envCount, uint32_t
   scene_.occluded(rays_, blocked_);
 }
 
-// The cosine samples as nearest-hit rays: every one the facets take light in is traced (the
-// gather needs them where the sky is black too), those with light are candidates as before, and
-// those that meet the mesh are kept. The environment's samples, in rays_, stay occlusion rays.
+// The cosine samples, keeping those that meet the mesh with their nearest hit: every one the
+// facets take light in is traced (the gather needs them where the sky is black too) as an
+// occlusion ray, those with light are candidates as before, and the blocked ones are traced again
+// for their nearest hit (a second, smaller stream: nearest-hit rays cost more than occlusion
+// rays, and most rays are not blocked).
 void VertexEstimator::traceCosineHits(std::size_t v, uint32_t cosCount, float r2, float r3) {
   const glm::vec3 n = normals_[v];
-  const DirectionalAlbedoWeight diffuse;
-  const DirectionalAlbedoWeight& weight = entry_ ? *entry_ : diffuse;
   cosineRays_.clear();
   cosineWeights_.clear();
-  cosineCandidate_.clear();
+  cosineRayIndex_.clear();
+  std::size_t unlit = 0;  // cosine rays without light, after the candidates' rays
   for (uint32_t j = 0; j < cosCount; ++j) {
     float u1, u2;
     hammersley(j, cosCount, r2, r3, u1, u2);
     const glm::vec3 w = sampleFacetCosine(facets_, v, n, u1, u2);
-    const FacetIntake gathered = facetIntake(facets_, v, n, w, eta_, &weight);
-    if (!(gathered.transmitted > 0.0f)) continue;
+    const FacetIntake facet = facetIntake(facets_, v, n, w, eta_, entry_);
+    if (!(facet.transmitted > 0.0f)) continue;
+    // The gather's weight: with diffuse entry (w = 1) the sum of the facets' terms times 1, which
+    // is `transmitted`, summed in the same order.
+    cosineWeights_.push_back((entry_ ? facet.entryWeighted : glm::vec3(facet.transmitted)) /
+                             facet.cosinePdf);
     cosineRays_.push_back({origin_, w, offset_, std::numeric_limits<float>::infinity()});
-    cosineWeights_.push_back(gathered.entryWeighted / gathered.cosinePdf);
-    cosineCandidate_.push_back(addCandidate(v, w, sampler_.radiance(w), sampler_.pdf(w), 1, false));
+    const int candidate = addCandidate(facet, w, sampler_.radiance(w), sampler_.pdf(w), 1, true);
+    // >= 0: its index in rays_; < 0: -(1 + its index among the unlit ones)
+    cosineRayIndex_.push_back(candidate >= 0 ? candidate : -1 - static_cast<int>(unlit++));
   }
+  const std::size_t candidates = rays_.size();
+  for (std::size_t k = 0; k < cosineRays_.size(); ++k)
+    if (cosineRayIndex_[k] < 0) rays_.push_back(cosineRays_[k]);
   scene_.occluded(rays_, blocked_);
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < cosineRays_.size(); ++k) {
+    const int i = cosineRayIndex_[k];
+    const std::size_t ray = i >= 0 ? static_cast<std::size_t>(i) : candidates - 1 - i;
+    if (!blocked_[ray]) continue;
+    cosineRays_[kept] = cosineRays_[k];
+    cosineWeights_[kept++] = cosineWeights_[k];
+  }
+  cosineRays_.resize(kept);
+  blocked_.resize(candidates);  // the estimate reads the candidates' only
   scene_.intersect(cosineRays_, sceneHits_);
   cosineHits_.clear();
-  for (std::size_t k = 0; k < cosineRays_.size(); ++k) {
-    if (cosineCandidate_[k] >= 0) blocked_.push_back(sceneHits_[k].hit);
+  for (std::size_t k = 0; k < kept; ++k)
     if (sceneHits_[k].hit)
       cosineHits_.push_back({cosineRays_[k].direction, cosineWeights_[k], sceneHits_[k]});
-  }
 }
 
 namespace {

@@ -25,6 +25,7 @@
 #include "core/random.h"
 #include "envmap/environment_sampler.h"
 #include "lighting/cosine_hits.h"
+#include "lighting/facet_light.h"
 #include "lighting/unoccluded_intake.h"
 #include "material/directional_albedo_weight.h"
 #include "mesh/triangle_mesh.h"
@@ -77,6 +78,8 @@ class VertexEstimator {
   // A sample as a candidate if it can contribute (its index, else -1), and in rays_ if traced.
   int addCandidate(std::size_t v, const glm::vec3& w, const glm::vec3& l, float pdfEnv,
                    int technique, bool traced);
+  int addCandidate(const FacetIntake& facet, const glm::vec3& w, const glm::vec3& l, float pdfEnv,
+                   int technique, bool traced);
   void traceCosineHits(std::size_t v, uint32_t cosCount, float r2, float r3);
 
   std::span<const glm::vec3> positions_, normals_;
@@ -95,7 +98,7 @@ class VertexEstimator {
   bool keepCosineHits_ = false;
   std::vector<OcclusionRay> cosineRays_;
   std::vector<glm::vec3> cosineWeights_;
-  std::vector<int> cosineCandidate_;  // per cosine ray its candidate, -1 for none (no light)
+  std::vector<int> cosineRayIndex_;  // per cosine ray where rays_ holds it (traceCosineHits)
   std::vector<SceneHit> sceneHits_;
   std::vector<CosineHit> cosineHits_;
 };

@@ -17,7 +17,8 @@ namespace sss {
 struct CosineHit {
   glm::vec3 direction{0.0f};
   glm::vec3 weight{0.0f};  // the facets' intake with the entry's weight, over the cosine pdf
-  SceneHit hit;
+  float t = 0.0f;          // the nearest hit (SceneHit) without its face normal: 32 bytes
+  uint32_t triangle = 0;
 };
 struct CosineHits {
   int perVertex = 0;              // cosine samples per vertex; 0: none kept

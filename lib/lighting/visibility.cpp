@@ -26,6 +26,10 @@ namespace sss {
 
 namespace {
 
+// Vertices per chunk of the full pass (parallelFor's grain: fixed, so results do not depend on
+// the thread count).
+constexpr std::size_t kVisibilityGrain = 256;
+
 void validateInput(std::size_t vertexCount, std::span<const glm::vec3> normals,
                    std::span<const glm::uvec3> triangles, const VisibilityOptions& options) {
   if (normals.size() != vertexCount) fail("", "visibility: one normal per vertex required");
@@ -41,8 +45,10 @@ void validateInput(std::size_t vertexCount, std::span<const glm::vec3> normals,
 
 struct FullPass {
   std::vector<glm::vec3> irradiance, entryWeighted;
-  std::vector<std::vector<CosineHit>> cosineHits;  // per vertex, when kept
-  std::vector<float> relativeVariance;             // < 0: unlit vertex
+  // When kept: per chunk of kVisibilityGrain vertices its hits, and per vertex their count.
+  std::vector<std::vector<CosineHit>> cosineHits;
+  std::vector<uint32_t> cosineHitCounts;
+  std::vector<float> relativeVariance;  // < 0: unlit vertex
   uint64_t rays = 0, occluded = 0;
   double seconds = 0.0;
 };
@@ -57,28 +63,37 @@ FullPass traceAllVertices(std::size_t vertexCount, int samples, const Visibility
   const uint32_t cosineSamples = static_cast<uint32_t>(samples) - (samples + 1) / 2;
   const bool keep = options.keepCosineHitsUpTo > 0 &&
                     cosineSamples <= static_cast<uint32_t>(options.keepCosineHitsUpTo);
-  if (keep) pass.cosineHits.resize(vertexCount);
+  if (keep) {
+    pass.cosineHits.resize((vertexCount + kVisibilityGrain - 1) / kVisibilityGrain);
+    pass.cosineHitCounts.assign(vertexCount, 0);
+  }
   std::atomic<uint64_t> totalRays{0}, totalOccluded{0};
   Progress progress("visibility", vertexCount, options.run.quiet);
   Stopwatch traceClock;
-  parallelFor(vertexCount, options.run.threads, 256, [&](std::size_t begin, std::size_t end) {
-    VertexEstimator estimator = makeEstimator();
-    estimator.keepCosineHits(keep);
-    uint64_t rays = 0, occluded = 0;
-    for (std::size_t v = begin; v < end; ++v) {
-      Pcg32 rng(options.run.seed, v);
-      const VertexEstimate e = estimator.estimate(v, samples, rng);
-      pass.irradiance[v] = e.irradiance;
-      if (options.entry) pass.entryWeighted[v] = e.entryWeighted;
-      pass.relativeVariance[v] = e.relativeVariance;
-      if (keep) pass.cosineHits[v] = estimator.cosineHits();
-      rays += e.rays;
-      occluded += e.occluded;
-    }
-    totalRays += rays;
-    totalOccluded += occluded;
-    progress.advance(end - begin);
-  });
+  parallelFor(vertexCount, options.run.threads, kVisibilityGrain,
+              [&](std::size_t begin, std::size_t end) {
+                VertexEstimator estimator = makeEstimator();
+                estimator.keepCosineHits(keep);
+                uint64_t rays = 0, occluded = 0;
+                for (std::size_t v = begin; v < end; ++v) {
+                  Pcg32 rng(options.run.seed, v);
+                  const VertexEstimate e = estimator.estimate(v, samples, rng);
+                  pass.irradiance[v] = e.irradiance;
+                  if (options.entry) pass.entryWeighted[v] = e.entryWeighted;
+                  pass.relativeVariance[v] = e.relativeVariance;
+                  if (keep) {
+                    const std::vector<CosineHit>& hits = estimator.cosineHits();
+                    std::vector<CosineHit>& chunk = pass.cosineHits[begin / kVisibilityGrain];
+                    chunk.insert(chunk.end(), hits.begin(), hits.end());
+                    pass.cosineHitCounts[v] = static_cast<uint32_t>(hits.size());
+                  }
+                  rays += e.rays;
+                  occluded += e.occluded;
+                }
+                totalRays += rays;
+                totalOccluded += occluded;
+                progress.advance(end - begin);
+              });
   progress.finish();
   pass.seconds = traceClock.seconds();
   pass.rays = totalRays;
@@ -86,18 +101,18 @@ FullPass traceAllVertices(std::size_t vertexCount, int samples, const Visibility
   return pass;
 }
 
-// The kept cosine hits, one array with offsets.
-CosineHits flatten(std::vector<std::vector<CosineHit>>& perVertex, int samples) {
+// The kept cosine hits, one array with offsets (each chunk freed once copied).
+CosineHits flatten(FullPass& pass, int samples) {
   CosineHits out;
-  if (perVertex.empty()) return out;
+  if (pass.cosineHitCounts.empty()) return out;
   out.perVertex = samples - (samples + 1) / 2;
-  out.offsets.assign(perVertex.size() + 1, 0);
-  for (std::size_t v = 0; v < perVertex.size(); ++v)
-    out.offsets[v + 1] = out.offsets[v] + static_cast<uint32_t>(perVertex[v].size());
+  out.offsets.assign(pass.cosineHitCounts.size() + 1, 0);
+  for (std::size_t v = 0; v < pass.cosineHitCounts.size(); ++v)
+    out.offsets[v + 1] = out.offsets[v] + pass.cosineHitCounts[v];
   out.hits.reserve(out.offsets.back());
-  for (auto& hits : perVertex) {
-    out.hits.insert(out.hits.end(), hits.begin(), hits.end());
-    std::vector<CosineHit>().swap(hits);
+  for (auto& chunk : pass.cosineHits) {
+    out.hits.insert(out.hits.end(), chunk.begin(), chunk.end());
+    std::vector<CosineHit>().swap(chunk);
   }
   return out;
 }
@@ -160,7 +175,7 @@ std::vector<glm::vec3> transmittedIrradianceWithVisibility(std::span<const glm::
     report->samples = samples;
     report->pilot = std::move(pilot);
     report->entryWeighted = std::move(pass.entryWeighted);
-    report->cosineHits = flatten(pass.cosineHits, samples);
+    report->cosineHits = flatten(pass, samples);
   }
   return std::move(pass.irradiance);
 }

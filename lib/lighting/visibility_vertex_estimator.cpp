@@ -107,7 +107,8 @@ void VertexEstimator::traceCosineHits(std::size_t v, uint32_t cosCount, float r2
   cosineHits_.clear();
   for (std::size_t k = 0; k < kept; ++k)
     if (sceneHits_[k].hit)
-      cosineHits_.push_back({cosineRays_[k].direction, cosineWeights_[k], sceneHits_[k]});
+      cosineHits_.push_back(
+          {cosineRays_[k].direction, cosineWeights_[k], sceneHits_[k].t, sceneHits_[k].triangle});
 }
 
 namespace {

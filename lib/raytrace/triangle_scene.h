@@ -89,6 +89,8 @@ class TriangleScene {
   // A length for ray offsets: 4e-6 of the larger of the bounding box diagonal and the largest
   // coordinate magnitude (~70 float spacings there).
   float epsilon() const { return epsilon_; }
+  // The unit normal SceneHit::faceNormal gives for a triangle.
+  const glm::vec3& faceNormal(uint32_t triangle) const { return faceNormals_[triangle]; }
   float diagonal() const { return diagonal_; }
 
  private:

@@ -106,8 +106,8 @@ void appendCosineRays(const GatherSetup& s, uint32_t v, uint32_t count, float ra
 }
 
 // Appends vertex v's kept visibility hits as first hits (no tracing).
-void appendTracedRays(const GatherSetup& s, const CosineHits& traced, uint32_t v,
-                      GatherStreams& g) {
+void appendTracedRays(const GatherSetup& s, const TriangleScene& scene, const CosineHits& traced,
+                      uint32_t v, GatherStreams& g) {
   const glm::vec3 p = s.positions[v], nv = s.normals[v];
   const float offset = surfaceRayOffset(p, s.extent);
   for (uint32_t k = traced.offsets[v]; k < traced.offsets[v + 1]; ++k) {
@@ -115,8 +115,9 @@ void appendTracedRays(const GatherSetup& s, const CosineHits& traced, uint32_t v
     g.rays.push_back(
         {p + offset * nv, c.direction, offset, std::numeric_limits<float>::infinity()});
     g.entry.push_back(s.perRay * c.weight);
-    g.firsts.push_back(surfaceHitOf(c.hit, s.positions, s.normals, s.triangles,
-                                    g.rays.back().origin, c.direction));
+    const SceneHit hit{c.t, scene.faceNormal(c.triangle), c.triangle, true};
+    g.firsts.push_back(
+        surfaceHitOf(hit, s.positions, s.normals, s.triangles, g.rays.back().origin, c.direction));
   }
 }
 
@@ -214,7 +215,7 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
       g.entry.clear();
       g.firsts.clear();
       if (traced)
-        appendTracedRays(setup, *traced, v, g);
+        appendTracedRays(setup, scene, *traced, v, g);
       else
         appendCosineRays(setup, v, visibilitySet, r2, r3, true, g);
       const std::size_t from = g.firsts.size();  // the rays from here on are traced below

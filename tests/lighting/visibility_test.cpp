@@ -480,8 +480,8 @@ TEST(Visibility, KeepingTheCosineHitsChangesNothing) {
       const SceneHit own =
           scene.intersect(mesh.positions[v] + offset * mesh.normals[v], h.direction, offset);
       ASSERT_TRUE(own.hit);
-      EXPECT_EQ(own.triangle, h.hit.triangle);
-      EXPECT_NEAR(own.t, h.hit.t, 1e-5f * extent);
+      EXPECT_EQ(own.triangle, h.triangle);
+      EXPECT_NEAR(own.t, h.t, 1e-5f * extent);
     }
   }
   // Above the count asked for, none are kept.

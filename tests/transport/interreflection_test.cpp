@@ -340,22 +340,37 @@ TEST(Interreflection, PredictedGatherNoiseMatchesTheSpreadOverSeeds) {
   EXPECT_NEAR(predicted / measured, 1.0, 0.25) << predicted << " " << measured;
 }
 
-// A bake with fewer bounces than convergence needs reports what the rest would add (one more
-// gather estimates the series' ratio): it must match the difference to the converged B.
-TEST(Interreflection, RemainingBouncesAreEstimatedFromOneMoreGather) {
-  const PitUnderSky scene;
-  const auto& [mesh, sky, eta, direct] = scene;
-  const auto smoothing = [&](std::span<const glm::vec3> e, double = 1.0) {
+// The pit under the sky with a toy transport that smooths E over neighbouring indices and absorbs
+// per channel, its gather of 64 rays and the direct light's B.
+struct SmoothedPit {
+  static std::vector<glm::vec3> smooth(std::span<const glm::vec3> e, double = 1.0) {
     std::vector<glm::vec3> b(e.size());
     for (std::size_t v = 0; v < e.size(); ++v)
       b[v] = glm::vec3(0.95f, 0.9f, 0.8f) * (0.5f * e[v] + 0.5f * e[(v + 1) % e.size()]);
     return b;
-  };
-  InterreflectionOptions options;
-  options.rays = 64;
-  const InterreflectionGather gather(mesh.positions, mesh.normals, mesh.triangles, sky, eta,
-                                     options);
-  const std::vector<glm::vec3> b0 = smoothing(direct);
+  }
+  static InterreflectionGather gatherOf(const PitUnderSky& scene) {
+    InterreflectionOptions options;
+    options.rays = 64;
+    return {scene.mesh.positions,
+            scene.mesh.normals,
+            scene.mesh.triangles,
+            scene.sky,
+            scene.eta,
+            options};
+  }
+  PitUnderSky scene;
+  InterreflectionGather gather = gatherOf(scene);
+  std::vector<glm::vec3> direct = scene.direct;
+  BounceTransport smoothing = [](std::span<const glm::vec3> e, double l) { return smooth(e, l); };
+  std::vector<glm::vec3> b0 = smooth(direct);
+};
+
+// A bake with fewer bounces than convergence needs reports what the rest would add (one more
+// gather estimates the series' ratio): it must match the difference to the converged B.
+TEST(Interreflection, RemainingBouncesAreEstimatedFromOneMoreGather) {
+  const SmoothedPit pit;
+  const auto& [scene, gather, direct, smoothing, b0] = pit;
   const BounceResult converged = iterateInterreflection(gather, direct, b0, smoothing, 0, 1e-7);
   EXPECT_LT(converged.remaining, 1e-6);
   for (int bounces : {1, 2, 3}) {
@@ -370,19 +385,8 @@ TEST(Interreflection, RemainingBouncesAreEstimatedFromOneMoreGather) {
 // series needs for the same convergence target, within that target of the converged B, and the
 // error it reports holds. The same bounces without the tail miss by more.
 TEST(Interreflection, GeometricTailEndsTheSeriesEarly) {
-  const PitUnderSky scene;
-  const auto& [mesh, sky, eta, direct] = scene;
-  const auto smoothing = [&](std::span<const glm::vec3> e, double = 1.0) {
-    std::vector<glm::vec3> b(e.size());
-    for (std::size_t v = 0; v < e.size(); ++v)
-      b[v] = glm::vec3(0.95f, 0.9f, 0.8f) * (0.5f * e[v] + 0.5f * e[(v + 1) % e.size()]);
-    return b;
-  };
-  InterreflectionOptions options;
-  options.rays = 64;
-  const InterreflectionGather gather(mesh.positions, mesh.normals, mesh.triangles, sky, eta,
-                                     options);
-  const std::vector<glm::vec3> b0 = smoothing(direct);
+  const SmoothedPit pit;
+  const auto& [scene, gather, direct, smoothing, b0] = pit;
   const BounceResult converged = iterateInterreflection(gather, direct, b0, smoothing, 0, 1e-9);
   constexpr double kTarget = 1e-3;
   const BounceResult plain = iterateInterreflection(gather, direct, b0, smoothing, 0, kTarget);
@@ -396,7 +400,7 @@ TEST(Interreflection, GeometricTailEndsTheSeriesEarly) {
   const BounceResult cut = iterateInterreflection(gather, direct, b0, smoothing, tailed.bounces, 0);
   EXPECT_GT(relativeRms(cut.exitance, converged.exitance), 5.0 * error);
   // The tail's light is in E as well: E and B stay one transport apart.
-  const std::vector<glm::vec3> again = smoothing(tailed.irradiance);
+  const std::vector<glm::vec3> again = smoothing(tailed.irradiance, 1.0);
   EXPECT_LT(relativeRms(again, tailed.exitance), 2e-5);
 }
 

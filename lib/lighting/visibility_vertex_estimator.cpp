@@ -13,52 +13,45 @@
 
 namespace sss {
 
-int VertexEstimator::addCandidate(std::size_t v, const glm::vec3& w, const glm::vec3& l,
-                                  float pdfEnv, int technique, bool traced) {
-  return addCandidate(facetIntake(facets_, v, normals_[v], w, eta_, entry_), w, l, pdfEnv,
-                      technique, traced);
-}
-
-int VertexEstimator::addCandidate(const FacetIntake& facet, const glm::vec3& w, const glm::vec3& l,
-                                  float pdfEnv, int technique, bool traced) {
-  const glm::vec3 f = facet.transmitted * l;
-  if (f.r <= 0.0f && f.g <= 0.0f && f.b <= 0.0f) return -1;
-  if (traced) rays_.push_back({origin_, w, offset_, std::numeric_limits<float>::infinity()});
-  candidates_.push_back({f / (envCount_ * pdfEnv + cosCount_ * facet.cosinePdf),
-                         facet.entryWeighted / facet.transmitted, technique});
-  return static_cast<int>(candidates_.size() - 1);
-}
-
 void VertexEstimator::traceCandidates(std::size_t v, uint32_t envCount, uint32_t cosCount,
                                       Pcg32& rng) {
-  envCount_ = static_cast<float>(envCount);
-  cosCount_ = static_cast<float>(cosCount);
+  const float nEnv = static_cast<float>(envCount), nCos = static_cast<float>(cosCount);
   const glm::vec3 n = normals_[v];
   const glm::vec3 p = positions_[v];
   const float r0 = rng.uniform(), r1 = rng.uniform(), r2 = rng.uniform(), r3 = rng.uniform();
-  offset_ = surfaceRayOffset(p, extent_);
-  origin_ = p + offset_ * n;
+  const float offset = surfaceRayOffset(p, extent_);
+  const glm::vec3 origin = p + offset * n;
 
-  // Candidate rays: direction and unoccluded contribution f / (n_env p_env + n_cos p_cos).
+  // Candidate rays: direction and unoccluded contribution f / (n_env p_env + n_cos p_cos); the
+  // candidate's index, or -1 where the sample cannot contribute.
   rays_.clear();
   candidates_.clear();
+  const auto add = [&](const FacetIntake& facet, const glm::vec3& w, const glm::vec3& l,
+                       float pdfEnv, int tech) {
+    const glm::vec3 f = facet.transmitted * l;
+    if (f.r <= 0.0f && f.g <= 0.0f && f.b <= 0.0f) return -1;
+    rays_.push_back({origin, w, offset, std::numeric_limits<float>::infinity()});
+    candidates_.push_back({f / (nEnv * pdfEnv + nCos * facet.cosinePdf),
+                           facet.entryWeighted / facet.transmitted, tech});
+    return static_cast<int>(candidates_.size() - 1);
+  };
   // The cosine technique samples the facets' mixture of cosine lobes (facet_light.h); the
   // environment's reaches every direction the facets face.
   for (uint32_t j = 0; j < envCount; ++j) {
     float u1, u2;
     hammersley(j, envCount, r0, r1, u1, u2);
     const EnvironmentSampler::Sample s = sampler_.sample(u1, u2);
-    addCandidate(v, s.direction, s.radiance, s.pdf, 0, true);
+    add(facetIntake(facets_, v, n, s.direction, eta_, entry_), s.direction, s.radiance, s.pdf, 0);
   }
   if (keepCosineHits_) {
-    traceCosineHits(v, cosCount, r2, r3);
+    traceCosineHits(v, origin, offset, cosCount, r2, r3, add);
     return;
   }
   for (uint32_t j = 0; j < cosCount; ++j) {
     float u1, u2;
     hammersley(j, cosCount, r2, r3, u1, u2);
     const glm::vec3 w = sampleFacetCosine(facets_, v, n, u1, u2);
-    addCandidate(v, w, sampler_.radiance(w), sampler_.pdf(w), 1, true);
+    add(facetIntake(facets_, v, n, w, eta_, entry_), w, sampler_.radiance(w), sampler_.pdf(w), 1);
   }
   scene_.occluded(rays_, blocked_);
 }
@@ -68,7 +61,10 @@ void VertexEstimator::traceCandidates(std::size_t v, uint32_t envCount, uint32_t
 // occlusion ray, those with light are candidates as before, and the blocked ones are traced again
 // for their nearest hit (a second, smaller stream: nearest-hit rays cost more than occlusion
 // rays, and most rays are not blocked).
-void VertexEstimator::traceCosineHits(std::size_t v, uint32_t cosCount, float r2, float r3) {
+template <class AddCandidate>
+void VertexEstimator::traceCosineHits(std::size_t v, const glm::vec3& origin, float offset,
+                                      uint32_t cosCount, float r2, float r3,
+                                      const AddCandidate& add) {
   const glm::vec3 n = normals_[v];
   cosineRays_.clear();
   cosineWeights_.clear();
@@ -84,8 +80,8 @@ void VertexEstimator::traceCosineHits(std::size_t v, uint32_t cosCount, float r2
     // is `transmitted`, summed in the same order.
     cosineWeights_.push_back((entry_ ? facet.entryWeighted : glm::vec3(facet.transmitted)) /
                              facet.cosinePdf);
-    cosineRays_.push_back({origin_, w, offset_, std::numeric_limits<float>::infinity()});
-    const int candidate = addCandidate(facet, w, sampler_.radiance(w), sampler_.pdf(w), 1, true);
+    cosineRays_.push_back({origin, w, offset, std::numeric_limits<float>::infinity()});
+    const int candidate = add(facet, w, sampler_.radiance(w), sampler_.pdf(w), 1);
     // >= 0: its index in rays_; < 0: -(1 + its index among the unlit ones)
     cosineRayIndex_.push_back(candidate >= 0 ? candidate : -1 - static_cast<int>(unlit++));
   }

@@ -75,12 +75,10 @@ class VertexEstimator {
   };
   // Fills rays_ and candidates_ with the samples that can contribute, and traces them.
   void traceCandidates(std::size_t v, uint32_t envCount, uint32_t cosCount, Pcg32& rng);
-  // A sample as a candidate if it can contribute (its index, else -1), and in rays_ if traced.
-  int addCandidate(std::size_t v, const glm::vec3& w, const glm::vec3& l, float pdfEnv,
-                   int technique, bool traced);
-  int addCandidate(const FacetIntake& facet, const glm::vec3& w, const glm::vec3& l, float pdfEnv,
-                   int technique, bool traced);
-  void traceCosineHits(std::size_t v, uint32_t cosCount, float r2, float r3);
+  // The cosine samples when their hits are kept (keepCosineHits); `add` makes a candidate.
+  template <class AddCandidate>
+  void traceCosineHits(std::size_t v, const glm::vec3& origin, float offset, uint32_t cosCount,
+                       float r2, float r3, const AddCandidate& add);
 
   std::span<const glm::vec3> positions_, normals_;
   const VertexFacets& facets_;
@@ -89,9 +87,6 @@ class VertexEstimator {
   const DirectionalAlbedoWeight* entry_;  // null: no E_w
   const UnoccludedIntake* unoccluded_;    // null: the plain sum of the unblocked samples
   float eta_, extent_;
-  // The current vertex's: the samples per technique, the rays' origin and offset.
-  float envCount_ = 0.0f, cosCount_ = 0.0f, offset_ = 0.0f;
-  glm::vec3 origin_{0.0f};
   std::vector<OcclusionRay> rays_;
   std::vector<Candidate> candidates_;
   std::vector<char> blocked_;

@@ -92,7 +92,8 @@ void VertexEstimator::traceCosineHits(std::size_t v, const glm::vec3& origin, fl
   std::size_t kept = 0;
   for (std::size_t k = 0; k < cosineRays_.size(); ++k) {
     const int i = cosineRayIndex_[k];
-    const std::size_t ray = i >= 0 ? static_cast<std::size_t>(i) : candidates - 1 - i;
+    const std::size_t ray =
+        i >= 0 ? static_cast<std::size_t>(i) : candidates + static_cast<std::size_t>(-1 - i);
     if (!blocked_[ray]) continue;
     cosineRays_[kept] = cosineRays_[k];
     cosineWeights_[kept++] = cosineWeights_[k];

@@ -180,8 +180,9 @@ void addBakeOptions(CLI::App& app, sss::BakeSettings& s) {
       ->capture_default_str();
   cli::addParsedOption(app, "--bounces", s.bounces, parseBounces,
                        "Interreflection: rays that meet the object bring back its light, "
-                       "iterated N times or until converged (auto: none where a pilot finds "
-                       "them negligible); 0: none, only the pilot's estimate of what is missed")
+                       "iterated N times, or until converged and ended with the series' "
+                       "geometric tail (auto: none where a pilot finds them negligible); 0: "
+                       "none, only the pilot's estimate of what is missed")
       ->default_str("auto");
   app.add_option("--walks", s.walks, "Random walks per vertex (--method pathtrace)")
       ->check(cli::checkedBy<int>(sss::checkPathTracerWalks))

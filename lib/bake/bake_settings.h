@@ -87,8 +87,9 @@ struct BakeSettings {
   double tolerance = 0.01;
   int walks = 256;  // PathTrace: random walks per vertex (>= 1)
   // Interreflection (interreflection.h): 0 none (a ray that meets the object is dark), N bounces,
-  // kAutoBounces (the default) until B changes less than the tolerance's share, none where the
-  // pilot finds the light the object sends itself below that share. Diffusion methods only.
+  // kAutoBounces (the default) until the series' geometric tail is within the tolerance's share
+  // (then added), none where the pilot finds the light the object sends itself below that share.
+  // Diffusion methods only.
   int bounces = kAutoBounces;
   // Cosine rays per vertex for the gather (>= 1); 0: gatherRaysFor(tolerance).
   int interreflectionRays = 0;

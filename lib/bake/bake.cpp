@@ -68,9 +68,9 @@ LightingInput lightingInput(const BakeScene& scene, const EnergyStage& energy) {
           .visibilityBudget = scene.budget.visibilityBudget(escape),
           .visibilityShare = scene.budget.visibilityShare(escape),
           .tolerance = s.tolerance,
-          // The bounces' gather takes the visibility's cosine rays (interreflection.h) up to
-          // twice its own count; above, it traces its own.
-          .keepCosineHitsUpTo = s.bounces != 0 ? 2 * gatherRaysOf(s) : 0,
+          // The bounces' gather takes the visibility's cosine rays (interreflection.h) up to its
+          // own count; above, it traces its own (more would grow its hits and their memory).
+          .keepCosineHitsUpTo = s.bounces != 0 ? gatherRaysOf(s) : 0,
           .run = s.run};
 }
 

@@ -20,6 +20,12 @@ struct CosineHit {
   float t = 0.0f;          // the nearest hit (SceneHit) without its face normal: 32 bytes
   uint32_t triangle = 0;
 };
+// The visibility's cosine samples among `samples` per vertex: half, rounded down (the
+// environment's technique takes the other half, rounded up).
+inline int cosineSamplesOf(int samples) {
+  return samples - (samples + 1) / 2;
+}
+
 struct CosineHits {
   int perVertex = 0;              // cosine samples per vertex; 0: none kept
   std::vector<uint32_t> offsets;  // vertex v's hits: [offsets[v], offsets[v + 1])

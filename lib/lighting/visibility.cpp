@@ -60,9 +60,8 @@ FullPass traceAllVertices(std::size_t vertexCount, int samples, const Visibility
   pass.irradiance.assign(vertexCount, glm::vec3(0.0f));
   if (options.entry) pass.entryWeighted.assign(vertexCount, glm::vec3(0.0f));
   pass.relativeVariance.assign(vertexCount, -1.0f);
-  const uint32_t cosineSamples = static_cast<uint32_t>(samples) - (samples + 1) / 2;
-  const bool keep = options.keepCosineHitsUpTo > 0 &&
-                    cosineSamples <= static_cast<uint32_t>(options.keepCosineHitsUpTo);
+  const bool keep =
+      options.keepCosineHitsUpTo > 0 && cosineSamplesOf(samples) <= options.keepCosineHitsUpTo;
   if (keep) {
     pass.cosineHits.resize((vertexCount + kVisibilityGrain - 1) / kVisibilityGrain);
     pass.cosineHitCounts.assign(vertexCount, 0);
@@ -105,7 +104,7 @@ FullPass traceAllVertices(std::size_t vertexCount, int samples, const Visibility
 CosineHits flatten(FullPass& pass, int samples) {
   CosineHits out;
   if (pass.cosineHitCounts.empty()) return out;
-  out.perVertex = samples - (samples + 1) / 2;
+  out.perVertex = cosineSamplesOf(samples);
   out.offsets.assign(pass.cosineHitCounts.size() + 1, 0);
   for (std::size_t v = 0; v < pass.cosineHitCounts.size(); ++v)
     out.offsets[v + 1] = out.offsets[v] + pass.cosineHitCounts[v];

@@ -43,58 +43,45 @@ void VertexEstimator::traceCandidates(std::size_t v, uint32_t envCount, uint32_t
     const EnvironmentSampler::Sample s = sampler_.sample(u1, u2);
     add(facetIntake(facets_, v, n, s.direction, eta_, entry_), s.direction, s.radiance, s.pdf, 0);
   }
-  if (keepCosineHits_) {
-    traceCosineHits(v, origin, offset, cosCount, r2, r3, add);
-    return;
-  }
-  for (uint32_t j = 0; j < cosCount; ++j) {
-    float u1, u2;
-    hammersley(j, cosCount, r2, r3, u1, u2);
-    const glm::vec3 w = sampleFacetCosine(facets_, v, n, u1, u2);
-    add(facetIntake(facets_, v, n, w, eta_, entry_), w, sampler_.radiance(w), sampler_.pdf(w), 1);
-  }
-  scene_.occluded(rays_, blocked_);
-}
-
-// The cosine samples, keeping those that meet the mesh with their nearest hit: every one the
-// facets take light in is traced (the gather needs them where the sky is black too) as an
-// occlusion ray, those with light are candidates as before, and the blocked ones are traced again
-// for their nearest hit (a second, smaller stream: nearest-hit rays cost more than occlusion
-// rays, and most rays are not blocked).
-template <class AddCandidate>
-void VertexEstimator::traceCosineHits(std::size_t v, const glm::vec3& origin, float offset,
-                                      uint32_t cosCount, float r2, float r3,
-                                      const AddCandidate& add) {
-  const glm::vec3 n = normals_[v];
   cosineRays_.clear();
   cosineWeights_.clear();
   cosineRayIndex_.clear();
-  std::size_t unlit = 0;  // cosine rays without light, after the candidates' rays
   for (uint32_t j = 0; j < cosCount; ++j) {
     float u1, u2;
     hammersley(j, cosCount, r2, r3, u1, u2);
     const glm::vec3 w = sampleFacetCosine(facets_, v, n, u1, u2);
     const FacetIntake facet = facetIntake(facets_, v, n, w, eta_, entry_);
-    if (!(facet.transmitted > 0.0f)) continue;
-    // The gather's weight: with diffuse entry (w = 1) the sum of the facets' terms times 1, which
-    // is `transmitted`, summed in the same order.
+    const int candidate = add(facet, w, sampler_.radiance(w), sampler_.pdf(w), 1);
+    if (!keepCosineHits_ || !(facet.transmitted > 0.0f)) continue;
+    // Kept for the gather: every sample the facets take light in, with the gather's weight (with
+    // diffuse entry, w = 1, the sum of the facets' terms times 1, which is `transmitted`, summed
+    // in the same order), and where rays_ holds it (-1: not yet, a sample without light).
     cosineWeights_.push_back((entry_ ? facet.entryWeighted : glm::vec3(facet.transmitted)) /
                              facet.cosinePdf);
     cosineRays_.push_back({origin, w, offset, std::numeric_limits<float>::infinity()});
-    const int candidate = add(facet, w, sampler_.radiance(w), sampler_.pdf(w), 1);
-    // >= 0: its index in rays_; < 0: -(1 + its index among the unlit ones)
-    cosineRayIndex_.push_back(candidate >= 0 ? candidate : -1 - static_cast<int>(unlit++));
+    cosineRayIndex_.push_back(candidate);
   }
+  if (keepCosineHits_)
+    traceKeepingCosineHits();
+  else
+    scene_.occluded(rays_, blocked_);
+}
+
+// The kept cosine samples: those without light (no candidate) are traced as occlusion rays after
+// the candidates' (the gather needs them where the sky is black too), and the blocked ones again
+// for their nearest hit (a second, smaller stream: nearest-hit rays cost more than occlusion
+// rays, and most rays are not blocked).
+void VertexEstimator::traceKeepingCosineHits() {
   const std::size_t candidates = rays_.size();
-  for (std::size_t k = 0; k < cosineRays_.size(); ++k)
-    if (cosineRayIndex_[k] < 0) rays_.push_back(cosineRays_[k]);
+  for (std::size_t k = 0; k < cosineRays_.size(); ++k) {
+    if (cosineRayIndex_[k] >= 0) continue;
+    cosineRayIndex_[k] = static_cast<int>(rays_.size());
+    rays_.push_back(cosineRays_[k]);
+  }
   scene_.occluded(rays_, blocked_);
   std::size_t kept = 0;
   for (std::size_t k = 0; k < cosineRays_.size(); ++k) {
-    const int i = cosineRayIndex_[k];
-    const std::size_t ray =
-        i >= 0 ? static_cast<std::size_t>(i) : candidates + static_cast<std::size_t>(-1 - i);
-    if (!blocked_[ray]) continue;
+    if (!blocked_[static_cast<std::size_t>(cosineRayIndex_[k])]) continue;
     cosineRays_[kept] = cosineRays_[k];
     cosineWeights_[kept++] = cosineWeights_[k];
   }
@@ -122,8 +109,8 @@ glm::vec3 ratioToUnoccluded(const glm::vec3& unoccluded, const glm::dvec3& visib
 }  // namespace
 
 VertexEstimate VertexEstimator::estimate(std::size_t v, int samples, Pcg32& rng) {
-  const uint32_t envCount = static_cast<uint32_t>((samples + 1) / 2);
-  const uint32_t cosCount = static_cast<uint32_t>(samples) - envCount;
+  const uint32_t cosCount = static_cast<uint32_t>(cosineSamplesOf(samples));
+  const uint32_t envCount = static_cast<uint32_t>(samples) - cosCount;
   traceCandidates(v, envCount, cosCount, rng);
 
   VertexEstimate result{glm::vec3(0.0f), glm::vec3(0.0f), -1.0f,

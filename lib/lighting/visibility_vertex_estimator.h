@@ -75,10 +75,8 @@ class VertexEstimator {
   };
   // Fills rays_ and candidates_ with the samples that can contribute, and traces them.
   void traceCandidates(std::size_t v, uint32_t envCount, uint32_t cosCount, Pcg32& rng);
-  // The cosine samples when their hits are kept (keepCosineHits); `add` makes a candidate.
-  template <class AddCandidate>
-  void traceCosineHits(std::size_t v, const glm::vec3& origin, float offset, uint32_t cosCount,
-                       float r2, float r3, const AddCandidate& add);
+  // traceCandidates' tracing when the cosine samples' hits are kept (keepCosineHits).
+  void traceKeepingCosineHits();
 
   std::span<const glm::vec3> positions_, normals_;
   const VertexFacets& facets_;
@@ -93,7 +91,7 @@ class VertexEstimator {
   bool keepCosineHits_ = false;
   std::vector<OcclusionRay> cosineRays_;
   std::vector<glm::vec3> cosineWeights_;
-  std::vector<int> cosineRayIndex_;  // per cosine ray where rays_ holds it (traceCosineHits)
+  std::vector<int> cosineRayIndex_;  // per kept cosine sample where rays_ holds it
   std::vector<SceneHit> sceneHits_;
   std::vector<CosineHit> cosineHits_;
 };

@@ -67,6 +67,11 @@ SurfaceHit surfaceHitOf(const SceneHit& hit, std::span<const glm::vec3> position
   return s;
 }
 
+// The mirror direction at a hit of a ray going `incoming`.
+glm::vec3 mirrorDirection(const SurfaceHit& h, const glm::vec3& incoming) {
+  return incoming + 2.0f * h.mu * h.normal;
+}
+
 // One vertex's gather rays as streams (TriangleScene::intersect): the first hits, then the
 // mirror rays of those that met the front of a surface. Reused per thread.
 struct GatherStreams {
@@ -137,7 +142,7 @@ uint64_t traceGatherRays(const GatherSetup& s, const TriangleScene& scene, std::
     if (!first.valid) continue;
     const float o = surfaceRayOffset(first.point, s.extent);
     g.mirrorRays.push_back({first.point + o * first.faceNormal,
-                            g.rays[k].direction + 2.0f * first.mu * first.normal, o,
+                            mirrorDirection(first, g.rays[k].direction), o,
                             std::numeric_limits<float>::infinity()});
   }
   scene.intersect(g.mirrorRays, g.mirrorHits);
@@ -180,13 +185,12 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
   std::vector<std::vector<Mirror>> perVertexMirrors(options.keepMirrors ? n : 0);
   std::atomic<uint64_t> blocked{0};
   // The light leaving a hit towards where the ray came from: its exit radiance from B, and the
-  // sky it mirrors; where the mirror direction meets the object again (`second`, the mirror ray's
-  // hit; null for a second hit itself), the light leaving that second hit instead (its exit
-  // radiance and its mirrored sky: one specular bounce more, which keeps a white furnace at 1 up
-  // to third-order mirror paths).
-  const auto addHit = [&](uint32_t v, const SurfaceHit& h, const glm::vec3& incoming,
+  // sky it mirrors (along `mirror`); where the mirror direction meets the object again (`second`,
+  // the mirror ray's hit; null for a second hit itself), the light leaving that second hit instead
+  // (its exit radiance and its mirrored sky: one specular bounce more, which keeps a white furnace
+  // at 1 up to third-order mirror paths).
+  const auto addHit = [&](uint32_t v, const SurfaceHit& h, const glm::vec3& mirror,
                           const glm::vec3& throughput, const SurfaceHit* second) {
-    const glm::vec3 mirror = incoming + 2.0f * h.mu * h.normal;
     const float fr = fresnelDielectric(h.mu, eta);
     const bool open = !second || (!second->hit && glm::dot(mirror, h.faceNormal) > 0.0f);
     const glm::vec3 mirrorWeight = open ? throughput * fr : glm::vec3(0.0f);
@@ -228,10 +232,10 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
         const OcclusionRay& mirrorRay = g.mirrorRays[m];
         const SurfaceHit second = surfaceHitOf(g.mirrorHits[m++], positions, normals, triangles,
                                                mirrorRay.origin, mirrorRay.direction);
-        addHit(v, first, g.rays[k].direction, g.entry[k], &second);
+        addHit(v, first, mirrorRay.direction, g.entry[k], &second);
         if (second.valid)
-          addHit(v, second, mirrorRay.direction, g.entry[k] * fresnelDielectric(first.mu, eta),
-                 nullptr);
+          addHit(v, second, mirrorDirection(second, mirrorRay.direction),
+                 g.entry[k] * fresnelDielectric(first.mu, eta), nullptr);
       }
     }
     blocked += count;
@@ -453,7 +457,7 @@ GeometricTail bounceTail(std::span<const glm::vec3> earlier, std::span<const glm
     }
     squares += glm::dot(d, d);
   }
-  t.error = std::sqrt(squares / double(std::max<std::size_t>(n, 1)));
+  t.squaredError = squares;
   return t;
 }
 
@@ -461,10 +465,6 @@ namespace {
 
 void addTo(std::vector<glm::vec3>& sum, std::span<const glm::vec3> x) {
   for (std::size_t v = 0; v < sum.size(); ++v) sum[v] += x[v];
-}
-
-double rms(std::span<const glm::vec3> values) {
-  return std::sqrt(squaredNorm(values) / double(std::max<std::size_t>(values.size(), 1)));
 }
 
 }  // namespace
@@ -504,14 +504,16 @@ BounceResult iterateInterreflection(const InterreflectionGather& gather,
       extrapolated =
           bounceTail(r.bounces >= 3 ? earlier : std::vector<glm::vec3>{}, previous, added, light);
     if (maxBounces > 0) continue;
-    if (extrapolated && extrapolated->error < tolerance * rms(r.exitance)) break;
+    if (extrapolated &&
+        extrapolated->squaredError < tolerance * tolerance * squaredNorm(r.exitance))
+      break;
     if (r.change < tolerance) break;
   }
   if (extrapolated) {
     addTo(r.irradiance, extrapolated->irradiance);
     addTo(r.exitance, extrapolated->exitance);
-    const double b = rms(r.exitance);
-    r.remaining = b > 0.0 ? extrapolated->error / b : 0.0;
+    const double b = squaredNorm(r.exitance);
+    r.remaining = b > 0.0 ? std::sqrt(extrapolated->squaredError / b) : 0.0;
     r.tail = true;
   } else if (r.bounces > 0 && lastLight > 0.0) {
     const double ratio = std::sqrt(squaredNorm(gather.gather(added, nullptr, false)) / lastLight);

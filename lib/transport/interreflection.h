@@ -130,10 +130,11 @@ enum class BounceTail { None, Geometric };
 // ratio (how much of its sky the object fills there, and the albedo per channel), and one ratio
 // for the whole object leaves the deep ones short. The error returned is how much the tail moves
 // between the ratios of the last two pairs of increments (`earlier`, dB_(k-2), empty where there
-// is none: then the whole tail), absolute RMS in B's units: small once the ratios have settled.
+// is none: then the whole tail), as its sum of squares over vertices and channels (against B's,
+// a relative RMS as relative_rms.h pools it): small once the ratios have settled.
 struct GeometricTail {
   std::vector<glm::vec3> exitance, irradiance;  // what the tail adds to B and E
-  double error = 0.0;
+  double squaredError = 0.0;
 };
 GeometricTail bounceTail(std::span<const glm::vec3> earlier, std::span<const glm::vec3> previous,
                          std::span<const glm::vec3> last, std::span<const glm::vec3> lastLight);

@@ -276,6 +276,21 @@ TEST_F(Relight, RefusesBrokenFiles) {
   EXPECT_THROW(relight("x.ply", {out_->baked.mesh, *material_, broken},
                        gradient(glm::vec3(0, 1, 0), glm::vec3(1)), {}),
                Error);
+  // Nor do its bounces' tail mark ('+') and its gather's visibility set (':N') other than as
+  // written: the fields before the bounces kept, the bounces and rays fields replaced.
+  std::string head = transfer_->relightTransport;
+  for (int field = 0; field < 2; ++field) head.resize(head.rfind(','));
+  for (const std::string tail : {"+,64", "3++,64", "3+x,64", "3,64:", "3,64:x", "3,64:-1",
+                                 "3,64:5000", "3,64:8:8", "3,:8"}) {
+    broken.relightTransport = head + "," + tail;
+    try {
+      relight("x.ply", {out_->baked.mesh, *material_, broken},
+              gradient(glm::vec3(0, 1, 0), glm::vec3(1)), {});
+      ADD_FAILURE() << broken.relightTransport;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("bad relight_transport"), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace

@@ -107,8 +107,9 @@ void takeRelitLight(const Arguments& a, RelitLight relit, BakedPlyContents& cont
   baked.exitance = std::move(relit.exitance);
   baked.radianceNormal = std::move(relit.radianceNormal);
   baked.farExitance.clear();
-  baked.farExitSlope.clear();
+  baked.exitSlope.clear();
   contents.hasFarField = false;
+  contents.hasExitSlope = false;
   info("relit under " + a.environment + " (" + std::to_string(relit.compactLights) +
            " compact lights)",
        a.quiet);
@@ -146,7 +147,7 @@ LoadedMesh loadMesh(const Arguments& a, const Cubemap& radiance) {
   if (m.shading.albedoIsFallback) {
     warn(noMaterial + format("albedo %g (set --albedo)", m.shading.albedo.x));
   }
-  m.renderMesh = renderMeshFor(m.contents.baked, a.request.mode, m.shading.farField);
+  m.renderMesh = renderMeshFor(m.contents.baked, a.request.mode, m.shading.exitLobe);
   m.bounds = boundingSphere(m.contents.baked.mesh.positions);
   return m;
 }
@@ -292,7 +293,7 @@ void writeReport(const Arguments& a, const LoadedMesh& mesh, const Environment& 
                            {"eta", mesh.shading.eta},
                            {"fresnel", kFresnelModelNames.name(a.fresnel)},
                            {"exit_model", kExitModelNames.name(a.request.exitModel)},
-                           {"far_field_lobe", mesh.shading.farField},
+                           {"exit_lobe", mesh.shading.exitLobe},
                            {"unscattered", shadingOptions(a, mesh.shading).drawsUnscattered()},
                            {"environment", a.environment},
                            {"environment_face_size", env.radiance.size()},
@@ -376,7 +377,7 @@ void writeLightTurntable(const Arguments& a, const LoadedMesh& mesh, Renderer& r
     if (mesh.relighter) {
       BakedPlyContents contents = mesh.contents;
       takeRelitLight(turned, mesh.relighter->relight(environment.radiance()), contents);
-      renderer.setMesh(renderMeshFor(contents.baked, a.request.mode, mesh.shading.farField));
+      renderer.setMesh(renderMeshFor(contents.baked, a.request.mode, mesh.shading.exitLobe));
     }
     const Environment& env = environment.lighting(mesh.shading.eta);
     renderer.setEnvironment(env.radiance, env.irradiance.empty() ? nullptr : &env.irradiance);

@@ -311,18 +311,53 @@ BakedLight combineInterreflection(VertexLighting& lighting, VertexExitance& dire
   return {std::move(bounced.irradiance), std::move(bounced.exitance)};
 }
 
-// The radiance along the normal of an exitance per vertex: through the exit model sss-render uses
-// by default, the normalized one (optics/fresnel.h: L = B F_t(1, eta) / (pi (1 - 2 C_1))), or
-// where the far field was traced through the exit lobe its exits measured (far_field.h; slope 0
-// is the normalized model).
-std::vector<glm::vec3> radianceOf(std::span<const glm::vec3> exitance, const FarField& far,
-                                  double eta) {
+// Stage 5b: the exit lobe B leaves through (optics/exit_lobe.h), the one sss-render draws by
+// default. Where the far field was traced, the lobe its exits measured (far_field.h). Else the
+// half-space's: per channel the slope whose radiance along the normal is the half-space Monte
+// Carlo's, B F_t(1) w(1) / (pi (1 - 2 C_1)) (material/directional_albedo_weight.h), where that
+// departs from the normalized model by more than kHalfSpaceLobeMinChange; 0 (the normalized
+// model) elsewhere. Why: at low albedo much of the light comes back before it diffuses, and the
+// interior radiance at the boundary is not isotropic: on skin1 spheres of 5-20 mm under uniform
+// light the normalized model is 2-4 / 6-7 / 8-9 % (R / G / B) too bright along the normal, the
+// half-space's lobe within 1.1 % at 10-20 mm (docs/accuracy.md, "The exit model at low
+// albedo"). Why not at high albedo: there the half-space's 1-2 % is within what finite objects
+// differ from it (on the 50 mm marble and skim-milk bunny the half-space's exit is 0.1-0.3
+// points further from the reference than the normalized model: light diffusing out of a small
+// object leaves more along the normal than a half-space's). The path tracer measures its own
+// radiance: no lobe.
+constexpr double kHalfSpaceLobeMinChange = 0.02;
+
+struct ExitLobeStage {
+  std::vector<glm::vec3> slope;  // per vertex; empty: the normalized model
+  ExitLobeReport report;
+};
+
+ExitLobeStage exitLobeStage(const BakeScene& scene, const FarField& far) {
+  if (far.traced())
+    return {far.slope, {"far field", far.report.meanExitSlope, far.report.lobeNoise}};
+  if (!scene.diffusion()) return {};
+  const ExitLobe lobe{float(scene.settings.material.eta)};
+  const glm::vec3 halfSpace = scene.entryWeight.at(1.0f);  // w(1): per unit normalized radiance
+  glm::vec3 slope(0.0f);
+  for (int c = 0; c < 3; ++c)
+    if (std::abs(halfSpace[c] - 1.0f) > kHalfSpaceLobeMinChange)
+      slope[c] = float(lobe.slopeForNormalRatio(halfSpace[c]));
+  if (slope == glm::vec3(0.0f)) return {};
+  return {std::vector<glm::vec3>(scene.mesh.meshMm.positions.size(), slope),
+          {"half-space", glm::dvec3(slope), 0.0}};
+}
+
+// The radiance along the normal of an exitance per vertex, through the exit lobe of `slopes`
+// (ExitLobeStage; empty: the normalized model, optics/fresnel.h: L = B F_t(1, eta) /
+// (pi (1 - 2 C_1))).
+std::vector<glm::vec3> radianceOf(std::span<const glm::vec3> exitance,
+                                  std::span<const glm::vec3> slopes, double eta) {
   std::vector<glm::vec3> radiance(exitance.size());
   const ExitLobe lobe{float(eta)};
   const float normalized = float(normalExitRadianceScale(float(eta)));
   for (std::size_t i = 0; i < exitance.size(); ++i)
-    radiance[i] = exitance[i] * (far.traced() ? glm::vec3(lobe.normalRadiance(far.slope[i]))
-                                              : glm::vec3(normalized));
+    radiance[i] = exitance[i] * (slopes.empty() ? glm::vec3(normalized)
+                                                : glm::vec3(lobe.normalRadiance(slopes[i])));
   return radiance;
 }
 
@@ -334,12 +369,12 @@ struct RadianceAlongNormal {
 };
 
 RadianceAlongNormal radianceAlongNormal(std::span<const glm::vec3> exitance, const FarField& far,
-                                        double eta) {
-  RadianceAlongNormal r{radianceOf(exitance, far, eta), {}};
+                                        std::span<const glm::vec3> slopes, double eta) {
+  RadianceAlongNormal r{radianceOf(exitance, slopes, eta), {}};
   if (!far.traced()) return r;
   std::vector<glm::vec3> vertexModel(exitance.begin(), exitance.end());
   for (std::size_t i = 0; i < vertexModel.size(); ++i) vertexModel[i] -= far.exitance[i];
-  r.vertexModel = radianceOf(vertexModel, far, eta);
+  r.vertexModel = radianceOf(vertexModel, slopes, eta);
   return r;
 }
 
@@ -399,7 +434,7 @@ BakeErrorReport errorReport(const BakeReport& r, const ModelErrorReport& model, 
   e.model = model;
   const UnscatteredLightReport& u = r.unscattered;
   e.unscattered = u.traced ? u.relativeStdError : u.share;
-  e.exitLobe = r.farField.traced ? r.farField.lobeNoise : 0.0;
+  e.exitLobe = r.exitLobe.noise;
   if (r.transport.pathTrace) {
     e.numerical = std::hypot(e.exitance, e.unscattered);
   } else {
@@ -482,14 +517,15 @@ void warnAboveTolerance(const BakeErrorReport& e, bool quiet) {
 // Stage 12: the baked mesh in the file's units, with what made it in a comment.
 BakedMesh assembleBakedMesh(TriangleMesh mesh, BakedLight light,
                             std::vector<glm::vec3> radianceNormal, FarField far,
-                            RelightTransfer relight, const BakeSettings& s, const BakeReport& r) {
+                            ExitLobeStage exitLobe, RelightTransfer relight, const BakeSettings& s,
+                            const BakeReport& r) {
   BakedMesh baked;
   baked.mesh = std::move(mesh);
   baked.irradiance = std::move(light.irradiance);
   baked.exitance = std::move(light.exitance);
   baked.radianceNormal = std::move(radianceNormal);
   baked.farExitance = std::move(far.exitance);
-  baked.farExitSlope = std::move(far.slope);
+  baked.exitSlope = std::move(exitLobe.slope);
   baked.materialName = s.material.name;
   baked.sigmaA = s.material.sigmaA;
   baked.sigmaSPrime = s.material.sigmaSPrime;
@@ -557,7 +593,7 @@ struct SymmetricChange {
 };
 
 SymmetricChange symmetricChange(const BakeScene& scene, const TransportInput& transportIn,
-                                const VertexExitance& direct, const FarField& far,
+                                const VertexExitance& direct, std::span<const glm::vec3> slopes,
                                 std::span<const float> share) {
   if (share.empty() || !scene.diffusion()) return {};
   EnergyWeightSums sums;
@@ -570,7 +606,7 @@ SymmetricChange symmetricChange(const BakeScene& scene, const TransportInput& tr
   std::vector<glm::vec3> change = transport(in).exitance;
   for (std::size_t i = 0; i < change.size(); ++i)
     change[i] = 0.5f * (change[i] - share[i] * received[i]);
-  std::vector<glm::vec3> radiance = radianceOf(change, far, scene.settings.material.eta);
+  std::vector<glm::vec3> radiance = radianceOf(change, slopes, scene.settings.material.eta);
   return {std::move(change), std::move(radiance)};
 }
 
@@ -589,16 +625,18 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
   DiffusionMeshCache meshCache;
   const TransportInput transportIn =
       transportInput(scene, energy, energyReport, lighting, far, weightSums, meshCache);
+  ExitLobeStage exitLobe = exitLobeStage(scene, far);
   VertexExitance direct = transport(transportIn);
   Interreflection bounced = interreflectionStage(scene, energy, transportIn, lighting, direct);
-  SymmetricChange symmetric = symmetricChange(scene, transportIn, direct, far, share);
+  SymmetricChange symmetric = symmetricChange(scene, transportIn, direct, exitLobe.slope, share);
   BakedLight light = combineInterreflection(lighting, direct, bounced);
-  const RadianceAlongNormal normal = radianceAlongNormal(light.exitance, far, s.material.eta);
+  const RadianceAlongNormal normal =
+      radianceAlongNormal(light.exitance, far, exitLobe.slope, s.material.eta);
   const UnscatteredLight unscattered = unscatteredStage(scene, normal.all);
   std::vector<glm::vec3> radianceNormal = withUnscattered(normal.all, unscattered);
   const std::vector<glm::vec3> interreflected =
       bounced.added.empty() ? std::vector<glm::vec3>{}
-                            : radianceOf(bounced.added, far, s.material.eta);
+                            : radianceOf(bounced.added, exitLobe.slope, s.material.eta);
   const ModelErrorReport model =
       modelErrorStage(scene, radianceNormal, normal.vertexModel, interreflected, far);
   RelightTransfer relight =
@@ -613,6 +651,7 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
   report.energy = std::move(energyReport);
   report.lighting = std::move(lighting.report);
   report.farField = far.report;
+  report.exitLobe = exitLobe.report;
   report.transport = std::move(direct.report);
   report.interreflection = bounced.report;
   report.unscattered = unscattered.report;
@@ -620,7 +659,7 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
   if (share.empty()) warnAboveTolerance(report.errors, s.run.quiet);  // else the mix warns
   report.relight = relight.report;
   out.baked = assembleBakedMesh(std::move(mesh.mesh), std::move(light), std::move(radianceNormal),
-                                std::move(far), std::move(relight), s, report);
+                                std::move(far), std::move(exitLobe), std::move(relight), s, report);
   out.symmetricChange = std::move(symmetric.exitance);
   out.symmetricChangeRadiance = std::move(symmetric.radiance);
   report.totalSeconds = clock.seconds();

@@ -14,10 +14,12 @@
 //                              (light_vertices.h, lib/lighting)
 //   4. traceFarField           the light leaving far from where it entered (transport/far_field.h)
 //   5. energyWithFarField      with a traced far field, the walks' near share refined
+//   5b. exitLobeStage          the exit lobe B leaves through: the far field's, the half-space's
+//                              at low albedo, or none (the normalized model; bake.cpp)
 //   6. transport               B per vertex: a diffusion sum or the path tracer (transport.h)
 //   7. interreflection         the light the object sends itself, its own E, B and what it added
 //                              (transport/interreflection.h), or the pilot's estimate of it
-//   8. radianceAlongNormal     B's radiance along the normal through the exit model
+//   8. radianceAlongNormal     B's radiance along the normal through the exit lobe
 //   9. traceUnscatteredLight   the light crossing the object unscattered, added to that radiance
 //                              (transport/unscattered_light.h)
 //  10. estimateModelError      the model's own error (transport/model_error.h)

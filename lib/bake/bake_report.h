@@ -39,8 +39,7 @@ struct BakeErrorReport {
   // Of the radiance along the normal: the traced unscattered light's noise, or the share of it
   // that auto found negligible and left out.
   double unscattered = 0.0;
-  // Of the radiance along the normal: the traced far field's exit lobe's noise
-  // (FarFieldReport::lobeNoise).
+  // Of the radiance along the normal: the exit lobe's noise (ExitLobeReport::noise).
   double exitLobe = 0.0;
   double numerical = 0.0;  // the six above in quadrature: what the tolerance bounds
   ModelErrorReport model;  // of the radiance along the normal
@@ -77,6 +76,15 @@ struct MaterialBakeReport {
   double seconds = 0.0;
 };
 
+// The exit lobe B leaves through (optics/exit_lobe.h): "far field" (its traced exits'),
+// "half-space" (the half-space Monte Carlo's radiance along the normal, in the channels where it
+// departs from the normalized model), or "normalized" (slope 0 everywhere).
+struct ExitLobeReport {
+  std::string source = "normalized";
+  glm::dvec3 meanSlope{0.0};  // area-weighted (the far field's: weighted by B_far)
+  double noise = 0.0;         // of the radiance along the normal, relative RMS
+};
+
 struct BakeReport {
   MeshStageReport mesh;
   EnvironmentStageReport environment;
@@ -84,6 +92,7 @@ struct BakeReport {
   EnergyStageReport energy;  // also the profile; empty for the path tracer
   LightingReport lighting;
   FarFieldReport farField;
+  ExitLobeReport exitLobe;
   TransportReport transport;
   InterreflectionReport interreflection;
   UnscatteredLightReport unscattered;

@@ -264,6 +264,9 @@ Json toJson(const BakeReport& r) {
     j["profile"] = profileJson(r.energy);
     j["energy"] = toJson(r.energy);
     j["far_field"] = toJson(r.farField);
+    j["exit_lobe"] = {{"source", r.exitLobe.source},
+                      {"mean_slope", toJson(r.exitLobe.meanSlope)},
+                      {"noise", r.exitLobe.noise}};
   }
   j["visibility"] = toJson(r.lighting);
   j["exitance"] = toJson(r.transport);

@@ -126,7 +126,7 @@ BakedMesh mixBakedMeshes(std::vector<BakedMesh> bakes,
   std::vector<glm::vec3> exitance = mixField(bakes, shares, &BakedMesh::exitance, n);
   std::vector<glm::vec3> radianceNormal = mixField(bakes, shares, &BakedMesh::radianceNormal, n);
   std::vector<glm::vec3> farExitance = mixField(bakes, shares, &BakedMesh::farExitance, n);
-  std::vector<glm::vec3> farExitSlope = mixField(bakes, shares, &BakedMesh::farExitSlope, n);
+  std::vector<glm::vec3> exitSlope = mixField(bakes, shares, &BakedMesh::exitSlope, n);
   bool unscatteredTraced = false;
   for (const BakedMesh& b : bakes) unscatteredTraced = unscatteredTraced || b.unscatteredTraced;
   BakedMesh mixed = std::move(bakes[header]);
@@ -134,7 +134,7 @@ BakedMesh mixBakedMeshes(std::vector<BakedMesh> bakes,
   mixed.exitance = std::move(exitance);
   mixed.radianceNormal = std::move(radianceNormal);
   mixed.farExitance = std::move(farExitance);
-  mixed.farExitSlope = std::move(farExitSlope);
+  mixed.exitSlope = std::move(exitSlope);
   mixed.unscatteredTraced = unscatteredTraced;
   return mixed;
 }

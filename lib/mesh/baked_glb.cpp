@@ -61,8 +61,8 @@ DisplayColors displayColors(const std::string& path, const BakedMesh& baked) {
   out.colors.reserve(baked.exitance.size());
   for (std::size_t i = 0; i < baked.exitance.size(); ++i) {
     glm::dvec3 radiance = radiancePerExitance * glm::dvec3(baked.exitance[i]);
-    if (!baked.farExitSlope.empty())
-      radiance = glm::dvec3(baked.exitance[i]) * lobe.normalRadiance(baked.farExitSlope[i]);
+    if (!baked.exitSlope.empty())
+      radiance = glm::dvec3(baked.exitance[i]) * lobe.normalRadiance(baked.exitSlope[i]);
     const glm::vec3 c = glm::vec3(exposure * radiance);
     const float high = std::max({c.x, c.y, c.z});
     peak = std::max(peak, high);
@@ -75,7 +75,7 @@ DisplayColors displayColors(const std::string& path, const BakedMesh& baked) {
          " under the exposure " + std::to_string(exposure) + "); _EXITANCE holds them unclamped");
   }
   out.description = {{"exposure", exposure},
-                     {"exit_model", baked.farExitance.empty() ? "normalized" : "auto"},
+                     {"exit_model", baked.exitSlope.empty() ? "normalized" : "auto"},
                      {"radiance_per_exitance", radiancePerExitance},
                      {"scale", scale},
                      {"clamped_vertices", clamped}};
@@ -171,10 +171,9 @@ Json gltfDocument(const std::string& path, const BakedMesh& baked, GlbBinary& bi
   if (!baked.irradiance.empty()) attributes["_IRRADIANCE"] = bin.addVec3(baked.irradiance, false);
   if (!baked.exitance.empty()) attributes["_EXITANCE"] = bin.addVec3(baked.exitance, false);
   if (baked.relightOrder >= 0) addRelightAttributes(path, bin, baked, attributes);
-  if (!baked.farExitance.empty()) {
+  if (!baked.farExitance.empty())
     attributes["_FAR_EXITANCE"] = bin.addVec3(baked.farExitance, false);
-    attributes["_FAR_EXIT_SLOPE"] = bin.addVec3(baked.farExitSlope, false);
-  }
+  if (!baked.exitSlope.empty()) attributes["_EXIT_SLOPE"] = bin.addVec3(baked.exitSlope, false);
   const int indices = bin.addIndices(baked.mesh.triangles);
   const std::string name = baked.materialName.empty() ? "baked" : baked.materialName;
   return {{"asset",
@@ -575,16 +574,19 @@ BakedPlyContents readBakedGlb(const std::string& path) {
           readVec3(path, document, bin, index(path, attributes, "_EXITANCE"), "_EXITANCE");
       contents.hasExitance = true;
     }
-    const bool far = attributes.contains("_FAR_EXITANCE");
-    if (far != attributes.contains("_FAR_EXIT_SLOPE"))
-      fail(path, "glTF: _FAR_EXITANCE without _FAR_EXIT_SLOPE or the other way round");
-    if (far) {
+    // _FAR_EXIT_SLOPE: the name before the escape walks measured a lobe too.
+    const char* slopeName =
+        attributes.contains("_FAR_EXIT_SLOPE") ? "_FAR_EXIT_SLOPE" : "_EXIT_SLOPE";
+    contents.hasFarField = attributes.contains("_FAR_EXITANCE");
+    contents.hasExitSlope = attributes.contains(slopeName);
+    if (contents.hasFarField && !contents.hasExitSlope)
+      fail(path, "glTF: _FAR_EXITANCE without _EXIT_SLOPE");
+    if (contents.hasFarField)
       values.farExitance =
           readVec3(path, document, bin, index(path, attributes, "_FAR_EXITANCE"), "_FAR_EXITANCE");
-      values.farExitSlope = readVec3(path, document, bin,
-                                     index(path, attributes, "_FAR_EXIT_SLOPE"), "_FAR_EXIT_SLOPE");
-      contents.hasFarField = true;
-    }
+    if (contents.hasExitSlope)
+      values.exitSlope =
+          readVec3(path, document, bin, index(path, attributes, slopeName), slopeName);
     raw.faceCorners = readIndices(path, document, bin, index(path, primitive, "indices"));
     const auto extras = document.at("asset").find("extras");
     int format = 0;
@@ -606,9 +608,9 @@ BakedPlyContents readBakedGlb(const std::string& path) {
     fail(path, std::string("glTF JSON: ") + e.what());
   }
   const std::size_t n = raw.positions.size();
-  for (const auto* set : {&raw.normals, &values.irradiance, &values.exitance, &values.farExitance,
-                          &values.farExitSlope, &values.radianceGain, &values.exitancePerRadiance,
-                          &values.escapeProbability}) {
+  for (const auto* set :
+       {&raw.normals, &values.irradiance, &values.exitance, &values.farExitance, &values.exitSlope,
+        &values.radianceGain, &values.exitancePerRadiance, &values.escapeProbability}) {
     if (!set->empty() && set->size() != n) {
       fail(path, "glTF: the attributes have different counts");
     }

@@ -79,18 +79,19 @@ void checkVertexValues(const std::string& path, const std::vector<glm::vec3>& va
 
 namespace {
 
-// The far field's values: both or neither, one per vertex, finite, slopes where the exit lobe is
-// defined (a slope below -1 would make the interior radiance negative along the normal).
-void checkFarField(const std::string& path, const BakedMesh& baked, std::size_t n) {
+// The far field's part of B and the exit lobe's slopes: one per vertex, finite, a far field only
+// with slopes (its exits measured them), slopes where the exit lobe is defined (a slope below -1
+// would make the interior radiance negative along the normal).
+void checkExitLobe(const std::string& path, const BakedMesh& baked, std::size_t n) {
   checkVertexValues(path, baked.farExitance, n, "far_exitance");
-  checkVertexValues(path, baked.farExitSlope, n, "far_exit_slope");
-  if (baked.farExitance.empty() != baked.farExitSlope.empty())
-    fail(path, "has far_exitance without far_exit_slope or the other way round");
-  for (std::size_t i = 0; i < baked.farExitSlope.size(); ++i)
+  checkVertexValues(path, baked.exitSlope, n, "exit_slope");
+  if (!baked.farExitance.empty() && baked.exitSlope.empty())
+    fail(path, "has far_exitance without exit_slope");
+  for (std::size_t i = 0; i < baked.exitSlope.size(); ++i)
     for (int c = 0; c < 3; ++c) {
-      const double k = baked.farExitSlope[i][c];
+      const double k = baked.exitSlope[i][c];
       if (k < ExitLobe::kMinSlope || k > ExitLobe::kMaxSlope)
-        fail(path, "far_exit_slope of vertex " + std::to_string(i) + " is outside [" +
+        fail(path, "exit_slope of vertex " + std::to_string(i) + " is outside [" +
                        shortestDecimal(ExitLobe::kMinSlope) + ", " +
                        shortestDecimal(ExitLobe::kMaxSlope) + "]");
     }
@@ -135,7 +136,7 @@ void checkBakedMesh(const std::string& path, const BakedMesh& baked) {
   checkVertexValues(path, baked.irradiance, nv, "irradiance");
   checkVertexValues(path, baked.exitance, nv, "exitance");
   checkVertexValues(path, baked.radianceNormal, nv, "radiance_normal");
-  checkFarField(path, baked, nv);
+  checkExitLobe(path, baked, nv);
   checkRelight(path, baked, nv);
 }
 
@@ -165,16 +166,17 @@ struct BakedFields {
         exitance(!baked.exitance.empty()),
         radianceNormal(!baked.radianceNormal.empty()),
         farField(!baked.farExitance.empty()),
+        exitSlope(!baked.exitSlope.empty()),
         relightCount(baked.relightCount()),
         escape(!baked.escapeProbability.empty()) {}
-  bool irradiance, exitance, radianceNormal, farField;
+  bool irradiance, exitance, radianceNormal, farField, exitSlope;
   int relightCount;
   bool escape;
   // Bytes of one vertex record: position and normal, then the optional fields in order.
   std::size_t vertexBytes() const {
     return 24 + (irradiance ? 12 : 0) + (exitance ? 15 : 0) + (radianceNormal ? 12 : 0) +
-           (farField ? 24 : 0) + (relightCount > 0 ? 12 + transferBytes() + 24 : 0) +
-           (escape ? 12 : 0);
+           (farField ? 12 : 0) + (exitSlope ? 12 : 0) +
+           (relightCount > 0 ? 12 + transferBytes() + 24 : 0) + (escape ? 12 : 0);
   }
   std::size_t transferBytes() const {
     const std::size_t count = std::size_t(relightCount);
@@ -225,8 +227,10 @@ void appendVertexProperties(std::string& out, std::size_t vertices, const BakedF
   if (fields.farField)
     out +=
         "property float far_exitance_r\nproperty float far_exitance_g\n"
-        "property float far_exitance_b\nproperty float far_exit_slope_r\n"
-        "property float far_exit_slope_g\nproperty float far_exit_slope_b\n";
+        "property float far_exitance_b\n";
+  if (fields.exitSlope)
+    out +=
+        "property float exit_slope_r\nproperty float exit_slope_g\nproperty float exit_slope_b\n";
   if (fields.relightCount > 0)
     out +=
         "property float transfer_scale_r\nproperty float transfer_scale_g\n"
@@ -269,7 +273,9 @@ void appendVertex(std::string& out, const BakedMesh& baked, const BakedFields& f
   }
   if (fields.farField) {
     for (int k = 0; k < 3; ++k) put(out, baked.farExitance[i][k]);
-    for (int k = 0; k < 3; ++k) put(out, baked.farExitSlope[i][k]);
+  }
+  if (fields.exitSlope) {
+    for (int k = 0; k < 3; ++k) put(out, baked.exitSlope[i][k]);
   }
   const std::size_t count = static_cast<std::size_t>(fields.relightCount);
   if (count > 0)
@@ -528,12 +534,11 @@ BakedPlyContents readBakedPly(const std::string& path) {
   values.irradiance = readChannels(path, ply, "irradiance", result.hasIrradiance);
   values.exitance = readChannels(path, ply, "exitance", result.hasExitance);
   values.radianceNormal = readChannels(path, ply, "radiance_normal", result.hasRadianceNormal);
-  bool hasFarExitance = false, hasFarSlope = false;
-  values.farExitance = readChannels(path, ply, "far_exitance", hasFarExitance);
-  values.farExitSlope = readChannels(path, ply, "far_exit_slope", hasFarSlope);
-  if (hasFarExitance != hasFarSlope)
-    fail(path, "has far_exitance without far_exit_slope or the other way round");
-  result.hasFarField = hasFarExitance;
+  values.farExitance = readChannels(path, ply, "far_exitance", result.hasFarField);
+  values.exitSlope = readChannels(path, ply, "exit_slope", result.hasExitSlope);
+  if (!result.hasExitSlope)  // the name before the escape walks measured a lobe too
+    values.exitSlope = readChannels(path, ply, "far_exit_slope", result.hasExitSlope);
+  if (result.hasFarField && !result.hasExitSlope) fail(path, "has far_exitance without exit_slope");
   double version = 1.0;  // checked by readKeys
   if (keys.count("format")) parseDecimal(keys["format"], version);
   readRelight(path, ply, int(version), result, values);
@@ -551,10 +556,8 @@ void cleanBakedMesh(const std::string& path, RawMesh raw, const BakedVertexValue
     if (contents.hasIrradiance) baked.irradiance.push_back(values.irradiance[o]);
     if (contents.hasExitance) baked.exitance.push_back(values.exitance[o]);
     if (contents.hasRadianceNormal) baked.radianceNormal.push_back(values.radianceNormal[o]);
-    if (contents.hasFarField) {
-      baked.farExitance.push_back(values.farExitance[o]);
-      baked.farExitSlope.push_back(values.farExitSlope[o]);
-    }
+    if (contents.hasFarField) baked.farExitance.push_back(values.farExitance[o]);
+    if (contents.hasExitSlope) baked.exitSlope.push_back(values.exitSlope[o]);
     if (contents.hasRelight) {
       const std::size_t count = baked.relightCount();
       const auto first = values.relightTransfer.begin() + std::ptrdiff_t(o * count);
@@ -569,7 +572,7 @@ void cleanBakedMesh(const std::string& path, RawMesh raw, const BakedVertexValue
   checkVertexValues(path, baked.irradiance, origin.size(), "irradiance");
   checkVertexValues(path, baked.exitance, origin.size(), "exitance");
   checkVertexValues(path, baked.radianceNormal, origin.size(), "radiance_normal");
-  checkFarField(path, baked, origin.size());
+  checkExitLobe(path, baked, origin.size());
   checkRelight(path, baked, origin.size());
   if (baked.meshChecked) contents.report.warnings.clear();  // sss-bake showed them
 }

@@ -29,11 +29,13 @@
 //                  (when given: the radiance leaving along the vertex normal, under the exit
 //                  model of the bake, so that a bake compares with a reference in radiance)
 //   property float far_exitance_r, far_exitance_g, far_exitance_b
-//   property float far_exit_slope_r, far_exit_slope_g, far_exit_slope_b
-//                  (both or neither, when the bake traced its far field,
-//                  transport/far_field.h: the part of B that light paths carried from afar,
-//                  and the slope k of the exit lobe that the paths' exits measured,
-//                  optics/exit_lobe.h, which all of B leaves with: sss-render draws B through it)
+//                  (when the bake traced its far field, transport/far_field.h: the part of B that
+//                  light paths carried from afar; only with exit_slope)
+//   property float exit_slope_r, exit_slope_g, exit_slope_b
+//                  (the slope k of the exit lobe, optics/exit_lobe.h, which all of B leaves with:
+//                  sss-render draws B through it; measured by the far field's exits or the escape
+//                  walks'; absent: the normalized model. Files written before read their
+//                  far_exit_slope_r/g/b here)
 //   property float transfer0_r, transfer0_g, transfer0_b, ... transfer<K-1>_b
 //   property float radiance_gain_r, radiance_gain_g, radiance_gain_b
 //   property float exitance_per_radiance_r, exitance_per_radiance_g, exitance_per_radiance_b
@@ -72,8 +74,9 @@ struct BakedMesh {
   std::vector<glm::vec3> irradiance;      // E per vertex (empty: not written/not present)
   std::vector<glm::vec3> exitance;        // B per vertex (empty: not written/not present)
   std::vector<glm::vec3> radianceNormal;  // L along the normal per vertex (idem)
-  // The traced far field's part of B and its exit lobe's slope k, per vertex (both or neither).
-  std::vector<glm::vec3> farExitance, farExitSlope;
+  // The traced far field's part of B (empty: not traced) and the exit lobe's slope k (empty: the
+  // normalized model), per vertex; a far field only with slopes.
+  std::vector<glm::vec3> farExitance, exitSlope;
   std::string materialName;     // no spaces or '='
   glm::dvec3 sigmaA{0.0};       // absorption, per mm
   glm::dvec3 sigmaSPrime{0.0};  // reduced scattering, per mm
@@ -124,7 +127,8 @@ struct BakedPlyContents {
   bool hasIrradiance = false;      // irradiance_r/g/b present
   bool hasExitance = false;        // exitance_r/g/b present
   bool hasRadianceNormal = false;  // radiance_normal_r/g/b present
-  bool hasFarField = false;        // far_exitance_r/g/b and far_exit_slope_r/g/b present
+  bool hasFarField = false;        // far_exitance_r/g/b present
+  bool hasExitSlope = false;       // exit_slope_r/g/b (or far_exit_slope_r/g/b) present
   bool hasRelight = false;         // relight_order, transfer*_r/g/b, exitance_per_radiance_r/g/b
   bool hasMaterial = false;        // "sss material/sigma_a/sigma_s_prime/eta" comments present
   bool hasUnits = false;           // "sss mm_per_unit" comment present
@@ -139,7 +143,7 @@ BakedPlyContents readBakedPly(const std::string& path);
 
 // Per-vertex values as a reader found them, in the file's vertex order (empty: absent).
 struct BakedVertexValues {
-  std::vector<glm::vec3> irradiance, exitance, radianceNormal, farExitance, farExitSlope;
+  std::vector<glm::vec3> irradiance, exitance, radianceNormal, farExitance, exitSlope;
   std::vector<glm::vec3> relightTransfer;  // [vertex * K + k]
   std::vector<glm::vec3> radianceGain, exitancePerRadiance, escapeProbability;
 };

@@ -76,6 +76,15 @@ class ExitLobe {
     return {radiance(slopes.x, 1.0f), radiance(slopes.y, 1.0f), radiance(slopes.z, 1.0f)};
   }
 
+  // The slope whose radiance along the normal is `ratio` times the normalized model's:
+  // (1 + k) A_0 / (A_0 + k A_1) = ratio, k = A_0 (ratio - 1) / (A_0 - ratio A_1), clamped to
+  // [kMinSlope, kMaxSlope].
+  double slopeForNormalRatio(double ratio) const {
+    const double a0 = moments_[0], a1 = moments_[1], d = a0 - ratio * a1;
+    if (!(d > 0.0)) return kMaxSlope;
+    return std::clamp(a0 * (ratio - 1.0) / d, kMinSlope, kMaxSlope);
+  }
+
   // The flux-weighted mean internal cosine of the light that leaves, for slope k.
   double meanCosine(double slope) const {
     return (moments_[1] + slope * moments_[2]) / (moments_[0] + slope * moments_[1]);

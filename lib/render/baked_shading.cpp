@@ -44,9 +44,9 @@ ShadingParameters shadingFor(const BakedPlyContents& contents, const ShadingRequ
                     : static_cast<float>(exitRadianceScale(p.eta));
   if (request.exitModel == ExitModel::Calibrated && contents.hasMaterial)
     p.exitWeight = exitWeightTable(contents.baked, p.eta);
-  p.farField = request.exitModel == ExitModel::Auto && request.mode == ShadingMode::Sss &&
-               contents.hasFarField;
-  if (p.farField) {
+  p.exitLobe = request.exitModel == ExitModel::Auto && request.mode == ShadingMode::Sss &&
+               contents.hasExitSlope;
+  if (p.exitLobe) {
     const ExitLobe lobe(p.eta);
     p.lobeMoment0 = float(lobe.moment(0));
     p.lobeMoment1 = float(lobe.moment(1));
@@ -84,12 +84,12 @@ std::string missingBakedValues(const BakedPlyContents& contents, ShadingMode mod
   return {};
 }
 
-RenderMesh renderMeshFor(const BakedMesh& baked, ShadingMode mode, bool farField) {
+RenderMesh renderMeshFor(const BakedMesh& baked, ShadingMode mode, bool exitLobe) {
   RenderMesh mesh;
   mesh.positions = baked.mesh.positions;
   mesh.normals = baked.mesh.normals;
   if (mode == ShadingMode::Sss) mesh.values = baked.exitance;
-  if (mode == ShadingMode::Sss && farField) mesh.exitSlopes = baked.farExitSlope;
+  if (mode == ShadingMode::Sss && exitLobe) mesh.exitSlopes = baked.exitSlope;
   if (mode == ShadingMode::Irradiance) mesh.values = baked.irradiance;
   mesh.indices.reserve(baked.mesh.triangles.size() * 3);
   for (const glm::uvec3& t : baked.mesh.triangles)

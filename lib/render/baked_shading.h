@@ -72,8 +72,8 @@ struct ShadingParameters {
   float eta = kFallbackEta;
   float exitScale = 0.0f;
   ExitWeightTable exitWeight = flatExitWeight();  // calibrated: the material's w at mu = k / 16
-  bool farField = false;  // auto with a far field in the file: B through its exit lobe
-  float lobeMoment0 = 1.0f, lobeMoment1 = 0.0f;  // with farField: ShadingOptions' (renderer.h)
+  bool exitLobe = false;  // auto with exit slopes in the file: B through their exit lobe
+  float lobeMoment0 = 1.0f, lobeMoment1 = 0.0f;  // with exitLobe: ShadingOptions' (renderer.h)
   glm::vec3 albedo = glm::vec3(1.0f);            // set in the brdf mode only
   bool cullBackFaces = false;
   // Per mesh unit, where asked and the file has a material and units; 0: not drawn.
@@ -90,8 +90,8 @@ ExitWeightTable exitWeightTable(const BakedMesh& baked, float eta);
 // exitance_b" for sss, the irradiance ones for the irradiance view); empty when none is missing.
 std::string missingBakedValues(const BakedPlyContents& contents, ShadingMode mode);
 
-// Positions, normals, triangles, and the values `mode` draws: exitance (sss; with farField, the
-// far field's exitance and exit slopes too), irradiance (irradiance view), none otherwise.
-RenderMesh renderMeshFor(const BakedMesh& baked, ShadingMode mode, bool farField = false);
+// Positions, normals, triangles, and the values `mode` draws: exitance (sss; with exitLobe, the
+// exit slopes too), irradiance (irradiance view), none otherwise.
+RenderMesh renderMeshFor(const BakedMesh& baked, ShadingMode mode, bool exitLobe = false);
 
 }  // namespace sss

@@ -14,3 +14,7 @@ sss_add_benchmark(pathtracer_cost SOURCES ${CMAKE_CURRENT_LIST_DIR}/pathtracer_c
 sss_add_benchmark(material_interface_study
                   SOURCES ${CMAKE_CURRENT_LIST_DIR}/material_interface_study.cpp
                   LIBS sss_bake sss_mesh sss_material sss_envmap nlohmann_json::nlohmann_json)
+# The exit-model study: one-material spheres under uniform light, the radiance along the normal per
+# channel against a Monte Carlo that tallies it directly.
+sss_add_benchmark(exit_model_study SOURCES ${CMAKE_CURRENT_LIST_DIR}/exit_model_study.cpp
+                  LIBS sss_bake sss_mesh sss_material sss_envmap)

@@ -141,7 +141,7 @@ TEST(MeshBakedGlb, Color0IsTheExposedRadianceAlongTheNormal) {
   test::expectValidGltf(path);
 }
 
-// A traced far field travels as _FAR_EXITANCE and _FAR_EXIT_SLOPE (so that sss-render draws the
+// A traced far field travels as _FAR_EXITANCE and _EXIT_SLOPE (so that sss-render draws the
 // same picture from the GLB as from the PLY), and COLOR_0 takes B through the far field's exit
 // lobe, as sss-render's default exit model does.
 TEST(MeshBakedGlb, FarFieldRoundTripsAndColor0LeavesThroughItsLobe) {
@@ -150,14 +150,14 @@ TEST(MeshBakedGlb, FarFieldRoundTripsAndColor0LeavesThroughItsLobe) {
   Pcg32 rng(5, 0);
   for (const glm::vec3& e : b.exitance) {
     b.farExitance.push_back(e * rng.uniform());
-    b.farExitSlope.push_back({rng.uniform() * 2 - 1, rng.uniform() * 4, rng.uniform()});
+    b.exitSlope.push_back({rng.uniform() * 2 - 1, rng.uniform() * 4, rng.uniform()});
   }
   const std::string path = dir.path("far.glb");
   writeBakedGlb(path, b);
   const BakedPlyContents r = readBakedGlb(path);
   EXPECT_TRUE(r.hasFarField);
   EXPECT_TRUE(bitEqual(r.baked.farExitance, b.farExitance));
-  EXPECT_TRUE(bitEqual(r.baked.farExitSlope, b.farExitSlope));
+  EXPECT_TRUE(bitEqual(r.baked.exitSlope, b.exitSlope));
   const GlbFile glb(path);
   EXPECT_EQ(glb.sssExtras()["color"]["exit_model"], "auto");
   const std::vector<glm::vec3> colors = glb.vec3("COLOR_0");
@@ -165,9 +165,24 @@ TEST(MeshBakedGlb, FarFieldRoundTripsAndColor0LeavesThroughItsLobe) {
   for (std::size_t i = 0; i < colors.size(); ++i)
     for (int k = 0; k < 3; ++k) {
       const double expected =
-          previewScaleFor(b) * b.exitance[i][k] * lobe.radiance(b.farExitSlope[i][k], 1.0f);
+          previewScaleFor(b) * b.exitance[i][k] * lobe.radiance(b.exitSlope[i][k], 1.0f);
       ASSERT_NEAR(colors[i][k], expected, 1e-5 * expected + 1e-30) << i;
     }
+  test::expectValidGltf(path);
+}
+
+// Exit slopes without a far field (the half-space's lobe, bake.cpp) travel alone as _EXIT_SLOPE.
+TEST(MeshBakedGlb, ExitSlopesWithoutAFarFieldRoundTrip) {
+  ScratchDir dir;
+  BakedMesh b = sampleBake(1.0);
+  b.exitSlope.assign(b.exitance.size(), glm::vec3(-0.2f, -0.3f, -0.3f));
+  const std::string path = dir.path("lobe.glb");
+  writeBakedGlb(path, b);
+  const BakedPlyContents r = readBakedGlb(path);
+  EXPECT_FALSE(r.hasFarField);
+  EXPECT_TRUE(r.hasExitSlope);
+  EXPECT_TRUE(bitEqual(r.baked.exitSlope, b.exitSlope));
+  EXPECT_EQ(GlbFile(path).sssExtras()["color"]["exit_model"], "auto");
   test::expectValidGltf(path);
 }
 

@@ -36,7 +36,7 @@ BakedMesh sampleBake(int subdivisions = 2) {
     b.exitance.push_back({rng.uniform() * 0.1f, rng.uniform() * 1e-3f, rng.uniform() * 1e-7f});
     b.radianceNormal.push_back({rng.uniform() * 0.03f, rng.uniform() * 3e-4f, rng.uniform()});
     b.farExitance.push_back(b.exitance.back() * rng.uniform());
-    b.farExitSlope.push_back({rng.uniform() * 2 - 1, rng.uniform() * 5, rng.uniform() - 0.5f});
+    b.exitSlope.push_back({rng.uniform() * 2 - 1, rng.uniform() * 5, rng.uniform() - 0.5f});
   }
   b.materialName = "marble";
   b.sigmaA = {0.0021, 0.0041, 0.0071};
@@ -67,7 +67,7 @@ TEST(MeshBakedPly, RoundTripIsBitExact) {
   EXPECT_TRUE(bitEqual(r.baked.exitance, b.exitance));
   EXPECT_TRUE(bitEqual(r.baked.radianceNormal, b.radianceNormal));
   EXPECT_TRUE(bitEqual(r.baked.farExitance, b.farExitance));
-  EXPECT_TRUE(bitEqual(r.baked.farExitSlope, b.farExitSlope));
+  EXPECT_TRUE(bitEqual(r.baked.exitSlope, b.exitSlope));
   EXPECT_EQ(r.baked.materialName, "marble");
   EXPECT_EQ(r.baked.sigmaA, b.sigmaA);
   EXPECT_EQ(r.baked.sigmaSPrime, b.sigmaSPrime);
@@ -197,14 +197,23 @@ TEST(MeshBakedPly, BadFilesAreErrors) {
   const std::string partial =
       variant("partial.ply", "property float exitance_b", "property float something");
   expectError([&] { readBakedPly(partial); }, partial, "exitance_r/g/b");
-  // The far field's two sets come together.
-  const std::string lonely =
-      variant("lonely.ply",
+  // A far field comes with the slopes its exits measured.
+  const std::string lonely = variant("lonely.ply",
+                                     "property float exit_slope_r\nproperty float exit_slope_g\n"
+                                     "property float exit_slope_b",
+                                     "property float a\nproperty float b\n"
+                                     "property float c");
+  expectError([&] { readBakedPly(lonely); }, lonely, "far_exitance without exit_slope");
+  // Files written before the exit lobe had its own name: far_exit_slope reads as the slope.
+  const std::string legacy =
+      variant("legacy.ply",
+              "property float exit_slope_r\nproperty float exit_slope_g\n"
+              "property float exit_slope_b",
               "property float far_exit_slope_r\nproperty float far_exit_slope_g\n"
-              "property float far_exit_slope_b",
-              "property float a\nproperty float b\n"
-              "property float c");
-  expectError([&] { readBakedPly(lonely); }, lonely, "far_exitance without far_exit_slope");
+              "property float far_exit_slope_b");
+  const BakedPlyContents old = readBakedPly(legacy), now = readBakedPly(good);
+  EXPECT_TRUE(old.hasExitSlope);
+  EXPECT_TRUE(bitEqual(old.baked.exitSlope, now.baked.exitSlope));
   const std::string eta = variant("eta.ply", "comment sss eta=1.3", "comment sss eta=abc");
   expectError([&] { readBakedPly(eta); }, eta, "eta=abc");
   const std::string noEta = variant("noeta.ply", "comment sss eta=1.3", "comment nothing");
@@ -232,11 +241,11 @@ TEST(MeshBakedPly, FailedWritesLeaveNoFile) {
   name.materialName = "my marble";
   expectError([&] { writeBakedPly(path, name); }, path, "material name");
   BakedMesh slope = sampleBake(1);
-  slope.farExitSlope[2].x = -1.5f;  // would make the interior radiance negative
-  expectError([&] { writeBakedPly(path, slope); }, path, "far_exit_slope of vertex 2");
+  slope.exitSlope[2].x = -1.5f;  // would make the interior radiance negative
+  expectError([&] { writeBakedPly(path, slope); }, path, "exit_slope of vertex 2");
   BakedMesh half = sampleBake(1);
-  half.farExitSlope.clear();
-  expectError([&] { writeBakedPly(path, half); }, path, "far_exitance without");
+  half.exitSlope.clear();
+  expectError([&] { writeBakedPly(path, half); }, path, "far_exitance without exit_slope");
   EXPECT_EQ(dir.fileCount(), 0u);
   // An existing file is replaced whole or left alone.
   writeFile(path, "old");

@@ -119,6 +119,17 @@ TEST(ExitLobe, SlopeForInvertsTheMeanCosineAndClamps) {
   }
 }
 
+TEST(ExitLobe, SlopeForNormalRatioGivesThatRadianceAlongTheNormal) {
+  const ExitLobe lobe(kEta);
+  for (double ratio : {0.85, 0.93, 1.0, 1.05}) {
+    const double k = lobe.slopeForNormalRatio(ratio);
+    EXPECT_NEAR(lobe.radiance(k, 1.0f) / lobe.radiance(0.0, 1.0f), ratio, 1e-9) << ratio;
+  }
+  EXPECT_EQ(lobe.slopeForNormalRatio(1.0), 0.0);
+  EXPECT_EQ(lobe.slopeForNormalRatio(0.0), ExitLobe::kMinSlope);
+  EXPECT_EQ(lobe.slopeForNormalRatio(100.0), ExitLobe::kMaxSlope);
+}
+
 // A slope well above its noise stays, one at its noise halves, one below it fades to 0.
 TEST(ExitLobe, ShrinksASlopeByItsNoise) {
   const ExitLobe lobe(kEta);

@@ -163,7 +163,7 @@ TEST_F(SssRenderTool, GlbColorIsTheRenderedRadianceAlongTheNormal) {
     baked.mmPerUnit = 1000.0;  // metres: the GLB and the PLY hold the same positions
     if (far) {
       baked.farExitance.assign(baked.exitance.size(), glm::vec3(0.4f, 0.25f, 0.15f));
-      baked.farExitSlope.assign(baked.exitance.size(), glm::vec3(-0.8f, 0.2f, 3.0f));
+      baked.exitSlope.assign(baked.exitance.size(), glm::vec3(-0.8f, 0.2f, 3.0f));
     }
     writeBakedGlb(path("plane.glb"), baked);
     writeBakedPly(path("plane.ply"), baked);
@@ -172,7 +172,7 @@ TEST_F(SssRenderTool, GlbColorIsTheRenderedRadianceAlongTheNormal) {
                                " --tonemap none --background 0,0,0 --quiet -o ";
     ToolRun r = run(path("plane.glb") + common + path("glb.exr") + " --json " + path("r.json"));
     ASSERT_EQ(r.exitCode, 0) << r.output;
-    EXPECT_EQ(nlohmann::json::parse(test::readFile(path("r.json")))["far_field_lobe"], far);
+    EXPECT_EQ(nlohmann::json::parse(test::readFile(path("r.json")))["exit_lobe"], far);
     r = run(path("plane.ply") + common + path("ply.exr"));
     ASSERT_EQ(r.exitCode, 0) << r.output;
     r = run(path("plane.ply") + common + path("normalized.exr") + " --exit-model normalized");
@@ -193,7 +193,7 @@ TEST_F(SssRenderTool, GlbColorIsTheRenderedRadianceAlongTheNormal) {
       // along the normal; without a far field nothing changes.
       const double ratio = fromPly.at(16, 16)[c] / normalized.at(16, 16)[c];
       const ExitLobe lobe(float(baked.eta));
-      const double slope = far ? baked.farExitSlope[0][c] : 0.0;
+      const double slope = far ? baked.exitSlope[0][c] : 0.0;
       EXPECT_NEAR(ratio, lobe.radiance(slope, 1.0f) / lobe.radiance(0.0, 1.0f), 0.005)
           << c << " far " << far;
     }
@@ -386,11 +386,11 @@ TEST_F(SssRenderTool, HostileInputsAreRefusedAndLeaveTheFilesAsTheyWere) {
   writeBakedPly(path("huge.ply"), far);
   writeUniformEnvironment("env.exr", glm::vec3(0.5f));
   // A far field with one slope outside the exit lobe's range (its bytes patched after writing,
-  // which refuses it), and a GLB with one of the far field's two attributes.
+  // which refuses it), and a GLB with a far field but no exit slopes.
   BakedMesh withFar = bakedSphere();
   withFar.farExitance.assign(withFar.exitance.size(), glm::vec3(0.1f));
-  withFar.farExitSlope.assign(withFar.exitance.size(), glm::vec3(0.25f));
-  withFar.farExitSlope[3].x = 0.3173f;  // a value found once in the file
+  withFar.exitSlope.assign(withFar.exitance.size(), glm::vec3(0.25f));
+  withFar.exitSlope[3].x = 0.3173f;  // a value found once in the file
   writeBakedPly(path("slope.ply"), withFar);
   {
     std::string bytes = test::readFile(path("slope.ply"));
@@ -403,9 +403,9 @@ TEST_F(SssRenderTool, HostileInputsAreRefusedAndLeaveTheFilesAsTheyWere) {
   writeBakedGlb(path("half.glb"), withFar);
   {
     std::string bytes = test::readFile(path("half.glb"));
-    const std::size_t at = bytes.find("_FAR_EXIT_SLOPE");
+    const std::size_t at = bytes.find("_EXIT_SLOPE");
     ASSERT_NE(at, std::string::npos);
-    bytes.replace(at, 15, "_FAR_EXIT_SLOPX");  // same length: the chunks stay well formed
+    bytes.replace(at, 11, "_EXIT_SLOPX");  // same length: the chunks stay well formed
     std::ofstream(path("half.glb"), std::ios::binary) << bytes;
   }
   fs::create_directory(path("folder.ply"));  // unchecked: "error: std::bad_alloc"
@@ -420,11 +420,9 @@ TEST_F(SssRenderTool, HostileInputsAreRefusedAndLeaveTheFilesAsTheyWere) {
            {path("huge.ply") + env + out, path("huge.ply") + ": vertex 7 (1e+38, ", 1},
            {path("folder.ply") + env + out, path("folder.ply") + ": is a directory, not a file", 1},
            {path("slope.ply") + env + out,
-            path("slope.ply") + ": far_exit_slope of vertex 3 is outside [-1, 100]", 1},
+            path("slope.ply") + ": exit_slope of vertex 3 is outside [-1, 100]", 1},
            {path("half.glb") + env + out,
-            path("half.glb") +
-                ": glTF: _FAR_EXITANCE without _FAR_EXIT_SLOPE or the other way round",
-            1},
+            path("half.glb") + ": glTF: _FAR_EXITANCE without _EXIT_SLOPE", 1},
            {path("sphere.ply") + " -e " + path("tall.hdr") + out,
             path("tall.hdr") + ": header declares 64x99999999999 pixels", 1},
            // Unchecked, -o naming the environment would overwrite it.

@@ -73,6 +73,10 @@ Relit relitMesh(const sss::BakedMesh& relightable, sss::BakedMeshRelighter& reli
   sss::RelitLight relit = relighter.relight(environment.radiance);
   baked.exitance = std::move(relit.exitance);
   baked.radianceNormal = std::move(relit.radianceNormal);
+  // Exit slopes without a far field are the material's and the object's (the half-space's lobe
+  // and the walks', bake.cpp), not the light's: B leaves through them under any light. A traced
+  // far field's were its environment's, and go with it.
+  if (relightable.farExitance.empty()) baked.exitSlope = relightable.exitSlope;
   baked.extraComments.push_back(
       "relit env=" + environment.source +
       " convention=" + std::string(sss::kEquirectConventionNames.name(o.orientation.convention)) +

@@ -101,15 +101,18 @@ bool relights(const Arguments& a, const BakedPlyContents& contents) {
 }
 
 // The bake's light replaced by `relit` (bake/relight.h, on the CPU): B and the radiance along
-// the normal, the far field's values (its bake environment's) dropped.
+// the normal, the far field's values (its bake environment's, its exit slopes included) dropped;
+// exit slopes without a far field (the material's and the object's lobe) kept.
 void takeRelitLight(const Arguments& a, RelitLight relit, BakedPlyContents& contents) {
   BakedMesh& baked = contents.baked;
   baked.exitance = std::move(relit.exitance);
   baked.radianceNormal = std::move(relit.radianceNormal);
-  baked.farExitance.clear();
-  baked.exitSlope.clear();
-  contents.hasFarField = false;
-  contents.hasExitSlope = false;
+  if (contents.hasFarField) {
+    baked.farExitance.clear();
+    baked.exitSlope.clear();
+    contents.hasFarField = false;
+    contents.hasExitSlope = false;
+  }
   info("relit under " + a.environment + " (" + std::to_string(relit.compactLights) +
            " compact lights)",
        a.quiet);

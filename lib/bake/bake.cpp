@@ -11,6 +11,7 @@
 #include "bake/error_budget.h"
 #include "bake/material_parts.h"
 #include "core/format.h"
+#include "core/noise_shrinkage.h"
 #include "core/relative_rms.h"
 #include "core/timer.h"
 #include "core/tool.h"
@@ -312,18 +313,18 @@ BakedLight combineInterreflection(VertexLighting& lighting, VertexExitance& dire
 }
 
 // Stage 5b: the exit lobe B leaves through (optics/exit_lobe.h), the one sss-render draws by
-// default. Where the far field was traced, the lobe its exits measured (far_field.h). Else the
-// half-space's: per channel the slope whose radiance along the normal is the half-space Monte
-// Carlo's, B F_t(1) w(1) / (pi (1 - 2 C_1)) (material/directional_albedo_weight.h), where that
-// departs from the normalized model by more than kHalfSpaceLobeMinChange; 0 (the normalized
-// model) elsewhere. Why: at low albedo much of the light comes back before it diffuses, and the
-// interior radiance at the boundary is not isotropic: on skin1 spheres of 5-20 mm under uniform
-// light the normalized model is 2-4 / 6-7 / 8-9 % (R / G / B) too bright along the normal, the
-// half-space's lobe within 1.1 % at 10-20 mm (docs/accuracy.md, "The exit model at low
+// default. Where the far field was traced, the lobe its exits measured (far_field.h). Else, per
+// channel where the half-space sends more than kHalfSpaceLobeMinChange more or less along the
+// normal than the normalized model says (low albedo), the lobe of this object's escape walks
+// (halfSpaceOrWalksSlope); 0 (the normalized model) elsewhere. Why: at low albedo much of the
+// light comes back before it diffuses, and the interior radiance at the boundary is not
+// isotropic: on skin1 spheres of 5-20 mm under uniform light the normalized model is 2-4 / 6-7 /
+// 8-9 % (R / G / B) too bright along the normal (docs/accuracy.md, "The exit model at low
 // albedo"). Why not at high albedo: there the half-space's 1-2 % is within what finite objects
 // differ from it (on the 50 mm marble and skim-milk bunny the half-space's exit is 0.1-0.3
 // points further from the reference than the normalized model: light diffusing out of a small
-// object leaves more along the normal than a half-space's). The path tracer measures its own
+// object leaves more along the normal than a half-space's), and the walks' slope is too noisy to
+// tell (docs/physics.md, "The half-space's exit lobe"). The path tracer measures its own
 // radiance: no lobe.
 constexpr double kHalfSpaceLobeMinChange = 0.02;
 
@@ -332,19 +333,54 @@ struct ExitLobeStage {
   ExitLobeReport report;
 };
 
-ExitLobeStage exitLobeStage(const BakeScene& scene, const FarField& far) {
+// One channel's slope: the half-space's, k_h, whose radiance along the normal is w(1) times the
+// normalized model's (material/directional_albedo_weight.h, the half-space Monte Carlo), moved
+// towards the slope of the escape walks' exits, k_w (their mean internal cosine over the surface,
+// pathtrace/escape_probability.h), by shrunkByNoise(k_w - k_h): the walks know the object's
+// shape (a sphere a few mean free paths across sends more along the normal than a half-space),
+// the table knows the half-space without noise. `variance` gets the noise passed on.
+double halfSpaceOrWalksSlope(const ExitLobe& lobe, float halfSpaceRatio, const EscapeResult& walks,
+                             int c, double& variance) {
+  const double halfSpace = lobe.slopeForNormalRatio(halfSpaceRatio);
+  variance = 0.0;
+  if (walks.walks == 0) return halfSpace;
+  const double m = walks.exitCosine[c], dk = lobe.slopeDerivative(m);
+  const double v = dk * dk * walks.exitCosineVariance[c], departure = lobe.slopeFor(m) - halfSpace;
+  variance = std::pow(shrunkByNoiseSlope(departure, v), 2) * v;
+  return std::clamp(halfSpace + shrunkByNoise(departure, v), ExitLobe::kMinSlope,
+                    ExitLobe::kMaxSlope);
+}
+
+// The report's noise is relative RMS over channels weighted like the radiance's (relative_rms.h):
+// each channel's by its share of the light, P E summed over the surface (B under the escape model,
+// before the transport has made it).
+ExitLobeStage exitLobeStage(const BakeScene& scene, const EnergyStageReport& energy,
+                            const VertexLighting& lighting, const FarField& far) {
   if (far.traced())
     return {far.slope, {"far field", far.report.meanExitSlope, far.report.lobeNoise}};
   if (!scene.diffusion()) return {};
   const ExitLobe lobe{float(scene.settings.material.eta)};
   const glm::vec3 halfSpace = scene.entryWeight.at(1.0f);  // w(1): per unit normalized radiance
   glm::vec3 slope(0.0f);
-  for (int c = 0; c < 3; ++c)
-    if (std::abs(halfSpace[c] - 1.0f) > kHalfSpaceLobeMinChange)
-      slope[c] = float(lobe.slopeForNormalRatio(halfSpace[c]));
+  glm::dvec3 light(0.0);
+  const std::vector<glm::vec3>& irradiance = lighting.transportIrradiance();
+  for (std::size_t i = 0; i < irradiance.size(); ++i)
+    light += double(scene.mesh.areasMm2[i]) * glm::dvec3(irradiance[i]);
+  light *= energy.plan.escape.walks > 0 ? energy.plan.escape.mean : energy.plan.halfSpaceAlbedo;
+  double noise2 = 0.0;
+  for (int c = 0; c < 3; ++c) {
+    if (!(std::abs(halfSpace[c] - 1.0f) > kHalfSpaceLobeMinChange)) continue;
+    double variance = 0.0;
+    slope[c] = float(halfSpaceOrWalksSlope(lobe, halfSpace[c], energy.plan.escape, c, variance));
+    // The radiance along the normal, (1 + k) A_0 / (A_0 + k A_1) of the normalized model's: its
+    // relative change per unit k is (A_0 - A_1) / ((1 + k) (A_0 + k A_1)).
+    const double a0 = lobe.moment(0), a1 = lobe.moment(1), k = slope[c];
+    noise2 += variance * std::pow((a0 - a1) / ((1.0 + k) * (a0 + k * a1)) * light[c], 2);
+  }
+  noise2 /= std::max(glm::dot(light, light), 1e-300);
   if (slope == glm::vec3(0.0f)) return {};
   return {std::vector<glm::vec3>(scene.mesh.meshMm.positions.size(), slope),
-          {"half-space", glm::dvec3(slope), 0.0}};
+          {"half-space", glm::dvec3(slope), std::sqrt(noise2)}};
 }
 
 // The radiance along the normal of an exitance per vertex, through the exit lobe of `slopes`
@@ -625,7 +661,7 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
   DiffusionMeshCache meshCache;
   const TransportInput transportIn =
       transportInput(scene, energy, energyReport, lighting, far, weightSums, meshCache);
-  ExitLobeStage exitLobe = exitLobeStage(scene, far);
+  ExitLobeStage exitLobe = exitLobeStage(scene, energyReport, lighting, far);
   VertexExitance direct = transport(transportIn);
   Interreflection bounced = interreflectionStage(scene, energy, transportIn, lighting, direct);
   SymmetricChange symmetric = symmetricChange(scene, transportIn, direct, exitLobe.slope, share);

@@ -17,6 +17,7 @@
 #include "material/halfspace_albedo.h"
 #include "material/material.h"
 #include "mesh/triangle_mesh.h"
+#include "optics/exit_lobe.h"
 #include "optics/fresnel.h"
 #include "pathtrace/one_ring_sampler.h"
 #include "pathtrace/walk_sampling.h"
@@ -41,6 +42,7 @@ struct WalkOutcome {
   uint64_t events = 0;
   bool lost = false;          // left through a hole, or hit the cap
   glm::vec3 exitPoint{0.0f};  // where it left (weight > 0)
+  float exitCosine = 0.0f;    // and the cosine of its direction with the face normal, inside
 };
 
 class EscapeWalker {
@@ -127,6 +129,7 @@ class EscapeWalker {
       }
       out.weight = forced * std::exp(-sigmaA * length);
       out.exitPoint = hitPoint;
+      out.exitCosine = boundary.cosI;
       return out;
     }
   }
@@ -207,8 +210,10 @@ struct EscapeWalks::State {
         entries(m.positions, m.triangles),
         probes(std::min(m.positions.size(), std::max<std::size_t>(o.maxProbes, 1))),
         escaped(probes),
+        exitCosine(probes),
         near(probes),
-        kept(probes, glm::dvec3(0.0)) {
+        kept(probes, glm::dvec3(0.0)),
+        isotropicCosine(ExitLobe(float(material.eta)).meanCosine(0.0)) {
     const glm::dvec3 albedo = material.reducedAlbedo();
     for (int c = 0; c < 3; ++c) halfSpace[c] = halfSpaceDiffuseAlbedo(albedo[c], material.eta);
   }
@@ -238,9 +243,13 @@ struct EscapeWalks::State {
   OneRingSampler entries;
   std::size_t probes;
   // Per probe and channel, over the walks so far that did not get lost: their weights, the same
-  // times the near window (with one), and their count.
-  ProbeSums escaped, near;
+  // times their exit's internal cosine less isotropicCosine (centred, so that its mean's noise is
+  // small against P's), the same times the near window (with one), and their count.
+  ProbeSums escaped, exitCosine, near;
   std::vector<glm::dvec3> kept;
+  // The mean internal cosine of the light leaving an isotropic interior (ExitLobe::meanCosine(0):
+  // the normalized exit model).
+  double isotropicCosine;
   glm::dvec3 halfSpace{0.0};  // the albedo where no walk tells anything (halfspace_albedo.h)
   int walks = 0;              // per probe and channel so far
   uint64_t events = 0, lost = 0;
@@ -296,6 +305,8 @@ void EscapeWalks::add(int walksPerProbe) {
             continue;
           }
           st.escaped.add(k, c, o.weight);
+          if (o.weight > 0.0)
+            st.exitCosine.add(k, c, o.weight * (double(o.exitCosine) - st.isotropicCosine));
           if (st.hasNearWindow() && o.weight > 0.0)
             st.near.add(k, c, o.weight * st.nearWeight(o, entry.position, c));
           st.kept[k][c] += 1.0;
@@ -444,6 +455,19 @@ EscapeResult EscapeWalks::result() const {
     }
   }
   if (allSq > 0.0) result.nearShare = std::sqrt(nearSq / allSq);
+  // The exits' mean internal cosine, isotropicCosine + sum w (cos - isotropicCosine) / sum w, and
+  // its variance sum (w (cos - ...))^2 / (sum w)^2 (the centred sum's noise dominates: its mean
+  // is small).
+  glm::dvec3 weight(0.0), centred(0.0), centredSq(0.0);
+  for (std::size_t k = 0; k < st.probes; ++k) {
+    weight += st.escaped.sum[k];
+    centred += st.exitCosine.sum[k];
+    centredSq += st.exitCosine.sumSq[k];
+  }
+  for (int c = 0; c < 3; ++c) {
+    result.exitCosine[c] = st.isotropicCosine + (weight[c] > 0.0 ? centred[c] / weight[c] : 0.0);
+    result.exitCosineVariance[c] = weight[c] > 0.0 ? centredSq[c] / (weight[c] * weight[c]) : 0.0;
+  }
   result.mean = totalArea > 0.0 ? weighted / totalArea : glm::dvec3(0.0);
   result.probes = st.probes;
   result.walks = uint64_t(st.probes) * 3u * uint64_t(st.walks);

@@ -77,6 +77,10 @@ struct EscapeResult {
   // |P_near| / |P| (area-weighted RMS over vertices and channels): what the near share's noise
   // weighs in B, the rest being the far field's (transport/far_field.h); 0 without a window.
   double nearShare = 0.0;
+  // The exit lobe of the walks' light (optics/exit_lobe.h): the flux-weighted mean internal
+  // cosine of every walk's exit, over the whole surface, per channel, and its variance (the
+  // bake's exit lobe, bake.cpp: how far this object's exits are from a half-space's).
+  glm::dvec3 exitCosine{0.0}, exitCosineVariance{0.0};
   // The near share's noise relative to B: its own relative noise times its weight in B.
   double nearErrorInB() const { return nearRelativeStdError * nearShare; }
 };

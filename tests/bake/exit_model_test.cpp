@@ -1,8 +1,8 @@
-// The exit lobe the bake draws B through (lib/bake/bake.cpp, stage 5b): on a low-albedo sphere
+// The exit lobe the bake draws B through (lib/bake/bake.cpp, stage 5b): on low-albedo spheres
 // under uniform light its radiance along the normal matches a Monte Carlo that tallies that
 // radiance directly (tests/support/two_media_sphere.h, one medium), per channel, where the
-// normalized exit model is several percent too bright; at high albedo the bake keeps the
-// normalized model.
+// normalized exit model is several percent too bright, and on a thin one where the half-space's
+// lobe is too dark; at high albedo the bake keeps the normalized model.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,8 +11,10 @@
 #include <vector>
 
 #include "bake/bake.h"
+#include "material/directional_albedo_weight.h"
 #include "material/material.h"
 #include "mesh/triangle_mesh.h"
+#include "optics/exit_lobe.h"
 #include "optics/fresnel.h"
 #include "support/tool_test.h"
 #include "support/two_media_sphere.h"
@@ -73,6 +75,33 @@ TEST(BakeExitModel, LowAlbedoSphereMatchesTheRadianceTalliedAlongTheNormal) {
       EXPECT_GT(normalized, 1.04) << "channel " << c;  // the reference sees the model
     }
   }
+}
+
+// A 5 mm ketchup sphere is 2.4 mean free paths across in red: it sends more along the normal than
+// a half-space does, and the escape walks' exits say so (the half-space's lobe alone is 8 % dark).
+TEST(BakeExitModel, ThinLowAlbedoSphereFollowsItsOwnWalks) {
+  test::ScratchDir dir;
+  const std::string glb = dir.path("sphere.glb");
+  constexpr double kRadius = 5.0;
+  test::writeHalvesGlb(glb, kRadius);
+  const Material ketchup = findMaterialPreset("ketchup");
+  const BakeOutput out = bakeSphere(glb, ketchup);
+  ASSERT_FALSE(out.baked.exitSlope.empty());
+  const SphereMeans bake = sphereMeans(out.baked);
+  const test::RingReference ref = test::referenceAt(M_PI / 2, kRadius, ketchup, ketchup, 40000, 0);
+  // Red carries the light (green and blue are 1 % and 0.4 % of it).
+  const double noise = ref.stdError.x / ref.radiance.x;
+  const double ratio = bake.radiance.x / ref.radiance.x;
+  // The same B through the half-space's lobe alone.
+  const ExitLobe lobe(float(ketchup.eta));
+  const float w1 = DirectionalAlbedoWeight(ketchup).at(1.0f).x;
+  const double halfSpace =
+      ratio * lobe.radiance(lobe.slopeForNormalRatio(w1), 1.0f) /
+      lobe.radiance(out.baked.exitSlope[0].x, 1.0f);  // B's part dominates the red radiance
+  std::printf("red: bake / reference %.4f (half-space lobe %.4f), reference +- %.4f\n", ratio,
+              halfSpace, noise);
+  EXPECT_NEAR(ratio, 1.0, 0.02 + 3.0 * noise);
+  EXPECT_LT(halfSpace, 0.95);  // the reference sees the half-space's lobe's error
 }
 
 TEST(BakeExitModel, HighAlbedoKeepsTheNormalizedModel) {

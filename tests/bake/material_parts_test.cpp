@@ -80,8 +80,9 @@ TEST(MaterialParts, TwoMediaSphereMatchesAMonteCarloOfBothMedia) {
               borderError, receiverError, worst(mixed), worst(symmetric));
   EXPECT_LT(borderError, 0.1);
   EXPECT_GT(receiverError, 1.2 * borderError);
-  // Measured: 0.359 against 0.309 (the one-material bakes through the half-space's exit lobe).
-  EXPECT_GT(worst(symmetric), 1.1 * worst(mixed));
+  // Measured: 0.341 against 0.308 (0.39 against 0.32 with the normalized exit model everywhere;
+  // skin1's half now leaves through its exit lobe, bake.cpp).
+  EXPECT_GT(worst(symmetric), 1.05 * worst(mixed));
   // What the border adds beyond the one-material models' own error (their bakes against their
   // own spheres' references) is within what the JSON predicts, and not far below it.
   const auto oneMaterial = [&](const std::string& preset) {

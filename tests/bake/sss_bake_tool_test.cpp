@@ -490,11 +490,17 @@ TEST_F(BakeTool, AutoSamplesFollowTheTolerance) {
     const double unscattered = report["estimated_error"]["unscattered"].get<double>();
     EXPECT_EQ(interreflection, 0.0);
     EXPECT_GT(unscattered, 0.0);
-    // And, with a traced far field, the noise its exit lobe leaves in the radiance.
+    // And the noise the exit lobe leaves in the radiance: a traced far field's, or (ketchup's low
+    // albedo) the escape walks' part of the half-space's lobe.
     const double exitLobe = report["estimated_error"]["exit_lobe"].get<double>();
-    EXPECT_EQ(exitLobe, report["far_field"]["traced"].get<bool>()
-                            ? report["far_field"]["lobe_noise"].get<double>()
-                            : 0.0);
+    EXPECT_EQ(exitLobe, report["exit_lobe"]["noise"].get<double>());
+    if (report["far_field"]["traced"].get<bool>()) {
+      EXPECT_EQ(report["exit_lobe"]["source"], "far field");
+      EXPECT_EQ(exitLobe, report["far_field"]["lobe_noise"].get<double>());
+    } else {
+      EXPECT_EQ(report["exit_lobe"]["source"], "half-space");
+      EXPECT_GT(exitLobe, 0.0);
+    }
     const double numerical = std::hypot(std::hypot(visibility, exitance, energy),
                                         std::hypot(interreflection, unscattered), exitLobe);
     EXPECT_NEAR(report["estimated_error"]["numerical"].get<double>(), numerical, 1e-12);

@@ -87,6 +87,12 @@ TEST_F(SssRelightTool, WritesWhatTheLibraryRelights) {
       sss::relight(path("baked.ply"), {mm, material, transfer}, loadEnvironment(sky, options), {});
   EXPECT_LT(relativeRms(relit.baked.radianceNormal, want.radianceNormal), 1e-6);
   EXPECT_LT(relativeRms(relit.baked.exitance, want.exitance), 1e-6);
+  // Skin1's exit lobe (no far field) is the material's and the object's, not the light's: kept,
+  // so that B leaves the relit file as it left the bake.
+  ASSERT_TRUE(baked.hasExitSlope);
+  EXPECT_FALSE(baked.hasFarField);
+  EXPECT_TRUE(relit.hasExitSlope);
+  EXPECT_EQ(relit.baked.exitSlope, baked.baked.exitSlope);
   // Another light than the bake's.
   EXPECT_GT(relativeRms(relit.baked.radianceNormal, baked.baked.radianceNormal), 0.1);
 }

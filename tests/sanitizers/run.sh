@@ -73,6 +73,10 @@ slow+='|GaussianSumFit\.MeetsToleranceForEveryPresetAndProfile'
 slow+='|VisibilityNoiseModel\.PredictsTheMeasuredErrorOfB'
 slow+='|Concurrency\.TwoBakesIntoOneOutputLeaveOneWholeBake'
 slow+='|Concurrency\.TwoMeshesBakedIntoOneFolderComeOutAsAlone'
+# The thin ketchup sphere's exit lobe against its reference (4 s in Release: the unscattered
+# light and the walks of a low albedo): the stage it checks runs under the sanitizers in the
+# other BakeExitModel tests.
+slow+='|BakeExitModel\.ThinLowAlbedoSphereFollowsItsOwnWalks'
 # sss-relight and sss-render's relighting as binaries (44 s checked): what they run is under the
 # sanitizers in relight_test (lib/bake/relight.h) and the readers' fuzz targets.
 slow+='|SssRelightTool\..*'

@@ -24,9 +24,12 @@ namespace {
 
 constexpr double kRadiusMm = 10.0;
 
-BakeOutput bakeSphere(const std::string& glb, const Material& material) {
+// A UV sphere of `radiusMm` baked with the defaults under uniform light.
+BakeOutput bakeSphere(const Material& material, double radiusMm = kRadiusMm) {
+  test::ScratchDir dir;
   BakeSettings s;
-  s.meshPath = glb;
+  s.meshPath = dir.path("sphere.glb");
+  test::writeHalvesGlb(s.meshPath, radiusMm);
   s.material = material;
   s.run.quiet = true;
   return bake(s, BakeEnvironment{Cubemap(16, glm::vec3(1.0f)), {}});
@@ -54,11 +57,8 @@ SphereMeans sphereMeans(const BakedMesh& baked) {
 }
 
 TEST(BakeExitModel, LowAlbedoSphereMatchesTheRadianceTalliedAlongTheNormal) {
-  test::ScratchDir dir;
-  const std::string glb = dir.path("sphere.glb");
-  test::writeHalvesGlb(glb, kRadiusMm);
   const Material skin = findMaterialPreset("skin1");
-  const BakeOutput out = bakeSphere(glb, skin);
+  const BakeOutput out = bakeSphere(skin);
   EXPECT_EQ(out.report.exitLobe.source, "half-space");
   ASSERT_EQ(out.baked.exitSlope.size(), out.baked.exitance.size());
   const SphereMeans bake = sphereMeans(out.baked);
@@ -80,12 +80,9 @@ TEST(BakeExitModel, LowAlbedoSphereMatchesTheRadianceTalliedAlongTheNormal) {
 // A 5 mm ketchup sphere is 2.4 mean free paths across in red: it sends more along the normal than
 // a half-space does, and the escape walks' exits say so (the half-space's lobe alone is 8 % dark).
 TEST(BakeExitModel, ThinLowAlbedoSphereFollowsItsOwnWalks) {
-  test::ScratchDir dir;
-  const std::string glb = dir.path("sphere.glb");
   constexpr double kRadius = 5.0;
-  test::writeHalvesGlb(glb, kRadius);
   const Material ketchup = findMaterialPreset("ketchup");
-  const BakeOutput out = bakeSphere(glb, ketchup);
+  const BakeOutput out = bakeSphere(ketchup, kRadius);
   ASSERT_FALSE(out.baked.exitSlope.empty());
   const SphereMeans bake = sphereMeans(out.baked);
   const test::RingReference ref = test::referenceAt(M_PI / 2, kRadius, ketchup, ketchup, 40000, 0);
@@ -105,11 +102,8 @@ TEST(BakeExitModel, ThinLowAlbedoSphereFollowsItsOwnWalks) {
 }
 
 TEST(BakeExitModel, HighAlbedoKeepsTheNormalizedModel) {
-  test::ScratchDir dir;
-  const std::string glb = dir.path("sphere.glb");
-  test::writeHalvesGlb(glb, kRadiusMm);
   const Material marble = findMaterialPreset("marble");
-  const BakeOutput out = bakeSphere(glb, marble);
+  const BakeOutput out = bakeSphere(marble);
   EXPECT_EQ(out.report.exitLobe.source, "normalized");
   EXPECT_TRUE(out.baked.exitSlope.empty());
   const SphereMeans bake = sphereMeans(out.baked);

@@ -192,6 +192,8 @@ Interreflection bounce(const BakeScene& scene, const TransportInput& transportIn
   InterreflectionOptions options = interreflectionOptions(scene, lighting);
   // One ray set, both uses: the visibility's cosine rays that met the object, not traced again.
   if (lighting.cosineHits.perVertex > 0) options.traced = &lighting.cosineHits;
+  // A relightable bake stores which rays met the object, so that a relight traces those only.
+  options.keepFrontHits = s.relightOrder >= 0;
   const float eta = float(s.material.eta);
   const auto kept = std::make_shared<InterreflectionGather>(m.positions, m.normals, m.triangles,
                                                             scene.radiance, eta, options);
@@ -516,6 +518,8 @@ RelightTransfer relightStage(const BakeScene& scene, const TransportInput& trans
                        .bounceTail = bounces.enabled && bounces.tail,
                        .gatherRays = bounces.enabled ? bounces.gatherRays : gatherRaysOf(s),
                        .gatherVisibilityRays = bounces.enabled ? bounces.reusedRays : 0,
+                       .gatherFrontHits = bounced.gather ? bounced.gather->frontHits()
+                                                         : std::span<const uint16_t>(),
                        .exitance = light.exitance,
                        .radianceNormal = radianceNormal,
                        .run = s.run});
@@ -582,6 +586,7 @@ BakedMesh assembleBakedMesh(TriangleMesh mesh, BakedLight light,
   baked.radianceGain = std::move(relight.radianceGain);
   baked.exitancePerRadiance = std::move(relight.exitancePerRadiance);
   baked.escapeProbability = std::move(relight.escapeProbability);
+  baked.gatherFrontHits = std::move(relight.gatherFrontHits);
   baked.relightTransport = std::move(relight.relightTransport);
   const bool rays = s.visibility == VisibilityMode::Rays;
   baked.extraComments.push_back(

@@ -162,6 +162,19 @@ StoredTransport parseTransportKey(const std::string& path, const std::string& ke
   return t;
 }
 
+// Stored front hits (RelightInput::gatherFrontHits) fit the stored gather: its words per vertex
+// for its rays, and bounces to use them.
+void checkGatherFrontHits(const std::string& path, std::span<const uint16_t> frontHits,
+                          std::size_t vertices, const StoredTransport& t) {
+  if (frontHits.empty()) return;
+  const std::size_t words = frontHitWords(t.gatherRays);
+  if (t.bounces <= 0 || frontHits.size() != vertices * words)
+    fail(path, "gather_hits: " + std::to_string(frontHits.size() / std::max<std::size_t>(vertices, 1)) +
+                   " words per vertex where relight_transport's " + std::to_string(t.bounces) +
+                   " bounces of " + std::to_string(t.gatherRays) + " gather rays need " +
+                   (t.bounces > 0 ? std::to_string(words) : std::string("none")));
+}
+
 // The bake's linear transport, rebuilt from what the file stores.
 class StoredTransportRun {
  public:
@@ -238,6 +251,7 @@ RelightTransfer relightTransfer(const RelightInput& in) {
   out.exitancePerRadiance = ratios(in.exitance, in.radianceNormal, 1.0f / exitScale);
   if (in.transport.energy.model == EnergyModel::Escape)
     out.escapeProbability = in.transport.energy.escape.probability;
+  if (in.bounces > 0) out.gatherFrontHits.assign(in.gatherFrontHits.begin(), in.gatherFrontHits.end());
   out.relightTransport = transportKey(in.transport, in.entry != nullptr, in.bounces, in.bounceTail,
                                       in.gatherRays, in.gatherVisibilityRays);
   report.order = in.order;
@@ -274,7 +288,10 @@ class RelightSession::Context {
         entry_(stored_.entry == EntryModel::Directional ? &weight_ : nullptr),
         transportRun_(bake_, stored_, run),
         shadows_(bake.meshMm.positions, bake.meshMm.normals, bake.meshMm.triangles,
-                 float(bake.material.eta), entry_, run) {}
+                 float(bake.material.eta), entry_, run) {
+    checkGatherFrontHits(path, bake.transfer.gatherFrontHits, bake.meshMm.positions.size(),
+                         stored_);
+  }
 
   // Rays already traced under the current environment, with the stored transport's options.
   void useGather(std::shared_ptr<InterreflectionGather> gather) { gather_ = std::move(gather); }
@@ -339,7 +356,8 @@ class RelightSession::Context {
                                  .entry = entry_,
                                  .run = run_,
                                  .keepMirrors = reusable_,
-                                 .visibilityCosineRays = stored_.gatherVisibilityRays});
+                                 .visibilityCosineRays = stored_.gatherVisibilityRays,
+                                 .frontHits = bake_.transfer.gatherFrontHits});
     }
     return *gather_;
   }
@@ -420,8 +438,10 @@ OwnEnvironmentRelight relightOwnEnvironment(const std::string& path, const Relig
 }
 
 void checkRelightTransport(const std::string& path, const BakedMesh& baked) {
-  if (baked.relightOrder >= 0)
-    parseTransportKey(path, baked.relightTransport, baked.escapeProbability.size());
+  if (baked.relightOrder < 0) return;
+  const StoredTransport t =
+      parseTransportKey(path, baked.relightTransport, baked.escapeProbability.size());
+  checkGatherFrontHits(path, baked.gatherFrontHits, baked.mesh.positions.size(), t);
 }
 
 namespace {
@@ -462,6 +482,7 @@ RelightTransfer relightTransferOf(const BakedMesh& baked) {
   t.radianceGain = baked.radianceGain;
   t.exitancePerRadiance = baked.exitancePerRadiance;
   t.escapeProbability = baked.escapeProbability;
+  t.gatherFrontHits = baked.gatherFrontHits;
   t.relightTransport = baked.relightTransport;
   return t;
 }

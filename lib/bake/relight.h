@@ -62,6 +62,9 @@ struct RelightInput {
   bool bounceTail = false;       // the bake ended its bounces with their geometric tail
   int gatherRays = 64;           // the bounces' gather rays per vertex
   int gatherVisibilityRays = 0;  // of them, the visibility's cosine set (InterreflectionOptions)
+  // Which of the gather's rays met the front of a surface (InterreflectionGather::frontHits),
+  // stored so that a relight traces those only; empty: none stored (a relight traces them all).
+  std::span<const uint16_t> gatherFrontHits{};
   std::span<const glm::vec3> exitance;        // the bake's B (with its bounces)
   std::span<const glm::vec3> radianceNormal;  // its radiance along the normal
   RunContext run{};
@@ -85,6 +88,7 @@ struct RelightTransfer {
   int order = -1;
   std::vector<glm::vec3> relightTransfer;  // T at [vertex * coefficients + k], per channel
   std::vector<glm::vec3> radianceGain, exitancePerRadiance, escapeProbability;
+  std::vector<uint16_t> gatherFrontHits;  // RelightInput::gatherFrontHits
   std::string relightTransport;
   RelightReport report;
 };

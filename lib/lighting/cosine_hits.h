@@ -17,8 +17,9 @@ namespace sss {
 struct CosineHit {
   glm::vec3 direction{0.0f};
   glm::vec3 weight{0.0f};  // the facets' intake with the entry's weight, over the cosine pdf
-  float t = 0.0f;          // the nearest hit (SceneHit) without its face normal: 32 bytes
+  float t = 0.0f;          // the nearest hit (SceneHit) without its face normal
   uint32_t triangle = 0;
+  uint32_t sample = 0;  // its index in the vertex's stratified set (the gather's ray index)
 };
 // The visibility's cosine samples among `samples` per vertex: half, rounded down (the
 // environment's technique takes the other half, rounded up).

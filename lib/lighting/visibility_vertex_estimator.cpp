@@ -46,6 +46,7 @@ void VertexEstimator::traceCandidates(std::size_t v, uint32_t envCount, uint32_t
   cosineRays_.clear();
   cosineWeights_.clear();
   cosineRayIndex_.clear();
+  cosineSample_.clear();
   for (uint32_t j = 0; j < cosCount; ++j) {
     float u1, u2;
     hammersley(j, cosCount, r2, r3, u1, u2);
@@ -60,6 +61,7 @@ void VertexEstimator::traceCandidates(std::size_t v, uint32_t envCount, uint32_t
                              facet.cosinePdf);
     cosineRays_.push_back({origin, w, offset, std::numeric_limits<float>::infinity()});
     cosineRayIndex_.push_back(candidate);
+    cosineSample_.push_back(j);
   }
   if (keepCosineHits_)
     traceKeepingCosineHits();
@@ -83,6 +85,7 @@ void VertexEstimator::traceKeepingCosineHits() {
   for (std::size_t k = 0; k < cosineRays_.size(); ++k) {
     if (!blocked_[static_cast<std::size_t>(cosineRayIndex_[k])]) continue;
     cosineRays_[kept] = cosineRays_[k];
+    cosineSample_[kept] = cosineSample_[k];
     cosineWeights_[kept++] = cosineWeights_[k];
   }
   cosineRays_.resize(kept);
@@ -91,8 +94,8 @@ void VertexEstimator::traceKeepingCosineHits() {
   cosineHits_.clear();
   for (std::size_t k = 0; k < kept; ++k)
     if (sceneHits_[k].hit)
-      cosineHits_.push_back(
-          {cosineRays_[k].direction, cosineWeights_[k], sceneHits_[k].t, sceneHits_[k].triangle});
+      cosineHits_.push_back({cosineRays_[k].direction, cosineWeights_[k], sceneHits_[k].t,
+                             sceneHits_[k].triangle, cosineSample_[k]});
 }
 
 namespace {

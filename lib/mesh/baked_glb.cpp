@@ -133,12 +133,26 @@ int addScaleExponents(GlbBinary& bin, const std::vector<glm::vec3>& scales, floa
   return bin.addIntegerVec4(exponents, kByte, false);
 }
 
+// The bounces' gather rays that met the front of a surface (BakedMesh::gatherFrontHits): four
+// 16-bit words to an UNSIGNED_SHORT VEC4 _GATHER_HITS_<j>.
+void addFrontHits(GlbBinary& bin, const BakedMesh& baked, Json& attributes) {
+  const std::size_t words = baked.gatherFrontHitWords(), n = baked.mesh.positions.size();
+  for (std::size_t j = 0; j < words / 4; ++j) {
+    std::vector<int16_t> components(4 * n);
+    for (std::size_t v = 0; v < n; ++v)
+      for (std::size_t c = 0; c < 4; ++c)
+        components[4 * v + c] = std::bit_cast<int16_t>(baked.gatherFrontHits[v * words + 4 * j + c]);
+    attributes["_GATHER_HITS_" + std::to_string(j)] =
+        bin.addIntegerVec4(components, kUnsignedShort, false);
+  }
+}
+
 // A relightable bake's per-vertex values as custom attributes: the steps of bands 0-3 as
 // normalized SHORT _TRANSFER_LOW_<j> (addPackedTransfer) with their scales' exponents
 // _TRANSFER_EXPONENT and, at orders 4-8, those of bands 4 and up as normalized BYTE
 // _TRANSFER_HIGH_<j> with _TRANSFER_EXPONENT_HIGH; _RADIANCE_GAIN, _EXITANCE_PER_RADIANCE and,
-// with the escape model, _ESCAPE_PROBABILITY. The order and the transport key go to
-// extras.sss.relight.
+// with the escape model, _ESCAPE_PROBABILITY, and with bounces _GATHER_HITS_<j> (addFrontHits).
+// The order and the transport key go to extras.sss.relight.
 void addRelightAttributes(const std::string& path, GlbBinary& bin, const BakedMesh& baked,
                           Json& attributes) {
   const std::size_t count = baked.relightCount();
@@ -155,6 +169,7 @@ void addRelightAttributes(const std::string& path, GlbBinary& bin, const BakedMe
   attributes["_EXITANCE_PER_RADIANCE"] = bin.addVec3(baked.exitancePerRadiance, false);
   if (!baked.escapeProbability.empty())
     attributes["_ESCAPE_PROBABILITY"] = bin.addVec3(baked.escapeProbability, false);
+  addFrontHits(bin, baked, attributes);
 }
 
 // The glTF JSON for the primitive whose attributes `bin` holds.
@@ -329,6 +344,21 @@ std::vector<int16_t> readIntegers(const std::string& path, const Json& document,
   return values;
 }
 
+// A VEC4 UNSIGNED_SHORT attribute, not normalized: its components' 16 bits.
+std::vector<uint16_t> readUnsignedShortVec4(const std::string& path, const Json& document,
+                                            const std::string& bin, std::uint64_t accessor,
+                                            const std::string& what) {
+  const AccessorSpan span = accessorSpan(path, document, bin, accessor, "VEC4", what.c_str());
+  const Json& a = element(path, document, "accessors", accessor);
+  if (span.componentType != std::uint64_t(kUnsignedShort) ||
+      a.value("normalized", Json(false)) != Json(false))
+    fail(path, "glTF: " + what + " is not UNSIGNED_SHORT");
+  std::vector<uint16_t> values(span.count * 4);
+  for (std::uint64_t i = 0; i < span.count; ++i)
+    std::memcpy(&values[i * 4], span.data + i * span.stride, 8);
+  return values;
+}
+
 std::vector<unsigned> readIndices(const std::string& path, const Json& document,
                                   const std::string& bin, std::uint64_t accessor) {
   const AccessorSpan span = accessorSpan(path, document, bin, accessor, "SCALAR", "indices");
@@ -411,6 +441,22 @@ struct RelightAttributeSource {
     if (values.size() != vertices * componentsOf(type))
       fail(path, "glTF: the attributes have different counts");
     return values;
+  }
+  // _GATHER_HITS_0, _1, ... (addFrontHits) at [vertex * words + w]; empty where there are none.
+  std::vector<uint16_t> frontHits() const {
+    std::vector<std::vector<uint16_t>> groups;
+    for (std::string name = "_GATHER_HITS_0"; attributes.contains(name);
+         name = "_GATHER_HITS_" + std::to_string(groups.size())) {
+      groups.push_back(readUnsignedShortVec4(path, document, bin, accessor(name), name));
+      if (groups.back().size() != 4 * vertices)
+        fail(path, "glTF: the attributes have different counts");
+    }
+    const std::size_t words = 4 * groups.size();
+    std::vector<uint16_t> hits(vertices * words);
+    for (std::size_t j = 0; j < groups.size(); ++j)
+      for (std::size_t v = 0; v < vertices; ++v)
+        for (std::size_t c = 0; c < 4; ++c) hits[v * words + 4 * j + c] = groups[j][4 * v + c];
+    return hits;
   }
   void checkStep(const std::string& name, int16_t q, int limit) const {
     if (q < -limit || q > limit)
@@ -525,6 +571,7 @@ void readRelightAttributes(const RelightAttributeSource& in, int format, int ord
   values.exitancePerRadiance = in.vec3("_EXITANCE_PER_RADIANCE");
   if (in.attributes.contains("_ESCAPE_PROBABILITY"))
     values.escapeProbability = in.vec3("_ESCAPE_PROBABILITY");
+  values.gatherFrontHits = in.frontHits();
   if (format >= kGlbFormatVersion) {
     values.relightTransfer = readPackedTransferAttributes(in, format, order);
   } else if (in.attributes.contains("_TRANSFER_SCALE")) {

@@ -102,10 +102,14 @@ void checkExitLobe(const std::string& path, const BakedMesh& baked, std::size_t 
 void checkRelight(const std::string& path, const BakedMesh& baked, std::size_t n) {
   if (baked.relightOrder < 0) {
     if (!baked.relightTransfer.empty() || !baked.exitancePerRadiance.empty() ||
-        !baked.radianceGain.empty() || !baked.escapeProbability.empty())
+        !baked.radianceGain.empty() || !baked.escapeProbability.empty() ||
+        !baked.gatherFrontHits.empty())
       fail(path, "has relight transfer values without relight_order");
     return;
   }
+  const std::size_t words = n == 0 ? 0 : baked.gatherFrontHits.size() / n;
+  if (baked.gatherFrontHits.size() != n * words || words % 4 != 0)
+    fail(path, "gather_hits: not whole groups of four 16-bit words per vertex");
   if (baked.relightOrder > kMaxStoredRelightOrder)
     fail(path, "relight_order " + std::to_string(baked.relightOrder) + " is above " +
                    std::to_string(kMaxStoredRelightOrder));
@@ -168,15 +172,18 @@ struct BakedFields {
         farField(!baked.farExitance.empty()),
         exitSlope(!baked.exitSlope.empty()),
         relightCount(baked.relightCount()),
-        escape(!baked.escapeProbability.empty()) {}
+        escape(!baked.escapeProbability.empty()),
+        frontHitWords(baked.gatherFrontHitWords()) {}
   bool irradiance, exitance, radianceNormal, farField, exitSlope;
   int relightCount;
   bool escape;
+  std::size_t frontHitWords;
   // Bytes of one vertex record: position and normal, then the optional fields in order.
   std::size_t vertexBytes() const {
     return 24 + (irradiance ? 12 : 0) + (exitance ? 15 : 0) + (radianceNormal ? 12 : 0) +
            (farField ? 12 : 0) + (exitSlope ? 12 : 0) +
-           (relightCount > 0 ? 12 + transferBytes() + 24 : 0) + (escape ? 12 : 0);
+           (relightCount > 0 ? 12 + transferBytes() + 24 : 0) + (escape ? 12 : 0) +
+           2 * frontHitWords;
   }
   std::size_t transferBytes() const {
     const std::size_t count = std::size_t(relightCount);
@@ -251,6 +258,8 @@ void appendVertexProperties(std::string& out, std::size_t vertices, const BakedF
     for (const char* c : {"_r", "_g", "_b"})
       out += std::string("property float ") + name + c + "\n";
   }
+  for (std::size_t w = 0; w < fields.frontHitWords; ++w)
+    out += "property ushort gather_hits_" + std::to_string(w) + "\n";
 }
 
 // Vertex i's record: floats, the exitance's 8-bit sRGB preview colour at `scale` and the
@@ -296,6 +305,8 @@ void appendVertex(std::string& out, const BakedMesh& baked, const BakedFields& f
   }
   if (fields.escape)
     for (int k = 0; k < 3; ++k) put(out, baked.escapeProbability[i][k]);
+  for (std::size_t w = 0; w < fields.frontHitWords; ++w)
+    put(out, baked.gatherFrontHits[i * fields.frontHitWords + w]);
 }
 
 // Triangles as PLY lists: a count of 3, then three int32 indices.
@@ -458,6 +469,30 @@ std::array<int16_t, 3> transferSteps(const std::string& path, const std::string&
   return out;
 }
 
+// gather_hits_0, gather_hits_1, ... (16-bit words; whole groups of four) of n vertices, at
+// [vertex * words + w]; empty where there are none.
+std::vector<uint16_t> readFrontHits(const std::string& path, const ply::PlyMesh& ply,
+                                    std::size_t n) {
+  std::vector<const std::vector<float>*> columns;
+  for (;;) {
+    auto it = ply.vertexScalars.find("gather_hits_" + std::to_string(columns.size()));
+    if (it == ply.vertexScalars.end()) break;
+    columns.push_back(&it->second);
+  }
+  if (columns.size() % 4 != 0)
+    fail(path, "gather_hits: " + std::to_string(columns.size()) +
+                   " words per vertex, not whole groups of four");
+  std::vector<uint16_t> words(n * columns.size());
+  for (std::size_t w = 0; w < columns.size(); ++w)
+    for (std::size_t i = 0; i < n; ++i) {
+      const float x = (*columns[w])[i];
+      if (!(x >= 0.0f && x <= 65535.0f) || x != std::floor(x))
+        fail(path, "gather_hits_" + std::to_string(w) + " is not a 16-bit word");
+      words[i * columns.size() + w] = uint16_t(x);
+    }
+  return words;
+}
+
 // A relightable bake's transfer_scale, transfer0.. and exitance_per_radiance, all of them with
 // relight_order.
 void readRelight(const std::string& path, const ply::PlyMesh& ply, int formatVersion,
@@ -469,7 +504,8 @@ void readRelight(const std::string& path, const ply::PlyMesh& ply, int formatVer
   if (!result.hasRelight) {
     const bool transfer = ply.vertexScalars.count("transfer0_r") ||
                           ply.vertexScalars.count("transfer0_g") ||
-                          ply.vertexScalars.count("transfer0_b");
+                          ply.vertexScalars.count("transfer0_b") ||
+                          ply.vertexScalars.count("gather_hits_0");
     if (ratio || gain || escape || transfer)
       fail(path, "has relight transfer values without relight_order");
     return;
@@ -511,6 +547,7 @@ void readRelight(const std::string& path, const ply::PlyMesh& ply, int formatVer
   }
   values.relightTransfer =
       scaled ? dequantizeTransfer(quantized, std::size_t(count)) : std::move(floats);
+  values.gatherFrontHits = readFrontHits(path, ply, n);
 }
 
 }  // namespace
@@ -567,6 +604,10 @@ void cleanBakedMesh(const std::string& path, RawMesh raw, const BakedVertexValue
       baked.exitancePerRadiance.push_back(values.exitancePerRadiance[o]);
       if (!values.escapeProbability.empty())
         baked.escapeProbability.push_back(values.escapeProbability[o]);
+      const std::size_t words =
+          values.gatherFrontHits.size() / std::max<std::size_t>(values.radianceGain.size(), 1);
+      const auto hits = values.gatherFrontHits.begin() + std::ptrdiff_t(o * words);
+      baked.gatherFrontHits.insert(baked.gatherFrontHits.end(), hits, hits + std::ptrdiff_t(words));
     }
   }
   checkVertexValues(path, baked.irradiance, origin.size(), "irradiance");

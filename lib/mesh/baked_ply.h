@@ -55,6 +55,8 @@
 // own writer.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -98,9 +100,16 @@ struct BakedMesh {
   std::vector<glm::vec3> relightTransfer;
   std::vector<glm::vec3> radianceGain, exitancePerRadiance;
   std::vector<glm::vec3> escapeProbability;  // may be empty
-  std::string relightTransport;              // bake/relight.h's key; one word
+  // Which of the bounces' gather rays met the front of a surface: the same number of 16-bit
+  // words per vertex, a multiple of 4 (transport/interreflection.h, frontHits); may be empty.
+  std::vector<uint16_t> gatherFrontHits;
+  std::string relightTransport;  // bake/relight.h's key; one word
   int relightCount() const {
     return relightOrder < 0 ? 0 : (relightOrder + 1) * (relightOrder + 1);
+  }
+  // gatherFrontHits' words per vertex (0 without them or without vertices).
+  std::size_t gatherFrontHitWords() const {
+    return mesh.positions.empty() ? 0 : gatherFrontHits.size() / mesh.positions.size();
   }
 };
 
@@ -146,6 +155,7 @@ struct BakedVertexValues {
   std::vector<glm::vec3> irradiance, exitance, radianceNormal, farExitance, exitSlope;
   std::vector<glm::vec3> relightTransfer;  // [vertex * K + k]
   std::vector<glm::vec3> radianceGain, exitancePerRadiance, escapeProbability;
+  std::vector<uint16_t> gatherFrontHits;  // [vertex * words + w]
 };
 
 // The end of every baked-mesh reader: `raw` through cleanMesh into contents.baked.mesh, the

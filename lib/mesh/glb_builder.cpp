@@ -16,7 +16,7 @@ namespace {
 
 static_assert(std::endian::native == std::endian::little, "GLB is little-endian: bytes are copied");
 
-using gltf::kByte, gltf::kFloat, gltf::kShort, gltf::kUnsignedInt;
+using gltf::kByte, gltf::kFloat, gltf::kShort, gltf::kUnsignedInt, gltf::kUnsignedShort;
 constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963;
 
 void putU32(std::string& out, std::uint32_t v) {
@@ -59,7 +59,7 @@ int GlbBinary::addIntegerVec4(const std::vector<int16_t>& components, int compon
                               bool normalized) {
   const std::size_t count = components.size() / 4;
   int view = 0;
-  if (componentType == kShort) {
+  if (componentType == kShort || componentType == kUnsignedShort) {
     view = addView(components.data(), count * 8, kArrayBuffer);
   } else {
     std::vector<int8_t> bytes(components.size());

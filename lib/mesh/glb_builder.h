@@ -28,7 +28,8 @@ class GlbBinary {
   int addVec3(const std::vector<glm::vec3>& values, bool withBounds);
   int addVec2(const std::vector<glm::vec2>& values);
   int addVec4(const std::vector<glm::vec4>& values);
-  // A VEC4 vertex attribute of `componentType` kShort or kByte (each value in [-128, 127]),
+  // A VEC4 vertex attribute of `componentType` kShort, kUnsignedShort (each value's 16 bits) or
+  // kByte (each value in [-128, 127]),
   // `normalized` (the GPU reads q / 32767 or q / 127) or not, from its elements' four components
   // in a row. VEC4, not VEC3: vertex attributes are 4-byte aligned (section 3.6.2.4), so a VEC3
   // of them would take a fourth component's bytes anyway.

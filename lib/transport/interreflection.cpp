@@ -79,6 +79,8 @@ struct GatherStreams {
   std::vector<glm::vec3> entry;  // per ray: pi / N F_t w / pdf over the facets (the throughput)
   std::vector<SceneHit> hits, mirrorHits;
   std::vector<SurfaceHit> firsts;
+  std::vector<uint32_t> sample;  // per ray: its index in the vertex's set (frontHits' bit)
+  std::vector<int32_t> mirrorOf;  // per ray: its mirror ray's index in mirrorRays, -1: none
 };
 
 // What every vertex's rays share.
@@ -88,17 +90,28 @@ struct GatherSetup {
   const VertexFacets& facets;
   const DirectionalAlbedoWeight& weight;
   float eta, extent, perRay;
+  std::span<const uint16_t> frontHits;  // InterreflectionOptions::frontHits
+  std::size_t words;                    // frontHitWords per vertex
+  // Whether vertex v's ray j may meet the front of a surface, and whether the mirror ray of that
+  // hit may meet the object (no frontHits: every ray may).
+  bool mayHit(uint32_t v, uint32_t j) const { return bit(v, j); }
+  bool mirrorMayHit(uint32_t v, uint32_t j) const { return bit(v, uint32_t(8 * words) + j); }
+  bool bit(uint32_t v, uint32_t b) const {
+    return frontHits.empty() || (frontHits[v * words + b / 16] >> (b % 16) & 1u) != 0;
+  }
 };
 
 // Appends vertex v's rays of one stratified set (Hammersley, `count` points rotated by (ra, rb))
 // from the facets' cosine lobes, those the facets take light in (facet_light.h), as the
 // environment's light is taken. visibilityOrder: the throughput rounded as the visibility's kept
 // hits hold it (lighting/cosine_hits.h), so that a set traced here equals the one taken from them.
-void appendCosineRays(const GatherSetup& s, uint32_t v, uint32_t count, float ra, float rb,
-                      bool visibilityOrder, GatherStreams& g) {
+// `first`: the set's first ray's index among the vertex's rays (frontHits' bits).
+void appendCosineRays(const GatherSetup& s, uint32_t v, uint32_t count, uint32_t first, float ra,
+                      float rb, bool visibilityOrder, GatherStreams& g) {
   const glm::vec3 nv = s.normals[v], p = s.positions[v];
   const float offset = surfaceRayOffset(p, s.extent);
   for (uint32_t j = 0; j < count; ++j) {
+    if (!s.mayHit(v, first + j)) continue;
     float u1, u2;
     hammersley(j, count, ra, rb, u1, u2);
     const glm::vec3 w = sampleFacetCosine(s.facets, v, nv, u1, u2);
@@ -107,6 +120,7 @@ void appendCosineRays(const GatherSetup& s, uint32_t v, uint32_t count, float ra
     g.rays.push_back({p + offset * nv, w, offset, std::numeric_limits<float>::infinity()});
     g.entry.push_back(visibilityOrder ? s.perRay * (intake.entryWeighted / intake.cosinePdf)
                                       : s.perRay / intake.cosinePdf * intake.entryWeighted);
+    g.sample.push_back(first + j);
   }
 }
 
@@ -120,6 +134,7 @@ void appendTracedRays(const GatherSetup& s, const TriangleScene& scene, const Co
     g.rays.push_back(
         {p + offset * nv, c.direction, offset, std::numeric_limits<float>::infinity()});
     g.entry.push_back(s.perRay * c.weight);
+    g.sample.push_back(c.sample);
     const SceneHit hit{c.t, scene.faceNormal(c.triangle), c.triangle, true};
     g.firsts.push_back(
         surfaceHitOf(hit, s.positions, s.normals, s.triangles, g.rays.back().origin, c.direction));
@@ -128,19 +143,21 @@ void appendTracedRays(const GatherSetup& s, const TriangleScene& scene, const Co
 
 // Traces the rays from index `from` on (their first hits), then the mirror rays of every valid
 // first hit; returns how many first hits met the mesh.
-uint64_t traceGatherRays(const GatherSetup& s, const TriangleScene& scene, std::size_t from,
-                         GatherStreams& g) {
+uint64_t traceGatherRays(const GatherSetup& s, const TriangleScene& scene, uint32_t v,
+                         std::size_t from, GatherStreams& g) {
   scene.intersect(std::span(g.rays).subspan(from), g.hits);
   for (std::size_t k = from; k < g.rays.size(); ++k)
     g.firsts.push_back(surfaceHitOf(g.hits[k - from], s.positions, s.normals, s.triangles,
                                     g.rays[k].origin, g.rays[k].direction));
   g.mirrorRays.clear();
+  g.mirrorOf.assign(g.rays.size(), -1);
   uint64_t met = 0;
   for (std::size_t k = 0; k < g.rays.size(); ++k) {
     const SurfaceHit& first = g.firsts[k];
     met += first.hit;
-    if (!first.valid) continue;
+    if (!first.valid || !s.mirrorMayHit(v, g.sample[k])) continue;
     const float o = surfaceRayOffset(first.point, s.extent);
+    g.mirrorOf[k] = int32_t(g.mirrorRays.size());
     g.mirrorRays.push_back({first.point + o * first.faceNormal,
                             mirrorDirection(first, g.rays[k].direction), o,
                             std::numeric_limits<float>::infinity()});
@@ -173,6 +190,10 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
   const uint32_t total = std::max(uint32_t(options.rays), visibilitySet);
   const uint32_t ownSet = total - visibilitySet;
   const VertexFacets facets = lightFacets(positions, normals, triangles);
+  const std::size_t words = frontHitWords(int(total));
+  if (!options.frontHits.empty() && options.frontHits.size() != n * words)
+    fail("", "interreflection: the front hits must hold " + std::to_string(words) +
+                 " words per vertex");
   const GatherSetup setup{positions,
                           normals,
                           triangles,
@@ -180,7 +201,16 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
                           options.entry ? *options.entry : diffuse,
                           eta,
                           boundsOf(positions).longestSide(),
-                          1.0f / float(total)};
+                          1.0f / float(total),
+                          options.frontHits,
+                          words};
+  if (options.keepFrontHits) frontHits_.assign(n * words, 0);
+  // Bit j: ray j met the front of a surface; bit 8 words + j: and its mirror ray met the object.
+  const auto recordFrontHit = [&](uint32_t v, uint32_t j, bool mirrorMet) {
+    frontHits_[v * words + j / 16] |= uint16_t(1u << (j % 16));
+    const uint32_t m = uint32_t(8 * words) + j;
+    if (mirrorMet) frontHits_[v * words + m / 16] |= uint16_t(1u << (m % 16));
+  };
   std::vector<std::vector<Hit>> perVertex(n);
   std::vector<std::vector<Mirror>> perVertexMirrors(options.keepMirrors ? n : 0);
   std::atomic<uint64_t> blocked{0};
@@ -218,23 +248,27 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
       g.rays.clear();
       g.entry.clear();
       g.firsts.clear();
+      g.sample.clear();
       if (traced)
         appendTracedRays(setup, scene, *traced, v, g);
       else
-        appendCosineRays(setup, v, visibilitySet, r2, r3, true, g);
+        appendCosineRays(setup, v, visibilitySet, 0, r2, r3, true, g);
       const std::size_t from = g.firsts.size();  // the rays from here on are traced below
-      appendCosineRays(setup, v, ownSet, r0, r1, false, g);
-      count += traceGatherRays(setup, scene, from, g);
-      std::size_t m = 0;
+      appendCosineRays(setup, v, ownSet, visibilitySet, r0, r1, false, g);
+      count += traceGatherRays(setup, scene, v, from, g);
       for (std::size_t k = 0; k < g.rays.size(); ++k) {
         const SurfaceHit& first = g.firsts[k];
         if (!first.valid) continue;
-        const OcclusionRay& mirrorRay = g.mirrorRays[m];
-        const SurfaceHit second = surfaceHitOf(g.mirrorHits[m++], positions, normals, triangles,
-                                               mirrorRay.origin, mirrorRay.direction);
-        addHit(v, first, mirrorRay.direction, g.entry[k], &second);
+        const glm::vec3 mirror = mirrorDirection(first, g.rays[k].direction);
+        const int32_t m = g.mirrorOf[k];  // no mirror ray: frontHits says it meets nothing
+        const SurfaceHit second =
+            m < 0 ? SurfaceHit{}
+                  : surfaceHitOf(g.mirrorHits[std::size_t(m)], positions, normals, triangles,
+                                 g.mirrorRays[std::size_t(m)].origin, mirror);
+        if (options.keepFrontHits) recordFrontHit(v, g.sample[k], second.hit);
+        addHit(v, first, mirror, g.entry[k], &second);
         if (second.valid)
-          addHit(v, second, mirrorDirection(second, mirrorRay.direction),
+          addHit(v, second, mirrorDirection(second, mirror),
                  g.entry[k] * fresnelDielectric(first.mu, eta), nullptr);
       }
     }

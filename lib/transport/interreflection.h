@@ -22,6 +22,8 @@
 // (tests/transport/interreflection_test.cpp).
 #pragma once
 
+#include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <span>
@@ -60,7 +62,20 @@ struct InterreflectionOptions {
   // the same set itself.
   int visibilityCosineRays = 0;
   const CosineHits* traced = nullptr;
+  // Which of each vertex's rays met the front of a surface, and which of their mirror rays met
+  // the object (InterreflectionGather::frontHits of a gather with the same mesh, seed and ray
+  // counts): only those are traced (the others meet nothing, or bring no light), for a relight
+  // of a bake that stored them. Empty: every ray. Not kept.
+  std::span<const uint16_t> frontHits{};
+  bool keepFrontHits = false;  // record them (frontHits())
 };
+
+// The 16-bit words of one vertex's front-hit bits for `rays` rays per vertex (each ray's first
+// hit, then each ray's mirror ray: InterreflectionGather::frontHits), in whole groups of four, as
+// a glTF VEC4 of UNSIGNED_SHORT holds them.
+inline std::size_t frontHitWords(int rays) {
+  return 2 * 4 * ((std::size_t(std::max(rays, 0)) + 63) / 64);
+}
 
 class InterreflectionGather {
  public:
@@ -81,6 +96,10 @@ class InterreflectionGather {
   double blockedFraction() const { return blockedFraction_; }
   int rays() const { return rays_; }  // per vertex, the visibility's set included
   int visibilityCosineRays() const { return visibilityCosineRays_; }
+  // With InterreflectionOptions::keepFrontHits: per vertex frontHitWords(rays()) words W, bit j
+  // (of word j / 16) set where its ray j (the visibility's cosine set first) met the front of a
+  // surface, and bit 8 W + j where that hit's mirror ray met the object. Empty otherwise.
+  std::span<const uint16_t> frontHits() const { return frontHits_; }
   // The mirrored sky of `radiance` instead of the one built with: the same values as a gather
   // built under `radiance`. Needs InterreflectionOptions::keepMirrors.
   void setSky(const Cubemap& radiance);
@@ -102,6 +121,7 @@ class InterreflectionGather {
   std::vector<uint32_t> offsets_;  // hits of vertex v: [offsets_[v], offsets_[v + 1])
   std::vector<Hit> hits_;
   std::vector<Mirror> mirrors_;  // per hit, with keepMirrors
+  std::vector<uint16_t> frontHits_;
   double blockedFraction_ = 0.0;
 };
 

@@ -20,6 +20,7 @@
 #include "mesh/baked_glb.h"
 #include "mesh/baked_ply.h"
 #include "mesh/primitives.h"
+#include "transport/interreflection.h"
 #include "support/tool_test.h"
 
 namespace sss {
@@ -168,6 +169,31 @@ TEST_F(Relight, ASessionRelightsEachEnvironmentAsARelightOfItsOwn) {
   }
 }
 
+// The bake stores which of its gather's rays met the object (the fixture's bake has bounces), so
+// that a relight traces only those: the same light, bit for bit, as tracing them all.
+TEST_F(Relight, StoredFrontHitsRelightAsTracingEveryRay) {
+  const std::size_t n = out_->baked.mesh.positions.size();
+  ASSERT_EQ(transfer_->gatherFrontHits.size(), n * frontHitWords(64));
+  RelightTransfer traced = *transfer_;
+  traced.gatherFrontHits.clear();
+  const Cubemap sun = loadBakeEnvironment(settingsFor(mesh_, kSky, 30.0)).radiance;
+  const RunContext run{.seed = 3, .threads = 2, .quiet = true};
+  const RelitLight stored = relit(sun);
+  const RelitLight all = relight("bumpy.ply", {out_->baked.mesh, *material_, traced}, sun, run);
+  EXPECT_EQ(stored.radianceNormal, all.radianceNormal);
+  EXPECT_EQ(stored.exitance, all.exitance);
+  // A stored mask that does not fit the stored gather is refused, naming the file.
+  RelightTransfer shortMask = *transfer_;
+  shortMask.gatherFrontHits.resize(shortMask.gatherFrontHits.size() - 4);
+  try {
+    relight("bumpy.ply", {out_->baked.mesh, *material_, shortMask}, sun, run);
+    ADD_FAILURE() << "a short mask";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("bumpy.ply: gather_hits:"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST_F(Relight, SameResultForAnyThreadCount) {
   const Cubemap sky = loadBakeEnvironment(settingsFor(mesh_, kSky, 45.0)).radiance;
   const RelitLight one = relight("bumpy.ply", bakeMesh(), sky, {.seed = 3, .threads = 1});
@@ -204,6 +230,7 @@ void expectSameTransfer(const BakedPlyContents& read, const BakedMesh& baked) {
   EXPECT_EQ(read.baked.radianceGain, baked.radianceGain);
   EXPECT_EQ(read.baked.exitancePerRadiance, baked.exitancePerRadiance);
   EXPECT_EQ(read.baked.escapeProbability, baked.escapeProbability);
+  EXPECT_EQ(read.baked.gatherFrontHits, baked.gatherFrontHits);
   EXPECT_EQ(read.baked.relightTransport, baked.relightTransport);
 }
 
@@ -239,6 +266,8 @@ TEST_F(Relight, RefusesBrokenFiles) {
       {"property float transfer_scale_g", "property float transfer_scale_q",
        "transfer_scale_r/g/b"},
       {key, "relight_transport=a b", "bad"},
+      {"property ushort gather_hits_7", "property ushort gather_hitsX7",
+       "gather_hits: 7 words per vertex, not whole groups of four"},
   };
   for (const auto& c : cases) {
     const std::string bad = file("bad.ply");

@@ -5,6 +5,7 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <memory>
 #include <span>
@@ -95,6 +96,63 @@ TEST(Interreflection, WhiteFurnaceSendsRadianceOneFromEveryVertex) {
 TEST(Interreflection, WhiteFurnaceHoldsWithTheVisibilitysRays) {
   expectWhiteFurnace(64, 128);
   expectWhiteFurnace(256, 128);
+}
+
+// A relightable bake stores which of its gather's rays met the object, and which of their mirror
+// rays (frontHits); a gather given them traces those rays only, and gathers the same light, bit
+// for bit, its variance and a swapped sky included.
+TEST(Interreflection, StoredFrontHitsGatherTheSameLight) {
+  const TriangleMesh mesh = boxWithPit();
+  const Cubemap sky(8, glm::vec3(0.6f, 0.8f, 1.0f));
+  const float eta = 1.3f;
+  VisibilityOptions vis;
+  vis.samples = 96;
+  vis.keepCosineHitsUpTo = 48;
+  VisibilityReport visibility;
+  transmittedIrradianceWithVisibility(mesh.positions, mesh.normals, mesh.triangles, sky, eta, vis,
+                                      &visibility);
+  InterreflectionOptions options;
+  options.rays = 64;  // 48 of them the visibility's, 16 its own
+  options.visibilityCosineRays = 48;
+  options.traced = &visibility.cosineHits;
+  options.keepFrontHits = true;
+  const InterreflectionGather bake(mesh.positions, mesh.normals, mesh.triangles, sky, eta, options);
+  const std::size_t words = frontHitWords(64);
+  ASSERT_EQ(words, 8u);
+  ASSERT_EQ(bake.frontHits().size(), mesh.positions.size() * words);
+  // Some rays and some mirror rays met the pit's walls, not all.
+  std::size_t rays = 0, mirrors = 0;
+  for (std::size_t v = 0; v < mesh.positions.size(); ++v)
+    for (std::size_t w = 0; w < words; ++w)
+      (w < words / 2 ? rays : mirrors) += std::popcount(bake.frontHits()[v * words + w]);
+  EXPECT_GT(rays, mirrors);
+  EXPECT_GT(mirrors, 0u);
+  EXPECT_LT(double(rays), 0.5 * 64.0 * double(mesh.positions.size()));
+  InterreflectionOptions relight = options;
+  relight.traced = nullptr;
+  relight.keepFrontHits = false;
+  relight.keepMirrors = true;
+  relight.frontHits = bake.frontHits();
+  InterreflectionGather stored(mesh.positions, mesh.normals, mesh.triangles, sky, eta, relight);
+  relight.frontHits = {};
+  InterreflectionGather traced(mesh.positions, mesh.normals, mesh.triangles, sky, eta, relight);
+  const std::vector<glm::vec3> b(mesh.positions.size(), glm::vec3(0.3f, 0.5f, 0.7f));
+  std::vector<glm::vec3> storedVariance, tracedVariance;
+  EXPECT_EQ(stored.gather(b, &storedVariance), bake.gather(b));
+  EXPECT_EQ(traced.gather(b, &tracedVariance), bake.gather(b));
+  EXPECT_EQ(storedVariance, tracedVariance);
+  const Cubemap other(8, glm::vec3(2.0f, 0.5f, 0.1f));
+  stored.setSky(other);
+  traced.setSky(other);
+  EXPECT_EQ(stored.gather(b), traced.gather(b));
+  // The bits are read: without any, nothing is traced and nothing gathered; a short mask throws.
+  const std::vector<uint16_t> none(mesh.positions.size() * words, 0);
+  relight.frontHits = none;
+  const InterreflectionGather empty(mesh.positions, mesh.normals, mesh.triangles, sky, eta, relight);
+  for (const glm::vec3& e : empty.gather(b)) EXPECT_EQ(e, glm::vec3(0.0f));
+  relight.frontHits = std::span(none).first(none.size() - 1);
+  EXPECT_THROW(
+      InterreflectionGather(mesh.positions, mesh.normals, mesh.triangles, sky, eta, relight), Error);
 }
 
 // Without bounces, a pilot gather estimates the share of B the bounces would add. With a local

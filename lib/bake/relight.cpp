@@ -169,10 +169,11 @@ void checkGatherFrontHits(const std::string& path, std::span<const uint16_t> fro
   if (frontHits.empty()) return;
   const std::size_t words = frontHitWords(t.gatherRays);
   if (t.bounces <= 0 || frontHits.size() != vertices * words)
-    fail(path, "gather_hits: " + std::to_string(frontHits.size() / std::max<std::size_t>(vertices, 1)) +
-                   " words per vertex where relight_transport's " + std::to_string(t.bounces) +
-                   " bounces of " + std::to_string(t.gatherRays) + " gather rays need " +
-                   (t.bounces > 0 ? std::to_string(words) : std::string("none")));
+    fail(path,
+         "gather_hits: " + std::to_string(frontHits.size() / std::max<std::size_t>(vertices, 1)) +
+             " words per vertex where relight_transport's " + std::to_string(t.bounces) +
+             " bounces of " + std::to_string(t.gatherRays) + " gather rays need " +
+             (t.bounces > 0 ? std::to_string(words) : std::string("none")));
 }
 
 // The bake's linear transport, rebuilt from what the file stores.
@@ -251,7 +252,8 @@ RelightTransfer relightTransfer(const RelightInput& in) {
   out.exitancePerRadiance = ratios(in.exitance, in.radianceNormal, 1.0f / exitScale);
   if (in.transport.energy.model == EnergyModel::Escape)
     out.escapeProbability = in.transport.energy.escape.probability;
-  if (in.bounces > 0) out.gatherFrontHits.assign(in.gatherFrontHits.begin(), in.gatherFrontHits.end());
+  if (in.bounces > 0)
+    out.gatherFrontHits.assign(in.gatherFrontHits.begin(), in.gatherFrontHits.end());
   out.relightTransport = transportKey(in.transport, in.entry != nullptr, in.bounces, in.bounceTail,
                                       in.gatherRays, in.gatherVisibilityRays);
   report.order = in.order;

@@ -121,14 +121,20 @@ Cubemap Cubemap::resized(int faceSize) const {
   if (faceSize == size_) return *this;
   Cubemap out(faceSize);
   if (size_ % faceSize == 0) {
-    // Box filter weighted by texel solid angle, so the flux of each output texel is kept.
+    // Box filter weighted by texel solid angle, so the flux of each output texel is kept. The
+    // solid angles are the same on every face: taken once.
     const int k = size_ / faceSize;
+    std::vector<float> texelSolidAngle(std::size_t(size_) * std::size_t(size_));
+    for (int y = 0; y < size_; ++y)
+      for (int x = 0; x < size_; ++x)
+        texelSolidAngle[std::size_t(y) * std::size_t(size_) + std::size_t(x)] = solidAngle(0, x, y);
     forEachTexel(faceSize, [&](int f, int x, int y) {
       glm::dvec3 flux(0.0);
       double omega = 0.0;
       for (int j = 0; j < k; ++j) {
         for (int i = 0; i < k; ++i) {
-          const double w = solidAngle(f, x * k + i, y * k + j);
+          const double w =
+              texelSolidAngle[std::size_t(y * k + j) * std::size_t(size_) + std::size_t(x * k + i)];
           flux += w * glm::dvec3(at(f, x * k + i, y * k + j));
           omega += w;
         }

@@ -91,7 +91,7 @@ class VertexEstimator {
   bool keepCosineHits_ = false;
   std::vector<OcclusionRay> cosineRays_;
   std::vector<glm::vec3> cosineWeights_;
-  std::vector<int> cosineRayIndex_;  // per kept cosine sample where rays_ holds it
+  std::vector<int> cosineRayIndex_;     // per kept cosine sample where rays_ holds it
   std::vector<uint32_t> cosineSample_;  // per kept cosine sample its index in the set
   std::vector<SceneHit> sceneHits_;
   std::vector<CosineHit> cosineHits_;

@@ -141,7 +141,8 @@ void addFrontHits(GlbBinary& bin, const BakedMesh& baked, Json& attributes) {
     std::vector<int16_t> components(4 * n);
     for (std::size_t v = 0; v < n; ++v)
       for (std::size_t c = 0; c < 4; ++c)
-        components[4 * v + c] = std::bit_cast<int16_t>(baked.gatherFrontHits[v * words + 4 * j + c]);
+        components[4 * v + c] =
+            std::bit_cast<int16_t>(baked.gatherFrontHits[v * words + 4 * j + c]);
     attributes["_GATHER_HITS_" + std::to_string(j)] =
         bin.addIntegerVec4(components, kUnsignedShort, false);
   }

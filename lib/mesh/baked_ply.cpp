@@ -502,10 +502,9 @@ void readRelight(const std::string& path, const ply::PlyMesh& ply, int formatVer
   values.radianceGain = readChannels(path, ply, "radiance_gain", gain);
   values.escapeProbability = readChannels(path, ply, "escape_probability", escape);
   if (!result.hasRelight) {
-    const bool transfer = ply.vertexScalars.count("transfer0_r") ||
-                          ply.vertexScalars.count("transfer0_g") ||
-                          ply.vertexScalars.count("transfer0_b") ||
-                          ply.vertexScalars.count("gather_hits_0");
+    const bool transfer =
+        ply.vertexScalars.count("transfer0_r") || ply.vertexScalars.count("transfer0_g") ||
+        ply.vertexScalars.count("transfer0_b") || ply.vertexScalars.count("gather_hits_0");
     if (ratio || gain || escape || transfer)
       fail(path, "has relight transfer values without relight_order");
     return;

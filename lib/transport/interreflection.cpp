@@ -79,7 +79,7 @@ struct GatherStreams {
   std::vector<glm::vec3> entry;  // per ray: pi / N F_t w / pdf over the facets (the throughput)
   std::vector<SceneHit> hits, mirrorHits;
   std::vector<SurfaceHit> firsts;
-  std::vector<uint32_t> sample;  // per ray: its index in the vertex's set (frontHits' bit)
+  std::vector<uint32_t> sample;   // per ray: its index in the vertex's set (frontHits' bit)
   std::vector<int32_t> mirrorOf;  // per ray: its mirror ray's index in mirrorRays, -1: none
 };
 
@@ -142,7 +142,8 @@ void appendTracedRays(const GatherSetup& s, const TriangleScene& scene, const Co
 }
 
 // Traces the rays from index `from` on (their first hits), then the mirror rays of every valid
-// first hit; returns how many first hits met the mesh.
+// first hit (those the front hits say may meet the object: GatherSetup::mirrorMayHit), g.mirrorOf
+// saying which ray each is; returns how many first hits met the mesh.
 uint64_t traceGatherRays(const GatherSetup& s, const TriangleScene& scene, uint32_t v,
                          std::size_t from, GatherStreams& g) {
   scene.intersect(std::span(g.rays).subspan(from), g.hits);

@@ -20,8 +20,8 @@
 #include "mesh/baked_glb.h"
 #include "mesh/baked_ply.h"
 #include "mesh/primitives.h"
-#include "transport/interreflection.h"
 #include "support/tool_test.h"
+#include "transport/interreflection.h"
 
 namespace sss {
 namespace {
@@ -189,8 +189,7 @@ TEST_F(Relight, StoredFrontHitsRelightAsTracingEveryRay) {
     relight("bumpy.ply", {out_->baked.mesh, *material_, shortMask}, sun, run);
     ADD_FAILURE() << "a short mask";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("bumpy.ply: gather_hits:"), std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("bumpy.ply: gather_hits:"), std::string::npos) << e.what();
   }
 }
 

@@ -148,11 +148,13 @@ TEST(Interreflection, StoredFrontHitsGatherTheSameLight) {
   // The bits are read: without any, nothing is traced and nothing gathered; a short mask throws.
   const std::vector<uint16_t> none(mesh.positions.size() * words, 0);
   relight.frontHits = none;
-  const InterreflectionGather empty(mesh.positions, mesh.normals, mesh.triangles, sky, eta, relight);
+  const InterreflectionGather empty(mesh.positions, mesh.normals, mesh.triangles, sky, eta,
+                                    relight);
   for (const glm::vec3& e : empty.gather(b)) EXPECT_EQ(e, glm::vec3(0.0f));
   relight.frontHits = std::span(none).first(none.size() - 1);
   EXPECT_THROW(
-      InterreflectionGather(mesh.positions, mesh.normals, mesh.triangles, sky, eta, relight), Error);
+      InterreflectionGather(mesh.positions, mesh.normals, mesh.triangles, sky, eta, relight),
+      Error);
 }
 
 // Without bounces, a pilot gather estimates the share of B the bounces would add. With a local

@@ -79,8 +79,7 @@ struct GatherStreams {
   std::vector<glm::vec3> entry;  // per ray: pi / N F_t w / pdf over the facets (the throughput)
   std::vector<SceneHit> hits, mirrorHits;
   std::vector<SurfaceHit> firsts;
-  std::vector<uint32_t> sample;   // per ray: its index in the vertex's set (frontHits' bit)
-  std::vector<int32_t> mirrorOf;  // per ray: its mirror ray's index in mirrorRays, -1: none
+  std::vector<uint32_t> sample;  // per ray: its index in the vertex's set (frontHits' bit)
 };
 
 // What every vertex's rays share.
@@ -92,12 +91,9 @@ struct GatherSetup {
   float eta, extent, perRay;
   std::span<const uint16_t> frontHits;  // InterreflectionOptions::frontHits
   std::size_t words;                    // frontHitWords per vertex
-  // Whether vertex v's ray j may meet the front of a surface, and whether the mirror ray of that
-  // hit may meet the object (no frontHits: every ray may).
-  bool mayHit(uint32_t v, uint32_t j) const { return bit(v, j); }
-  bool mirrorMayHit(uint32_t v, uint32_t j) const { return bit(v, uint32_t(8 * words) + j); }
-  bool bit(uint32_t v, uint32_t b) const {
-    return frontHits.empty() || (frontHits[v * words + b / 16] >> (b % 16) & 1u) != 0;
+  // Whether vertex v's ray j may meet the front of a surface (no frontHits: every ray may).
+  bool mayHit(uint32_t v, uint32_t j) const {
+    return frontHits.empty() || (frontHits[v * words + j / 16] >> (j % 16) & 1u) != 0;
   }
 };
 
@@ -142,23 +138,20 @@ void appendTracedRays(const GatherSetup& s, const TriangleScene& scene, const Co
 }
 
 // Traces the rays from index `from` on (their first hits), then the mirror rays of every valid
-// first hit (those the front hits say may meet the object: GatherSetup::mirrorMayHit), g.mirrorOf
-// saying which ray each is; returns how many first hits met the mesh.
-uint64_t traceGatherRays(const GatherSetup& s, const TriangleScene& scene, uint32_t v,
-                         std::size_t from, GatherStreams& g) {
+// first hit; returns how many first hits met the mesh.
+uint64_t traceGatherRays(const GatherSetup& s, const TriangleScene& scene, std::size_t from,
+                         GatherStreams& g) {
   scene.intersect(std::span(g.rays).subspan(from), g.hits);
   for (std::size_t k = from; k < g.rays.size(); ++k)
     g.firsts.push_back(surfaceHitOf(g.hits[k - from], s.positions, s.normals, s.triangles,
                                     g.rays[k].origin, g.rays[k].direction));
   g.mirrorRays.clear();
-  g.mirrorOf.assign(g.rays.size(), -1);
   uint64_t met = 0;
   for (std::size_t k = 0; k < g.rays.size(); ++k) {
     const SurfaceHit& first = g.firsts[k];
     met += first.hit;
-    if (!first.valid || !s.mirrorMayHit(v, g.sample[k])) continue;
+    if (!first.valid) continue;
     const float o = surfaceRayOffset(first.point, s.extent);
-    g.mirrorOf[k] = int32_t(g.mirrorRays.size());
     g.mirrorRays.push_back({first.point + o * first.faceNormal,
                             mirrorDirection(first, g.rays[k].direction), o,
                             std::numeric_limits<float>::infinity()});
@@ -206,12 +199,6 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
                           options.frontHits,
                           words};
   if (options.keepFrontHits) frontHits_.assign(n * words, 0);
-  // Bit j: ray j met the front of a surface; bit 8 words + j: and its mirror ray met the object.
-  const auto recordFrontHit = [&](uint32_t v, uint32_t j, bool mirrorMet) {
-    frontHits_[v * words + j / 16] |= uint16_t(1u << (j % 16));
-    const uint32_t m = uint32_t(8 * words) + j;
-    if (mirrorMet) frontHits_[v * words + m / 16] |= uint16_t(1u << (m % 16));
-  };
   std::vector<std::vector<Hit>> perVertex(n);
   std::vector<std::vector<Mirror>> perVertexMirrors(options.keepMirrors ? n : 0);
   std::atomic<uint64_t> blocked{0};
@@ -256,20 +243,19 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
         appendCosineRays(setup, v, visibilitySet, 0, r2, r3, true, g);
       const std::size_t from = g.firsts.size();  // the rays from here on are traced below
       appendCosineRays(setup, v, ownSet, visibilitySet, r0, r1, false, g);
-      count += traceGatherRays(setup, scene, v, from, g);
+      count += traceGatherRays(setup, scene, from, g);
+      std::size_t m = 0;
       for (std::size_t k = 0; k < g.rays.size(); ++k) {
         const SurfaceHit& first = g.firsts[k];
         if (!first.valid) continue;
-        const glm::vec3 mirror = mirrorDirection(first, g.rays[k].direction);
-        const int32_t m = g.mirrorOf[k];  // no mirror ray: frontHits says it meets nothing
-        const SurfaceHit second =
-            m < 0 ? SurfaceHit{}
-                  : surfaceHitOf(g.mirrorHits[std::size_t(m)], positions, normals, triangles,
-                                 g.mirrorRays[std::size_t(m)].origin, mirror);
-        if (options.keepFrontHits) recordFrontHit(v, g.sample[k], second.hit);
-        addHit(v, first, mirror, g.entry[k], &second);
+        if (options.keepFrontHits)
+          frontHits_[v * words + g.sample[k] / 16] |= uint16_t(1u << (g.sample[k] % 16));
+        const OcclusionRay& mirrorRay = g.mirrorRays[m];
+        const SurfaceHit second = surfaceHitOf(g.mirrorHits[m++], positions, normals, triangles,
+                                               mirrorRay.origin, mirrorRay.direction);
+        addHit(v, first, mirrorRay.direction, g.entry[k], &second);
         if (second.valid)
-          addHit(v, second, mirrorDirection(second, mirror),
+          addHit(v, second, mirrorDirection(second, mirrorRay.direction),
                  g.entry[k] * fresnelDielectric(first.mu, eta), nullptr);
       }
     }

@@ -62,19 +62,19 @@ struct InterreflectionOptions {
   // the same set itself.
   int visibilityCosineRays = 0;
   const CosineHits* traced = nullptr;
-  // Which of each vertex's rays met the front of a surface, and which of their mirror rays met
-  // the object (InterreflectionGather::frontHits of a gather with the same mesh, seed and ray
-  // counts): only those are traced (the others meet nothing, or bring no light), for a relight
-  // of a bake that stored them. Empty: every ray. Not kept.
+  // Which of each vertex's rays met the front of a surface (InterreflectionGather::frontHits of
+  // a gather with the same mesh, seed and ray counts): only those are traced (the others meet
+  // nothing, or a back face, and bring no light), for a relight of a bake that stored them.
+  // Empty: every ray. Not kept.
   std::span<const uint16_t> frontHits{};
   bool keepFrontHits = false;  // record them (frontHits())
 };
 
-// The 16-bit words of one vertex's front-hit bits for `rays` rays per vertex (each ray's first
-// hit, then each ray's mirror ray: InterreflectionGather::frontHits), in whole groups of four, as
-// a glTF VEC4 of UNSIGNED_SHORT holds them.
+// The 16-bit words of one vertex's front-hit bits for `rays` rays per vertex
+// (InterreflectionGather::frontHits): whole groups of four (64 rays), as a glTF VEC4 of
+// UNSIGNED_SHORT holds them.
 inline std::size_t frontHitWords(int rays) {
-  return 2 * 4 * ((std::size_t(std::max(rays, 0)) + 63) / 64);
+  return 4 * ((std::size_t(std::max(rays, 0)) + 63) / 64);
 }
 
 class InterreflectionGather {
@@ -96,9 +96,9 @@ class InterreflectionGather {
   double blockedFraction() const { return blockedFraction_; }
   int rays() const { return rays_; }  // per vertex, the visibility's set included
   int visibilityCosineRays() const { return visibilityCosineRays_; }
-  // With InterreflectionOptions::keepFrontHits: per vertex frontHitWords(rays()) words W, bit j
-  // (of word j / 16) set where its ray j (the visibility's cosine set first) met the front of a
-  // surface, and bit 8 W + j where that hit's mirror ray met the object. Empty otherwise.
+  // With InterreflectionOptions::keepFrontHits: per vertex frontHitWords(rays()) words, bit j
+  // (bit j % 16 of word j / 16) set where its ray j (the visibility's cosine set first) met the
+  // front of a surface. Empty otherwise.
   std::span<const uint16_t> frontHits() const { return frontHits_; }
   // The mirrored sky of `radiance` instead of the one built with: the same values as a gather
   // built under `radiance`. Needs InterreflectionOptions::keepMirrors.

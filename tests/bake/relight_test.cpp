@@ -265,8 +265,8 @@ TEST_F(Relight, RefusesBrokenFiles) {
       {"property float transfer_scale_g", "property float transfer_scale_q",
        "transfer_scale_r/g/b"},
       {key, "relight_transport=a b", "bad"},
-      {"property ushort gather_hits_7", "property ushort gather_hitsX7",
-       "gather_hits: 7 words per vertex, not whole groups of four"},
+      {"property ushort gather_hits_3", "property ushort gather_hitsX3",
+       "gather_hits: 3 words per vertex, not whole groups of four"},
   };
   for (const auto& c : cases) {
     const std::string bad = file("bad.ply");

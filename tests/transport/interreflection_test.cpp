@@ -98,9 +98,9 @@ TEST(Interreflection, WhiteFurnaceHoldsWithTheVisibilitysRays) {
   expectWhiteFurnace(256, 128);
 }
 
-// A relightable bake stores which of its gather's rays met the object, and which of their mirror
-// rays (frontHits); a gather given them traces those rays only, and gathers the same light, bit
-// for bit, its variance and a swapped sky included.
+// A relightable bake stores which of its gather's rays met the front of a surface (frontHits); a
+// gather given them traces those rays only, and gathers the same light, bit for bit, its variance
+// and a swapped sky included.
 TEST(Interreflection, StoredFrontHitsGatherTheSameLight) {
   const TriangleMesh mesh = boxWithPit();
   const Cubemap sky(8, glm::vec3(0.6f, 0.8f, 1.0f));
@@ -118,15 +118,12 @@ TEST(Interreflection, StoredFrontHitsGatherTheSameLight) {
   options.keepFrontHits = true;
   const InterreflectionGather bake(mesh.positions, mesh.normals, mesh.triangles, sky, eta, options);
   const std::size_t words = frontHitWords(64);
-  ASSERT_EQ(words, 8u);
+  ASSERT_EQ(words, 4u);
   ASSERT_EQ(bake.frontHits().size(), mesh.positions.size() * words);
-  // Some rays and some mirror rays met the pit's walls, not all.
-  std::size_t rays = 0, mirrors = 0;
-  for (std::size_t v = 0; v < mesh.positions.size(); ++v)
-    for (std::size_t w = 0; w < words; ++w)
-      (w < words / 2 ? rays : mirrors) += std::popcount(bake.frontHits()[v * words + w]);
-  EXPECT_GT(rays, mirrors);
-  EXPECT_GT(mirrors, 0u);
+  // Some rays met the pit's walls, far from all (most vertices see the open sky).
+  std::size_t rays = 0;
+  for (const uint16_t word : bake.frontHits()) rays += std::size_t(std::popcount(word));
+  EXPECT_GT(double(rays), 0.01 * 64.0 * double(mesh.positions.size()));
   EXPECT_LT(double(rays), 0.5 * 64.0 * double(mesh.positions.size()));
   InterreflectionOptions relight = options;
   relight.traced = nullptr;

@@ -317,19 +317,21 @@ std::vector<glm::vec3> readVec3(const std::string& path, const Json& document,
   return values;
 }
 
-// The integers of a SHORT (byte: BYTE) accessor of `type` VEC3 or VEC4, `normalized` or not, its
-// elements' components in a row.
+// The integers of a BYTE, SHORT or UNSIGNED_SHORT (its 16 bits) accessor of `type` VEC3 or
+// VEC4, `normalized` or not, its elements' components in a row: what addIntegerVec4 writes.
 std::vector<int16_t> readIntegers(const std::string& path, const Json& document,
                                   const std::string& bin, std::uint64_t accessor,
-                                  const std::string& what, const char* type, bool byte,
+                                  const std::string& what, const char* type, int componentType,
                                   bool normalized) {
   const AccessorSpan span = accessorSpan(path, document, bin, accessor, type, what.c_str());
   const Json& a = element(path, document, "accessors", accessor);
   const Json normalizedFlag = a.value("normalized", Json(false));
-  if (span.componentType != std::uint64_t(byte ? kByte : kShort) ||
-      normalizedFlag != Json(normalized))
+  const bool byte = componentType == kByte;
+  if (span.componentType != std::uint64_t(componentType) || normalizedFlag != Json(normalized))
     fail(path, "glTF: " + what + " is not " + (normalized ? "normalized " : "") +
-                   (byte ? "BYTE" : "SHORT"));
+                   (byte                      ? "BYTE"
+                    : componentType == kShort ? "SHORT"
+                                              : "UNSIGNED_SHORT"));
   const std::size_t components = componentsOf(type);
   std::vector<int16_t> values(span.count * components);
   for (std::uint64_t i = 0; i < span.count; ++i) {
@@ -342,21 +344,6 @@ std::vector<int16_t> readIntegers(const std::string& path, const Json& document,
       }
     }
   }
-  return values;
-}
-
-// A VEC4 UNSIGNED_SHORT attribute, not normalized: its components' 16 bits.
-std::vector<uint16_t> readUnsignedShortVec4(const std::string& path, const Json& document,
-                                            const std::string& bin, std::uint64_t accessor,
-                                            const std::string& what) {
-  const AccessorSpan span = accessorSpan(path, document, bin, accessor, "VEC4", what.c_str());
-  const Json& a = element(path, document, "accessors", accessor);
-  if (span.componentType != std::uint64_t(kUnsignedShort) ||
-      a.value("normalized", Json(false)) != Json(false))
-    fail(path, "glTF: " + what + " is not UNSIGNED_SHORT");
-  std::vector<uint16_t> values(span.count * 4);
-  for (std::uint64_t i = 0; i < span.count; ++i)
-    std::memcpy(&values[i * 4], span.data + i * span.stride, 8);
   return values;
 }
 
@@ -435,28 +422,26 @@ struct RelightAttributeSource {
     if (values.size() != vertices) fail(path, "glTF: the attributes have different counts");
     return values;
   }
-  std::vector<int16_t> integers(const std::string& name, const char* type, bool byte,
+  std::vector<int16_t> integers(const std::string& name, const char* type, int componentType,
                                 bool normalized = true) const {
     std::vector<int16_t> values =
-        readIntegers(path, document, bin, accessor(name), name, type, byte, normalized);
+        readIntegers(path, document, bin, accessor(name), name, type, componentType, normalized);
     if (values.size() != vertices * componentsOf(type))
       fail(path, "glTF: the attributes have different counts");
     return values;
   }
   // _GATHER_HITS_0, _1, ... (addFrontHits) at [vertex * words + w]; empty where there are none.
   std::vector<uint16_t> frontHits() const {
-    std::vector<std::vector<uint16_t>> groups;
+    std::vector<std::vector<int16_t>> groups;
     for (std::string name = "_GATHER_HITS_0"; attributes.contains(name);
-         name = "_GATHER_HITS_" + std::to_string(groups.size())) {
-      groups.push_back(readUnsignedShortVec4(path, document, bin, accessor(name), name));
-      if (groups.back().size() != 4 * vertices)
-        fail(path, "glTF: the attributes have different counts");
-    }
+         name = "_GATHER_HITS_" + std::to_string(groups.size()))
+      groups.push_back(integers(name, "VEC4", kUnsignedShort, false));
     const std::size_t words = 4 * groups.size();
     std::vector<uint16_t> hits(vertices * words);
     for (std::size_t j = 0; j < groups.size(); ++j)
       for (std::size_t v = 0; v < vertices; ++v)
-        for (std::size_t c = 0; c < 4; ++c) hits[v * words + 4 * j + c] = groups[j][4 * v + c];
+        for (std::size_t c = 0; c < 4; ++c)
+          hits[v * words + 4 * j + c] = std::bit_cast<uint16_t>(groups[j][4 * v + c]);
     return hits;
   }
   void checkStep(const std::string& name, int16_t q, int limit) const {
@@ -472,7 +457,7 @@ void readTransferPerCoefficient(const RelightAttributeSource& in, bool high,
   for (std::size_t k = 0; k < in.count; ++k) {
     const std::string name = "_TRANSFER_" + std::to_string(k);
     const bool byte = high && k >= kShortTransferCoefficients;
-    const std::vector<int16_t> steps = in.integers(name, "VEC3", byte);
+    const std::vector<int16_t> steps = in.integers(name, "VEC3", byte ? kByte : kShort);
     for (std::size_t v = 0; v < in.vertices; ++v) {
       for (int c = 0; c < 3; ++c) {
         in.checkStep(name, steps[3 * v + c], transferStepLimit(k, high));
@@ -485,7 +470,7 @@ void readTransferPerCoefficient(const RelightAttributeSource& in, bool high,
 // Format 4: scales as exponents (addScaleExponents); the fourth component must be zero.
 std::vector<glm::vec3> readScaleExponents(const RelightAttributeSource& in, const std::string& name,
                                           float normalizer) {
-  const std::vector<int16_t> exponents = in.integers(name, "VEC4", true, false);
+  const std::vector<int16_t> exponents = in.integers(name, "VEC4", kByte, false);
   std::vector<glm::vec3> scales(in.vertices);
   for (std::size_t v = 0; v < in.vertices; ++v) {
     if (exponents[4 * v + 3] != 0)
@@ -504,7 +489,7 @@ void readPackedTransfer(const RelightAttributeSource& in, std::size_t first, std
   const int limit = transferStepLimit(first, byte);
   for (std::size_t j = 0; j < packedTransferAttributes(first, last); ++j) {
     const std::string name = prefix + std::to_string(j);
-    const std::vector<int16_t> steps = in.integers(name, "VEC4", byte);
+    const std::vector<int16_t> steps = in.integers(name, "VEC4", byte ? kByte : kShort);
     for (std::size_t v = 0; v < in.vertices; ++v) {
       for (std::size_t i = 4 * j; i < 4 * j + 4; ++i) {
         const int16_t q = steps[4 * v + i % 4];

@@ -588,6 +588,8 @@ void cleanBakedMesh(const std::string& path, RawMesh raw, const BakedVertexValue
   BakedMesh& baked = contents.baked;
   std::vector<unsigned> origin;
   baked.mesh = cleanMesh(path, std::move(raw), &contents.report, &origin);
+  const std::size_t frontHitWords =
+      values.gatherFrontHits.size() / std::max<std::size_t>(values.radianceGain.size(), 1);
   for (unsigned o : origin) {
     if (contents.hasIrradiance) baked.irradiance.push_back(values.irradiance[o]);
     if (contents.hasExitance) baked.exitance.push_back(values.exitance[o]);
@@ -603,10 +605,9 @@ void cleanBakedMesh(const std::string& path, RawMesh raw, const BakedVertexValue
       baked.exitancePerRadiance.push_back(values.exitancePerRadiance[o]);
       if (!values.escapeProbability.empty())
         baked.escapeProbability.push_back(values.escapeProbability[o]);
-      const std::size_t words =
-          values.gatherFrontHits.size() / std::max<std::size_t>(values.radianceGain.size(), 1);
-      const auto hits = values.gatherFrontHits.begin() + std::ptrdiff_t(o * words);
-      baked.gatherFrontHits.insert(baked.gatherFrontHits.end(), hits, hits + std::ptrdiff_t(words));
+      const auto hits = values.gatherFrontHits.begin() + std::ptrdiff_t(o * frontHitWords);
+      baked.gatherFrontHits.insert(baked.gatherFrontHits.end(), hits,
+                                   hits + std::ptrdiff_t(frontHitWords));
     }
   }
   checkVertexValues(path, baked.irradiance, origin.size(), "irradiance");

@@ -283,7 +283,20 @@ TEST_F(Relight, RefusesBrokenFiles) {
   // packed attribute.
   writeBakedGlb(file("good.glb"), out_->baked);
   const std::string good = test::readFile(file("good.glb"));
+  // The accessor an attribute names in the GLB's JSON ("NAME":index), to point another at it.
+  const auto attribute = [&](const std::string& name) {
+    const std::size_t at = good.find("\"" + name + "\":");
+    EXPECT_NE(at, std::string::npos) << name;
+    const std::size_t from = at + name.size() + 3;
+    return good.substr(at, good.find_first_not_of("0123456789", from) - at);
+  };
+  // The gather's hits read from a SHORT accessor (the transfer's last packed steps; a same-length
+  // edit: both indices have two digits).
+  const std::string hits = attribute("_GATHER_HITS_0"), steps = attribute("_TRANSFER_LOW_11");
+  const std::string hitsOnSteps = "\"_GATHER_HITS_0\":" + steps.substr(steps.rfind(':') + 1);
+  ASSERT_EQ(hits.size(), hitsOnSteps.size());
   const std::pair<std::string, std::string> glbCases[] = {
+      {edited(good, hits, hitsOnSteps), "bad.glb: glTF: _GATHER_HITS_0 is not UNSIGNED_SHORT"},
       {edited(good, "\"order\":3", "\"order\":4"),
        "bad.glb: glTF: a relightable bake of order above 3 without _TRANSFER_EXPONENT_HIGH"},
       {edited(good, "\"_TRANSFER_LOW_11\"", "\"_TRANSFER_LOW_X1\""),

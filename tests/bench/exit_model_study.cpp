@@ -39,6 +39,7 @@
 #include "material/material.h"
 #include "optics/exit_lobe.h"
 #include "optics/fresnel.h"
+#include "study_support.h"
 #include "support/two_media_sphere.h"
 
 namespace sss {
@@ -126,14 +127,13 @@ Comparison compare(const BakedMesh& baked, std::span<const glm::vec3> radiance,
 
 int main(int argc, char** argv) {
   using namespace sss;
-  if (argc < 2) {
+  const study::StudyArguments args = study::parseStudyArguments(argc, argv, 400000);
+  if (args.outDir.empty()) {
     std::fprintf(stderr, "usage: exit_model_study OUT_DIR [--walks N]\n");
     return 2;
   }
-  const std::string outDir = argv[1];
-  int walks = 400000;
-  for (int i = 2; i + 1 < argc; ++i)
-    if (std::string(argv[i]) == "--walks") walks = std::atoi(argv[++i]);
+  const std::string& outDir = args.outDir;
+  const int walks = int(args.paths);
   std::filesystem::create_directories(outDir);
   std::ofstream rows(outDir + "/exit_model.csv");
   rows << "scene,material,radius_mm,walks,ref_r,ref_g,ref_b,ref_se_r,ref_se_g,ref_se_b,ratio_r,"

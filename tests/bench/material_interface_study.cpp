@@ -42,6 +42,7 @@
 #include "core/timer.h"
 #include "material/material.h"
 #include "optics/fresnel.h"
+#include "study_support.h"
 #include "support/two_media_sphere.h"
 
 namespace sss {
@@ -97,14 +98,13 @@ std::vector<T> byHalf(const std::vector<T>& upper, const std::vector<T>& lower) 
 
 int main(int argc, char** argv) {
   using namespace sss;
-  if (argc < 2) {
+  const study::StudyArguments args = study::parseStudyArguments(argc, argv, 200000);
+  if (args.outDir.empty()) {
     std::fprintf(stderr, "usage: material_interface_study OUT_DIR [--walks N]\n");
     return 2;
   }
-  const std::string outDir = argv[1];
-  int walks = 200000;
-  for (int i = 2; i + 1 < argc; ++i)
-    if (std::string(argv[i]) == "--walks") walks = std::atoi(argv[++i]);
+  const std::string& outDir = args.outDir;
+  const int walks = int(args.paths);
   std::filesystem::create_directories(outDir);
   std::ofstream rows(outDir + "/material_interface.csv");
   rows

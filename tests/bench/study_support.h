@@ -151,7 +151,9 @@ inline LightTraceResult cachedReference(const std::string& cache, const std::str
   return r;
 }
 
-// The studies' command line: OUT_DIR [--paths N] [--only NAME] [--cache DIR].
+// The studies' command line: OUT_DIR [--paths N] [--only NAME] [--cache DIR]; `--walks N` is
+// `--paths N` for the studies whose reference is walks (exit_model_study,
+// material_interface_study).
 struct StudyArguments {
   std::string outDir, only, cache;
   uint64_t paths = 0;
@@ -165,7 +167,7 @@ inline StudyArguments parseStudyArguments(int argc, char** argv, uint64_t defaul
   a.outDir = argv[1];
   for (int i = 2; i + 1 < argc; ++i) {
     const std::string flag = argv[i];
-    if (flag == "--paths")
+    if (flag == "--paths" || flag == "--walks")
       a.paths = std::strtoull(argv[++i], nullptr, 10);
     else if (flag == "--only")
       a.only = argv[++i];

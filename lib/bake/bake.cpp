@@ -164,10 +164,6 @@ InterreflectionOptions interreflectionOptions(const BakeScene& scene,
 constexpr std::size_t kPilotVertices = 1024;
 constexpr uint64_t kReplicaSeedOffset = 0x9e3779b9;
 
-// The bounces' increments are summed at most this loosely (iterateInterreflection): the loosest
-// tolerance the sums' error model was fitted at (tests/bench/diffusion_sweep.sh, 0.3-3 %).
-constexpr double kLoosestIncrementTolerance = 0.03;
-
 // What the light the object sends itself makes of the direct light (interreflection.h): E and B
 // with it, and what it added to B; the vectors are empty where no bounce was done.
 struct Interreflection {
@@ -199,11 +195,14 @@ Interreflection bounce(const BakeScene& scene, const TransportInput& transportIn
                                                             scene.radiance, eta, options);
   const InterreflectionGather& gather = *kept;
   EnergyWeightSums wholeEscapeSums;
-  TransportInput in = linearTransportInput(transportIn, direct, wholeEscapeSums);
+  const TransportInput linear = linearTransportInput(transportIn, direct, wholeEscapeSums);
+  TransportInput in = linear;
   const auto increment = [&](std::span<const glm::vec3> e, double looseness) {
+    const IncrementSums sums =
+        incrementSums(linear.method, transportIn.diffusionTolerance, looseness);
     in.irradiance = e;
-    in.diffusionTolerance =
-        std::min(kLoosestIncrementTolerance, looseness * transportIn.diffusionTolerance);
+    in.method = sums.method;
+    in.diffusionTolerance = sums.tolerance;
     return transport(in).exitance;
   };
   // Auto: converged to a tenth of the tolerance, well inside the budget of B.

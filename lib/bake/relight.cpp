@@ -190,19 +190,28 @@ class StoredTransportRun {
     plan_.escape.probability = bake.transfer.escapeProbability;
     run_.quiet = true;
   }
-  // B of E through the transport, its sums within `looseness` times the bake's tolerance; E of
-  // either sign (SH light rings below zero). (`environment`: TransportInput's, which the
-  // diffusion sums do not read.)
+  // B of E through the transport; E of either sign (SH light rings below zero). (`environment`:
+  // TransportInput's, which the diffusion sums do not read.)
   std::vector<glm::vec3> operator()(std::span<const glm::vec3> irradiance,
-                                    const Cubemap& environment, double looseness = 1.0) {
-    return transportOfEitherSign(irradiance, [&](std::span<const glm::vec3> e) {
-      return nonNegative(e, environment, looseness);
-    });
+                                    const Cubemap& environment) {
+    return eitherSign(irradiance, environment, {bakeMethodOf(stored_.method), stored_.tolerance});
+  }
+  // A bounce's increment, summed as the bake summed it (incrementSums).
+  std::vector<glm::vec3> increment(std::span<const glm::vec3> irradiance,
+                                   const Cubemap& environment, double looseness) {
+    return eitherSign(irradiance, environment,
+                      incrementSums(bakeMethodOf(stored_.method), stored_.tolerance, looseness));
   }
 
  private:
+  std::vector<glm::vec3> eitherSign(std::span<const glm::vec3> irradiance,
+                                    const Cubemap& environment, const IncrementSums& sums) {
+    return transportOfEitherSign(irradiance, [&](std::span<const glm::vec3> e) {
+      return nonNegative(e, environment, sums);
+    });
+  }
   std::vector<glm::vec3> nonNegative(std::span<const glm::vec3> irradiance,
-                                     const Cubemap& environment, double looseness) {
+                                     const Cubemap& environment, const IncrementSums& sums) {
     TransportInput in{.meshMm = bake_.meshMm,
                       .areasMm2 = areas_,
                       .irradiance = irradiance,
@@ -210,8 +219,8 @@ class StoredTransportRun {
                       .material = bake_.material,
                       .profile = *profile_,
                       .energy = plan_,
-                      .method = bakeMethodOf(stored_.method),
-                      .diffusionTolerance = std::min(0.03, looseness * stored_.tolerance),
+                      .method = sums.method,
+                      .diffusionTolerance = sums.tolerance,
                       .run = run_,
                       .weightSums = &sums_,
                       .diffusionMeshCache = &meshCache_};
@@ -318,7 +327,7 @@ class RelightSession::Context {
     const glm::vec3 albedo = glm::max(glm::vec3(stored_.albedo), glm::vec3(1e-6f));
     for (std::size_t v = 0; v < light.size(); ++v) light[v] = direct[v] / albedo;
     const auto increment = [&](std::span<const glm::vec3> e, double looseness) {
-      return transportRun_(e, *environment_, looseness);
+      return transportRun_.increment(e, *environment_, looseness);
     };
     return iterateInterreflection(gather(), light, std::move(direct), increment, stored_.bounces,
                                   0.0,

@@ -100,7 +100,9 @@ GaussianSetup prepareGaussianSums(const DiffusionInput& input, const DiffusionPr
   const double tol = options.tolerance;
   GaussianSetup setup;
   Stopwatch stage;
-  setup.fit = fitGaussians(profile, 0.5 * tol, std::min(options.maxGaussians, kMaxKernelGaussians));
+  const int maxGaussians = std::min(options.maxGaussians, kMaxKernelGaussians);
+  setup.fit = options.meshCache ? options.meshCache->fit(profile, 0.5 * tol, maxGaussians)
+                                : fitGaussians(profile, 0.5 * tol, maxGaussians);
   report.fitSeconds = stage.seconds();
   setup.kernel = makeGaussianMixtureKernel(setup.fit.sum, 0.25 * tol);
   setup.theta = kThetaScale * std::sqrt(tol);
@@ -224,6 +226,33 @@ std::shared_ptr<const DiffusionOctree> DiffusionMeshCache::octree(const Diffusio
     areas_.assign(input.areas.begin(), input.areas.end());
   }
   return octree_;
+}
+
+namespace {
+
+// R_d at radii from 1/256 mm to 256 mm and the total reflectance: what tells two profiles of one
+// name apart (their parameters change every one of these values).
+std::vector<double> profileFingerprint(const DiffusionProfile& profile) {
+  std::vector<double> values;
+  const auto add = [&](glm::dvec3 v) { values.insert(values.end(), {v.x, v.y, v.z}); };
+  for (int k = -8; k <= 8; ++k) add(profile.evaluate(std::ldexp(1.0, k)));
+  add(profile.totalReflectance());
+  return values;
+}
+
+}  // namespace
+
+const GaussianSumFit& DiffusionMeshCache::fit(const DiffusionProfile& profile, double tolerance,
+                                              int maxGaussians) {
+  const std::vector<double> values = profileFingerprint(profile);
+  const std::string name = profile.name();
+  for (const KeptFit& kept : fits_)
+    if (kept.tolerance == tolerance && kept.maxGaussians == maxGaussians &&
+        kept.profileName == name && kept.profileValues == values)
+      return kept.fit;
+  fits_.push_back(
+      {values, name, tolerance, maxGaussians, fitGaussians(profile, tolerance, maxGaussians)});
+  return fits_.back().fit;
 }
 
 DiffusionResult diffuse(const DiffusionInput& input, const DiffusionProfile& profile,

@@ -32,15 +32,17 @@
 #include <memory>
 
 #include "diffusion/diffusion_types.h"
+#include "material/gaussian_sum_fit.h"
 
 namespace sss {
 
 struct DiffusionOctree;  // diffusion_octree.h (private to lib/diffusion)
 
-// What diffuse() builds from the mesh alone, the octree over its vertices (Morton order, receiver
-// groups), kept between calls that sum over one mesh many times (a bake's bounces, a relight's
-// transports; DiffusionOptions::meshCache). It is rebuilt when a call's positions, normals or
-// areas differ from the kept ones (compared by value). One caller at a time.
+// What diffuse() builds that does not depend on the light, kept between calls that sum over one
+// mesh many times (a bake's bounces, a relight's transports; DiffusionOptions::meshCache): the
+// octree over its vertices (Morton order, receiver groups), rebuilt when a call's positions,
+// normals or areas differ from the kept ones (compared by value), and the profile's Gaussian fits,
+// one per profile and tolerance. One caller at a time.
 class DiffusionMeshCache {
  public:
   DiffusionMeshCache();
@@ -49,11 +51,22 @@ class DiffusionMeshCache {
   DiffusionMeshCache& operator=(const DiffusionMeshCache&) = delete;
   // The octree of `input`'s mesh, built or kept.
   std::shared_ptr<const DiffusionOctree> octree(const DiffusionInput& input);
+  // fitGaussians(profile, tolerance, maxGaussians), fitted or kept: the fit is deterministic, so a
+  // kept one is the one a new fit would give. Profiles are told apart by their name and values.
+  const GaussianSumFit& fit(const DiffusionProfile& profile, double tolerance, int maxGaussians);
 
  private:
+  struct KeptFit {
+    std::vector<double> profileValues;  // profileFingerprint
+    std::string profileName;
+    double tolerance = 0;
+    int maxGaussians = 0;
+    GaussianSumFit fit;
+  };
   std::vector<glm::vec3> positions_, normals_;
   std::vector<float> areas_;
   std::shared_ptr<const DiffusionOctree> octree_;
+  std::vector<KeptFit> fits_;
 };
 
 // Throws sss::Error on mismatched array lengths, non-finite input or negative areas.

@@ -26,18 +26,16 @@ struct BrightTexels {
 
 // Cubemap::solidAngle of each texel of a face (the same on every face), computed once: it takes
 // four arc tangents.
+// The solid angle of texel (x, y) of any face.
 class TexelSolidAngles {
  public:
   explicit TexelSolidAngles(const Cubemap& radiance)
-      : n_(radiance.size()), dw_(std::size_t(n_) * n_) {
-    for (int y = 0; y < n_; ++y)
-      for (int x = 0; x < n_; ++x) dw_[std::size_t(y) * n_ + x] = radiance.solidAngle(0, x, y);
-  }
+      : n_(radiance.size()), dw_(radiance.faceSolidAngles()) {}
   float operator()(int x, int y) const { return dw_[std::size_t(y) * n_ + x]; }
 
  private:
   int n_;
-  std::vector<float> dw_;
+  const std::vector<float>& dw_;
 };
 
 BrightTexels brightestTexels(const Cubemap& radiance, const TexelSolidAngles& texelSolidAngle,

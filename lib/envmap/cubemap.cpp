@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <memory>
+#include <mutex>
 
 #include <glm/geometric.hpp>
 
@@ -79,8 +82,9 @@ float Cubemap::solidAngle(int /*face*/, int x, int y) const {
                             cornerArea(x0, y0));
 }
 
-std::vector<float> Cubemap::faceSolidAngles() const {
-  const int n = size_;
+namespace {
+
+std::vector<float> computeFaceSolidAngles(int n) {
   std::vector<double> corner(static_cast<std::size_t>(n + 1) * (n + 1));
   for (int j = 0; j <= n; ++j) {
     for (int i = 0; i <= n; ++i) {
@@ -96,6 +100,18 @@ std::vector<float> Cubemap::faceSolidAngles() const {
     }
   }
   return omega;
+}
+
+}  // namespace
+
+const std::vector<float>& Cubemap::faceSolidAngles() const {
+  // Face sizes are few (kMaxFaceSize bounds them); the tables live as long as the process.
+  static std::mutex mutex;
+  static std::map<int, std::unique_ptr<const std::vector<float>>> tables;
+  const std::lock_guard<std::mutex> lock(mutex);
+  std::unique_ptr<const std::vector<float>>& table = tables[size_];
+  if (!table) table = std::make_unique<const std::vector<float>>(computeFaceSolidAngles(size_));
+  return *table;
 }
 
 glm::vec3 Cubemap::sample(const glm::vec3& dir) const {
@@ -124,10 +140,7 @@ Cubemap Cubemap::resized(int faceSize) const {
     // Box filter weighted by texel solid angle, so the flux of each output texel is kept. The
     // solid angles are the same on every face: taken once.
     const int k = size_ / faceSize;
-    std::vector<float> texelSolidAngle(std::size_t(size_) * std::size_t(size_));
-    for (int y = 0; y < size_; ++y)
-      for (int x = 0; x < size_; ++x)
-        texelSolidAngle[std::size_t(y) * std::size_t(size_) + std::size_t(x)] = solidAngle(0, x, y);
+    const std::vector<float>& texelSolidAngle = faceSolidAngles();
     forEachTexel(faceSize, [&](int f, int x, int y) {
       glm::dvec3 flux(0.0);
       double omega = 0.0;

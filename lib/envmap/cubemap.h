@@ -53,8 +53,9 @@ class Cubemap {
   glm::vec3 direction(int face, int x, int y) const;
   // Solid angle of that texel (exact: the four-corner formula). Sums to 4 pi over the cube.
   float solidAngle(int face, int x, int y) const;
-  // All texel solid angles of one face, [y * size + x] (the same on every face).
-  std::vector<float> faceSolidAngles() const;
+  // All texel solid angles of one face, [y * size + x] (the same on every face): computed once per
+  // face size in the process and kept (a relight's every environment, a bake's every sky).
+  const std::vector<float>& faceSolidAngles() const;
   // Bilinear lookup along a (not necessarily normalized) direction, seamless across edges.
   glm::vec3 sample(const glm::vec3& direction) const;
 

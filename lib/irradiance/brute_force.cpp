@@ -119,7 +119,7 @@ std::vector<glm::vec3> sumAtNormals(const Terms& terms, const std::vector<glm::v
 
 Terms texelTerms(const Cubemap& radiance) {
   const int n = radiance.size();
-  const std::vector<float> omega = radiance.faceSolidAngles();
+  const std::vector<float>& omega = radiance.faceSolidAngles();
   Terms t;
   resizeTerms(t, radiance.texelCount(), 6);
   forEachTexel(n, [&](int f, int x, int y) {

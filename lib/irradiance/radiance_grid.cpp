@@ -32,7 +32,7 @@ RadianceGrid RadianceGrid::fromCubemap(const Cubemap& radiance) {
   grid.width_ = grid.height_ = grid.rootSize_ = n;
   grid.sourceTexels_ = radiance.texelCount();
   grid.cells_.assign(grid.cellCount() * kValues, 0.0f);
-  const std::vector<float> omega = radiance.faceSolidAngles();
+  const std::vector<float>& omega = radiance.faceSolidAngles();
   forEachTexel(n, [&](int f, int x, int y) {
     // Centre direction times solid angle, as the exact sum over texels has it.
     addMoment(radiance.direction(f, x, y) * omega[y * n + x], radiance.at(f, x, y),

@@ -114,17 +114,25 @@ SphericalHarmonics::SphericalHarmonics(int order) : order_(order) {
 // (x + i y)^m = sin^m(theta) e^{i m phi}, no trigonometric function is needed:
 //   Y_l0 = K_l0 P_l(z), Y_lm = K_lm P~_l^m Re (x + iy)^m, Y_l-m = K_lm P~_l^m Im (x + iy)^m.
 void SphericalHarmonics::evaluateBasis(int order, const glm::vec3& d, float* out) {
-  if (order <= 2) {  // the closed forms (Sloan 2008, appendix), the common case
+  if (order <= 3) {  // the closed forms (Sloan 2008, appendix), the common case
     const float x = d.x, y = d.y, z = d.z;
-    const float all[9] = {0.282094792f,
-                          0.488602512f * y,
-                          0.488602512f * z,
-                          0.488602512f * x,
-                          1.092548431f * x * y,
-                          1.092548431f * y * z,
-                          0.315391565f * (3 * z * z - 1),
-                          1.092548431f * x * z,
-                          0.546274215f * (x * x - y * y)};
+    const float z2 = z * z;
+    const float all[16] = {0.282094792f,
+                           0.488602512f * y,
+                           0.488602512f * z,
+                           0.488602512f * x,
+                           1.092548431f * x * y,
+                           1.092548431f * y * z,
+                           0.315391565f * (3 * z * z - 1),
+                           1.092548431f * x * z,
+                           0.546274215f * (x * x - y * y),
+                           0.590043589f * y * (3 * x * x - y * y),
+                           2.890611442f * x * y * z,
+                           0.457045799f * y * (5 * z2 - 1),
+                           0.373176332f * z * (5 * z2 - 3),
+                           0.457045799f * x * (5 * z2 - 1),
+                           1.445305721f * z * (x * x - y * y),
+                           0.590043589f * x * (x * x - 3 * y * y)};
     std::copy(all, all + (order + 1) * (order + 1), out);
     return;
   }
@@ -164,7 +172,7 @@ void SphericalHarmonics::evaluateBasis(int order, const glm::vec3& d, float* out
 SphericalHarmonics SphericalHarmonics::project(const Cubemap& radiance, int order, int threads) {
   const int n = radiance.size();
   if (n == 0) throw Error("cannot project an empty cubemap");
-  const std::vector<float> omega = radiance.faceSolidAngles();
+  const std::vector<float>& omega = radiance.faceSolidAngles();
   return projectRows(
       order, 6 * static_cast<std::size_t>(n), threads, [&](std::size_t row, RowSums& sums) {
         const int f = static_cast<int>(row / n), y = static_cast<int>(row % n);

@@ -81,7 +81,7 @@ std::vector<SourceTexel> sourceTexels(const Cubemap& radiance, int size) {
     addAll(split, split.faceSolidAngles());
     return texels;
   }
-  const std::vector<float> fineAngles = radiance.faceSolidAngles();
+  const std::vector<float>& fineAngles = radiance.faceSolidAngles();
   if (radiance.size() == size) {
     addAll(radiance, fineAngles);
     return texels;

@@ -61,7 +61,7 @@ TEST(TransmittedCosineKernel, TableMatchesExactFresnel) {
 }
 
 TEST(SphericalHarmonics, BasisMatchesClosedFormsAndIsOrthonormal) {
-  // Closed forms of bands 0-2 (Sloan 2008), through the general recurrence of order 4.
+  // Closed forms of bands 0-3 (Sloan 2008), through the general recurrence of order 4.
   const glm::vec3 d = glm::normalize(glm::vec3(0.3f, -0.5f, 0.8f));
   float y[25];
   SphericalHarmonics::evaluateBasis(4, d, y);
@@ -75,9 +75,23 @@ TEST(SphericalHarmonics, BasisMatchesClosedFormsAndIsOrthonormal) {
                              1.092548f * d.x * d.z,
                              0.546274f * (d.x * d.x - d.y * d.y)};
   for (int i = 0; i < 9; ++i) EXPECT_NEAR(y[i], expected[i], 2e-6) << i;
-  float y2[9];
-  SphericalHarmonics::evaluateBasis(2, d, y2);
-  for (int i = 0; i < 9; ++i) EXPECT_NEAR(y2[i], y[i], 2e-6) << i;
+  const float band3[7] = {
+      0.590044f * d.y * (3 * d.x * d.x - d.y * d.y), 2.890611f * d.x * d.y * d.z,
+      0.457046f * d.y * (5 * d.z * d.z - 1),         0.373176f * d.z * (5 * d.z * d.z - 3),
+      0.457046f * d.x * (5 * d.z * d.z - 1),         1.445306f * d.z * (d.x * d.x - d.y * d.y),
+      0.590044f * d.x * (d.x * d.x - 3 * d.y * d.y)};
+  for (int i = 0; i < 7; ++i) EXPECT_NEAR(y[9 + i], band3[i], 2e-6) << 9 + i;
+  // The closed forms the low orders take agree with the recurrence of order 4 (directions off
+  // every axis and plane, so that no basis function vanishes).
+  for (const glm::vec3 w : {d, glm::normalize(glm::vec3(-0.7f, 0.2f, -0.4f)),
+                            glm::normalize(glm::vec3(0.1f, 0.9f, -0.3f))}) {
+    float full[25], low[16];
+    SphericalHarmonics::evaluateBasis(4, w, full);
+    SphericalHarmonics::evaluateBasis(3, w, low);
+    for (int i = 0; i < 16; ++i) EXPECT_NEAR(low[i], full[i], 2e-6) << i;
+    SphericalHarmonics::evaluateBasis(2, w, low);
+    for (int i = 0; i < 9; ++i) EXPECT_NEAR(low[i], full[i], 2e-6) << i;
+  }
 
   // Orthonormality up to order 6 by cubemap quadrature.
   const int order = 6, count = 49, n = 64;

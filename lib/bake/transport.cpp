@@ -87,12 +87,8 @@ TransportInput linearTransportInput(const TransportInput& transportIn, const Ver
 
 IncrementSums incrementSums(BakeMethod direct, double directTolerance, double looseness) {
   constexpr double kLoosestIncrementTolerance = 0.03;
-  const bool gaussian = direct == BakeMethod::Gauss || direct == BakeMethod::Hierarchical;
-  // Looseness in powers of two (rounded down: never looser than asked), so that the increments of
-  // one bake or relight share their few tolerances' Gaussian fits (DiffusionMeshCache).
-  const double step = looseness > 1.0 ? std::exp2(std::floor(std::log2(looseness))) : 1.0;
-  return {.method = gaussian ? BakeMethod::Auto : direct,
-          .tolerance = std::min(kLoosestIncrementTolerance, step * directTolerance)};
+  return {.method = direct == BakeMethod::Gauss ? BakeMethod::Auto : direct,
+          .tolerance = std::min(kLoosestIncrementTolerance, looseness * directTolerance)};
 }
 
 }  // namespace sss

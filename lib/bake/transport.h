@@ -86,11 +86,11 @@ TransportInput linearTransportInput(const TransportInput& transportIn, const Ver
                                     EnergyWeightSums& wholeEscapeSums);
 
 // How the bounces' increments (interreflection.h's BounceTransport) are summed: `looseness` times
-// the direct light's tolerance (looseness rounded down to a power of two), at most the loosest the
-// sums' error model was fitted at (tests/bench/diffusion_sweep.sh, 0.3-3 %), and, where the direct
-// light took a Gaussian method, by the cheapest method that meets that tolerance (auto: the
-// hierarchical sum's clusters grow with it). The energy model's sums with E = 1 stay the direct
-// light's, the more precise.
+// the direct light's tolerance, at most the loosest the sums' error model was fitted at
+// (tests/bench/diffusion_sweep.sh, 0.3-3 %), and, where the direct light took the Gaussian sum
+// over every pair, by the cheapest method that meets that tolerance (auto: the hierarchical sum's
+// clusters grow with it; on a small mesh under a wide profile it halves a bounce's cost). The
+// energy model's sums with E = 1 stay the direct light's, the more precise.
 struct IncrementSums {
   BakeMethod method = BakeMethod::Auto;
   double tolerance = 0.0;

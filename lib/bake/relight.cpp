@@ -5,6 +5,9 @@
 #include <memory>
 #include <numeric>
 
+#include <glm/common.hpp>
+#include <glm/vector_relational.hpp>
+
 #include "core/error.h"
 #include "core/format.h"
 #include "core/relative_rms.h"
@@ -44,7 +47,13 @@ std::vector<glm::vec3> transportOfEitherSign(std::span<const glm::vec3> irradian
   return b;
 }
 
-// Step 2: B per basis function through the bake's transport, at [vertex * count + k].
+// Step 2: B per basis function through the bake's transport, at [vertex * count + k]. A basis
+// function's light takes both signs where the sums take light >= 0: each band's functions go
+// through the transport with the band's envelope added (per vertex and channel the largest |E_k|
+// of the band), whose own transport is then taken away. The transport is linear (Eq. 7 and the
+// energy model), so this is its transport of E_k: (order + 1)^2 + order transports where the
+// positive and negative parts of each function took 2 (order + 1)^2 - 1, and a band's errors
+// stay on the scale of its own light.
 std::vector<glm::vec3> transportedTransfer(const VisibilityTransfer& transfer,
                                            const TransportInput& transportIn) {
   const std::size_t n = transfer.coefficients.size() / transfer.count;
@@ -56,10 +65,25 @@ std::vector<glm::vec3> transportedTransfer(const VisibilityTransfer& transfer,
     in.irradiance = e;
     return transport(in).exitance;
   };
-  for (int k = 0; k < transfer.count; ++k) {
-    for (std::size_t v = 0; v < n; ++v) basis[v] = transfer.at(v)[k];
-    const std::vector<glm::vec3> b = transportOfEitherSign(basis, nonNegative);
-    for (std::size_t v = 0; v < n; ++v) out[v * transfer.count + k] = b[v];
+  for (int band = 0; band * band < transfer.count; ++band) {
+    const int first = band * band, end = std::min((band + 1) * (band + 1), transfer.count);
+    std::vector<glm::vec3> envelope(n, glm::vec3(0.0f));
+    bool anyNegative = false;
+    for (std::size_t v = 0; v < n; ++v)
+      for (int k = first; k < end; ++k) {
+        const glm::vec3 e = transfer.at(v)[k];
+        envelope[v] = glm::max(envelope[v], glm::abs(e));
+        anyNegative = anyNegative || glm::any(glm::lessThan(e, glm::vec3(0.0f)));
+      }
+    std::vector<glm::vec3> offset;  // B of the envelope, where it was added
+    if (anyNegative) offset = nonNegative(envelope);
+    for (int k = first; k < end; ++k) {
+      for (std::size_t v = 0; v < n; ++v)
+        basis[v] = transfer.at(v)[k] + (anyNegative ? envelope[v] : glm::vec3(0.0f));
+      std::vector<glm::vec3> b = nonNegative(basis);
+      for (std::size_t v = 0; v < n; ++v)
+        out[v * transfer.count + k] = anyNegative ? b[v] - offset[v] : b[v];
+    }
   }
   return out;
 }

@@ -199,75 +199,97 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
                           options.frontHits,
                           words};
   if (options.keepFrontHits) frontHits_.assign(n * words, 0);
-  std::vector<std::vector<Hit>> perVertex(n);
-  std::vector<std::vector<Mirror>> perVertexMirrors(options.keepMirrors ? n : 0);
+  std::vector<uint32_t> vertices = options.vertices;
+  if (vertices.empty()) {
+    vertices.resize(n);
+    for (std::size_t v = 0; v < n; ++v) vertices[v] = uint32_t(v);
+  }
+  std::vector<uint32_t> hitCount(n, 0);  // per vertex, counted as traced
+  {
+    std::vector<char> listed(n, 0);
+    for (const uint32_t v : vertices) {
+      if (v >= n) fail("", "interreflection: a traced vertex is not in the mesh");
+      if (listed[v]) fail("", "interreflection: a vertex is listed twice");
+      listed[v] = 1;
+    }
+  }
+  // The hits of each parallelFor chunk of vertices, in the order traced (vertex after vertex),
+  // laid out per vertex once all are traced: a few vectors, not one per vertex.
+  constexpr std::size_t kGrain = 64;
+  std::vector<std::vector<Hit>> chunkHits((vertices.size() + kGrain - 1) / kGrain);
+  std::vector<std::vector<Mirror>> chunkMirrors(options.keepMirrors ? chunkHits.size() : 0);
   std::atomic<uint64_t> blocked{0};
   // The light leaving a hit towards where the ray came from: its exit radiance from B, and the
   // sky it mirrors (along `mirror`); where the mirror direction meets the object again (`second`,
   // the mirror ray's hit; null for a second hit itself), the light leaving that second hit instead
   // (its exit radiance and its mirrored sky: one specular bounce more, which keeps a white furnace
   // at 1 up to third-order mirror paths).
-  const auto addHit = [&](uint32_t v, const SurfaceHit& h, const glm::vec3& mirror,
-                          const glm::vec3& throughput, const SurfaceHit* second) {
+  const auto addHit = [&](std::size_t chunk, uint32_t v, const SurfaceHit& h,
+                          const glm::vec3& mirror, const glm::vec3& throughput,
+                          const SurfaceHit* second) {
     const float fr = fresnelDielectric(h.mu, eta);
     const bool open = !second || (!second->hit && glm::dot(mirror, h.faceNormal) > 0.0f);
     const glm::vec3 mirrorWeight = open ? throughput * fr : glm::vec3(0.0f);
-    perVertex[v].push_back(
+    chunkHits[chunk].push_back(
         {h.vertices, h.barycentric, throughput * fresnelTransmittance(h.mu, eta) * exitScale,
          open ? mirrorWeight * mirrorSky.sample(mirror) : glm::vec3(0.0f), second == nullptr});
-    if (options.keepMirrors) perVertexMirrors[v].push_back({mirror, mirrorWeight});
+    if (options.keepMirrors) chunkMirrors[chunk].push_back({mirror, mirrorWeight});
+    ++hitCount[v];
   };
-  std::vector<uint32_t> vertices = options.vertices;
-  if (vertices.empty()) {
-    vertices.resize(n);
-    for (std::size_t v = 0; v < n; ++v) vertices[v] = uint32_t(v);
-  }
-  for (const uint32_t v : vertices)
-    if (v >= n) fail("", "interreflection: a traced vertex is not in the mesh");
-  parallelFor(vertices.size(), options.run.threads, 64, [&](std::size_t begin, std::size_t end) {
-    thread_local GatherStreams g;
-    uint64_t count = 0;
-    for (std::size_t i = begin; i < end; ++i) {
-      const uint32_t v = vertices[i];
-      // The same stream as the visibility's (visibility_vertex_estimator.cpp): its first two
-      // numbers rotate the set traced here, its next two the visibility's cosine set.
-      Pcg32 rng(options.run.seed, v);
-      const float r0 = rng.uniform(), r1 = rng.uniform(), r2 = rng.uniform(), r3 = rng.uniform();
-      g.rays.clear();
-      g.entry.clear();
-      g.firsts.clear();
-      g.sample.clear();
-      if (traced)
-        appendTracedRays(setup, scene, *traced, v, g);
-      else
-        appendCosineRays(setup, v, visibilitySet, 0, r2, r3, true, g);
-      const std::size_t from = g.firsts.size();  // the rays from here on are traced below
-      appendCosineRays(setup, v, ownSet, visibilitySet, r0, r1, false, g);
-      count += traceGatherRays(setup, scene, from, g);
-      std::size_t m = 0;
-      for (std::size_t k = 0; k < g.rays.size(); ++k) {
-        const SurfaceHit& first = g.firsts[k];
-        if (!first.valid) continue;
-        if (options.keepFrontHits)
-          frontHits_[v * words + g.sample[k] / 16] |= uint16_t(1u << (g.sample[k] % 16));
-        const OcclusionRay& mirrorRay = g.mirrorRays[m];
-        const SurfaceHit second = surfaceHitOf(g.mirrorHits[m++], positions, normals, triangles,
-                                               mirrorRay.origin, mirrorRay.direction);
-        addHit(v, first, mirrorRay.direction, g.entry[k], &second);
-        if (second.valid)
-          addHit(v, second, mirrorDirection(second, mirrorRay.direction),
-                 g.entry[k] * fresnelDielectric(first.mu, eta), nullptr);
-      }
-    }
-    blocked += count;
-  });
+  parallelFor(
+      vertices.size(), options.run.threads, kGrain, [&](std::size_t begin, std::size_t end) {
+        const std::size_t chunk = begin / kGrain;
+        thread_local GatherStreams g;
+        uint64_t count = 0;
+        for (std::size_t i = begin; i < end; ++i) {
+          const uint32_t v = vertices[i];
+          // The same stream as the visibility's (visibility_vertex_estimator.cpp): its first two
+          // numbers rotate the set traced here, its next two the visibility's cosine set.
+          Pcg32 rng(options.run.seed, v);
+          const float r0 = rng.uniform(), r1 = rng.uniform(), r2 = rng.uniform(),
+                      r3 = rng.uniform();
+          g.rays.clear();
+          g.entry.clear();
+          g.firsts.clear();
+          g.sample.clear();
+          if (traced)
+            appendTracedRays(setup, scene, *traced, v, g);
+          else
+            appendCosineRays(setup, v, visibilitySet, 0, r2, r3, true, g);
+          const std::size_t from = g.firsts.size();  // the rays from here on are traced below
+          appendCosineRays(setup, v, ownSet, visibilitySet, r0, r1, false, g);
+          count += traceGatherRays(setup, scene, from, g);
+          std::size_t m = 0;
+          for (std::size_t k = 0; k < g.rays.size(); ++k) {
+            const SurfaceHit& first = g.firsts[k];
+            if (!first.valid) continue;
+            if (options.keepFrontHits)
+              frontHits_[v * words + g.sample[k] / 16] |= uint16_t(1u << (g.sample[k] % 16));
+            const OcclusionRay& mirrorRay = g.mirrorRays[m];
+            const SurfaceHit second = surfaceHitOf(g.mirrorHits[m++], positions, normals, triangles,
+                                                   mirrorRay.origin, mirrorRay.direction);
+            addHit(chunk, v, first, mirrorRay.direction, g.entry[k], &second);
+            if (second.valid)
+              addHit(chunk, v, second, mirrorDirection(second, mirrorRay.direction),
+                     g.entry[k] * fresnelDielectric(first.mu, eta), nullptr);
+          }
+        }
+        blocked += count;
+      });
   offsets_.assign(n + 1, 0);
-  for (std::size_t v = 0; v < n; ++v) offsets_[v + 1] = offsets_[v] + uint32_t(perVertex[v].size());
-  hits_.reserve(offsets_[n]);
-  for (auto& hits : perVertex) hits_.insert(hits_.end(), hits.begin(), hits.end());
-  if (options.keepMirrors) {
-    mirrors_.reserve(offsets_[n]);
-    for (auto& m : perVertexMirrors) mirrors_.insert(mirrors_.end(), m.begin(), m.end());
+  for (std::size_t v = 0; v < n; ++v) offsets_[v + 1] = offsets_[v] + hitCount[v];
+  hits_.resize(offsets_[n]);
+  mirrors_.resize(options.keepMirrors ? offsets_[n] : 0);
+  for (std::size_t c = 0; c < chunkHits.size(); ++c) {
+    std::size_t k = 0;  // the chunk's hits laid out so far
+    for (std::size_t i = c * kGrain; i < std::min(vertices.size(), (c + 1) * kGrain); ++i) {
+      const uint32_t v = vertices[i];
+      std::copy_n(chunkHits[c].begin() + k, hitCount[v], hits_.begin() + offsets_[v]);
+      if (options.keepMirrors)
+        std::copy_n(chunkMirrors[c].begin() + k, hitCount[v], mirrors_.begin() + offsets_[v]);
+      k += hitCount[v];
+    }
+    std::vector<Hit>().swap(chunkHits[c]);
   }
   rays_ = int(total);
   visibilityCosineRays_ = options.visibilityCosineRays;

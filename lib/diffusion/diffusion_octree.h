@@ -19,7 +19,7 @@
 namespace sss {
 
 inline constexpr std::size_t kOctreeLeafSize = 16;     // points per octree leaf (at most)
-inline constexpr std::size_t kReceiverGroupSize = 64;  // receivers that share one interaction list
+inline constexpr std::size_t kReceiverGroupSize = 128;  // receivers that share one interaction list
 
 // Vertices in Morton order, structure of arrays.
 struct MortonSortedPoints {

@@ -242,8 +242,8 @@ std::vector<double> profileFingerprint(const DiffusionProfile& profile) {
 
 }  // namespace
 
-const GaussianSumFit& DiffusionMeshCache::fit(const DiffusionProfile& profile, double tolerance,
-                                              int maxGaussians) {
+GaussianSumFit DiffusionMeshCache::fit(const DiffusionProfile& profile, double tolerance,
+                                       int maxGaussians) {
   const std::vector<double> values = profileFingerprint(profile);
   const std::string name = profile.name();
   for (const KeptFit& kept : fits_)

@@ -53,7 +53,7 @@ class DiffusionMeshCache {
   std::shared_ptr<const DiffusionOctree> octree(const DiffusionInput& input);
   // fitGaussians(profile, tolerance, maxGaussians), fitted or kept: the fit is deterministic, so a
   // kept one is the one a new fit would give. Profiles are told apart by their name and values.
-  const GaussianSumFit& fit(const DiffusionProfile& profile, double tolerance, int maxGaussians);
+  GaussianSumFit fit(const DiffusionProfile& profile, double tolerance, int maxGaussians);
 
  private:
   struct KeptFit {

@@ -225,6 +225,28 @@ TEST(Diffusion, AMeshCacheGivesTheSameSumsAndFollowsTheMesh) {
   same(a);
 }
 
+// The cache's Gaussian fits: the fit fitGaussians gives, for each profile and tolerance asked,
+// however the calls interleave (two materials of one name's model, two tolerances).
+TEST(Diffusion, AMeshCacheKeepsTheFitOfEachProfileAndTolerance) {
+  const DipoleProfile marble(findMaterialPreset("marble")), skin(findMaterialPreset("skin1"));
+  const auto expectSame = [](const GaussianSumFit& kept, const GaussianSumFit& fresh) {
+    EXPECT_EQ(kept.sum.variances, fresh.sum.variances);
+    ASSERT_EQ(kept.sum.weights.size(), fresh.sum.weights.size());
+    for (std::size_t k = 0; k < kept.sum.weights.size(); ++k)
+      EXPECT_EQ(kept.sum.weights[k], fresh.sum.weights[k]);
+    EXPECT_EQ(kept.error, fresh.error);
+  };
+  DiffusionMeshCache cache;
+  for (int round = 0; round < 2; ++round)  // fitted, then kept
+    for (const DipoleProfile* profile : {&marble, &skin})
+      for (const double tolerance : {0.005, 0.015}) {
+        SCOPED_TRACE(std::to_string(round) + " " + std::to_string(tolerance));
+        expectSame(cache.fit(*profile, tolerance, 16), fitGaussians(*profile, tolerance, 16));
+      }
+  // The two materials' fits differ (the cache does not hand one the other's).
+  EXPECT_NE(cache.fit(marble, 0.005, 16).sum.variances, cache.fit(skin, 0.005, 16).sum.variances);
+}
+
 TEST(Diffusion, WideKernelHierarchicalMatchesGauss) {
   // Skim milk (diffuse mean free path 18 mm) on an 80 mm sphere: gauss sums thousands of points
   // per vertex, the clusters stand in for most of them. (Far points take only the wide Gaussians

@@ -24,9 +24,8 @@ struct BrightTexels {
   double flux = 0.0;
 };
 
-// Cubemap::solidAngle of each texel of a face (the same on every face), computed once: it takes
-// four arc tangents.
-// The solid angle of texel (x, y) of any face.
+// The solid angle of texel (x, y) of any face, from the process's kept table
+// (Cubemap::faceSolidAngles: taken once here, not per texel, which would lock it each time).
 class TexelSolidAngles {
  public:
   explicit TexelSolidAngles(const Cubemap& radiance)

@@ -276,24 +276,33 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
         }
         blocked += count;
       });
-  offsets_.assign(n + 1, 0);
-  for (std::size_t v = 0; v < n; ++v) offsets_[v + 1] = offsets_[v] + hitCount[v];
-  hits_.resize(offsets_[n]);
-  mirrors_.resize(options.keepMirrors ? offsets_[n] : 0);
-  for (std::size_t c = 0; c < chunkHits.size(); ++c) {
-    std::size_t k = 0;  // the chunk's hits laid out so far
-    for (std::size_t i = c * kGrain; i < std::min(vertices.size(), (c + 1) * kGrain); ++i) {
-      const uint32_t v = vertices[i];
-      std::copy_n(chunkHits[c].begin() + k, hitCount[v], hits_.begin() + offsets_[v]);
-      if (options.keepMirrors)
-        std::copy_n(chunkMirrors[c].begin() + k, hitCount[v], mirrors_.begin() + offsets_[v]);
-      k += hitCount[v];
-    }
-    std::vector<Hit>().swap(chunkHits[c]);
-  }
+  layOutPerVertex(vertices, kGrain, hitCount, std::move(chunkHits), std::move(chunkMirrors));
   rays_ = int(total);
   visibilityCosineRays_ = options.visibilityCosineRays;
   blockedFraction_ = double(blocked) / double(std::max<std::size_t>(vertices.size() * total, 1));
+}
+
+void InterreflectionGather::layOutPerVertex(std::span<const uint32_t> vertices, std::size_t grain,
+                                            std::span<const uint32_t> hitCount,
+                                            std::vector<std::vector<Hit>> chunkHits,
+                                            std::vector<std::vector<Mirror>> chunkMirrors) {
+  const std::size_t n = hitCount.size();
+  offsets_.assign(n + 1, 0);
+  for (std::size_t v = 0; v < n; ++v) offsets_[v + 1] = offsets_[v] + hitCount[v];
+  hits_.resize(offsets_[n]);
+  mirrors_.resize(chunkMirrors.empty() ? 0 : offsets_[n]);
+  for (std::size_t c = 0; c < chunkHits.size(); ++c) {
+    std::size_t k = 0;  // the chunk's hits laid out so far
+    for (std::size_t i = c * grain; i < std::min(vertices.size(), (c + 1) * grain); ++i) {
+      const uint32_t v = vertices[i];
+      std::copy_n(chunkHits[c].begin() + k, hitCount[v], hits_.begin() + offsets_[v]);
+      if (!chunkMirrors.empty())
+        std::copy_n(chunkMirrors[c].begin() + k, hitCount[v], mirrors_.begin() + offsets_[v]);
+      k += hitCount[v];
+    }
+    std::vector<Hit>().swap(chunkHits[c]);  // freed as it is laid out
+    if (!chunkMirrors.empty()) std::vector<Mirror>().swap(chunkMirrors[c]);
+  }
 }
 
 void InterreflectionGather::setSky(const Cubemap& radiance) {

@@ -116,6 +116,12 @@ class InterreflectionGather {
     glm::vec3 direction;  // of the mirror bounce at the hit
     glm::vec3 weight;     // pi / N F_t(mu) w(mu) F_r(mu_h), 0 where the mirror meets the object
   };
+  // The hits traced per chunk of `grain` vertices (chunk c: vertices[c * grain] on, each vertex's
+  // hits together, hitCount[v] of them) into hits_, mirrors_ and offsets_, vertex by vertex.
+  void layOutPerVertex(std::span<const uint32_t> vertices, std::size_t grain,
+                       std::span<const uint32_t> hitCount, std::vector<std::vector<Hit>> chunkHits,
+                       std::vector<std::vector<Mirror>> chunkMirrors);
+
   int rays_ = 0;
   int visibilityCosineRays_ = 0;
   std::vector<uint32_t> offsets_;  // hits of vertex v: [offsets_[v], offsets_[v + 1])

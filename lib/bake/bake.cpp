@@ -20,6 +20,7 @@
 #include "material/directional_albedo_weight.h"
 #include "optics/exit_lobe.h"
 #include "optics/fresnel.h"
+#include "raytrace/triangle_scene.h"
 #include "transport/interreflection.h"
 
 namespace sss {
@@ -34,8 +35,19 @@ struct BakeScene {
   const Cubemap& radiance;
   const ErrorBudget budget;
   const DirectionalAlbedoWeight entryWeight;
+  // The mesh's ray scene (TriangleSceneOptions::surfaceRays), one BVH for every stage that traces
+  // the mesh's surface rays: the visibility, the interreflection pilot, the bounces' gather and its
+  // replica, the relightable transfer. Null where none runs (the volumetric path tracer).
+  const TriangleScene* rays;
   bool diffusion() const { return settings.method != BakeMethod::PathTrace; }
 };
+
+// Stage 2b: the ray scene, for a diffusion sum (its stages 3, 7 and 10b trace the mesh).
+std::unique_ptr<const TriangleScene> rayScene(const BakeSettings& s, const PreparedMesh& mesh) {
+  if (s.method == BakeMethod::PathTrace) return nullptr;
+  return std::make_unique<const TriangleScene>(mesh.meshMm.positions, mesh.meshMm.triangles,
+                                               TriangleSceneOptions::surfaceRays(s.run.threads));
+}
 
 // Stage 2's input: the walks only for a diffusion sum; with a far field, they also measure the
 // near share within its window.
@@ -72,7 +84,8 @@ LightingInput lightingInput(const BakeScene& scene, const EnergyStage& energy) {
           // The bounces' gather takes the visibility's cosine rays (interreflection.h) up to its
           // own count; above, it traces its own (more would grow its hits and their memory).
           .keepCosineHitsUpTo = s.bounces != 0 ? gatherRaysOf(s) : 0,
-          .run = s.run};
+          .run = s.run,
+          .rayScene = scene.rays};
 }
 
 // The far field and the escape walks' refinement share the walks' budget: half its variance each.
@@ -156,7 +169,8 @@ InterreflectionOptions interreflectionOptions(const BakeScene& scene,
   return {.rays = gatherRaysOf(s),
           .entry = lighting.entryWeighted.empty() ? nullptr : &scene.entryWeight,
           .run = s.run,
-          .visibilityCosineRays = lighting.cosineHits.perVertex};
+          .visibilityCosineRays = lighting.cosineHits.perVertex,
+          .scene = scene.rays};
 }
 
 // The interreflection pilot's vertices (spread over the mesh): the estimate without bounces, and
@@ -521,11 +535,12 @@ RelightTransfer relightStage(const BakeScene& scene, const TransportInput& trans
                                                          : std::span<const uint16_t>(),
                        .exitance = light.exitance,
                        .radianceNormal = radianceNormal,
-                       .run = s.run});
+                       .run = s.run,
+                       .scene = scene.rays});
   const Stopwatch clock;
-  OwnEnvironmentRelight ownRelight =
-      relightOwnEnvironment(s.meshPath, {scene.mesh.meshMm, s.material, t}, scene.radiance,
-                            lighting.transportIrradiance(), radianceNormal, s.run, bounced.gather);
+  OwnEnvironmentRelight ownRelight = relightOwnEnvironment(
+      s.meshPath, {scene.mesh.meshMm, s.material, t}, scene.radiance,
+      lighting.transportIrradiance(), radianceNormal, s.run, bounced.gather, scene.rays);
   t.radianceGain = std::move(ownRelight.radianceGain);
   const RelitLight& own = ownRelight.relit;
   t.report.selfError = relativeRms(own.radianceNormal, radianceNormal);
@@ -662,8 +677,12 @@ SymmetricChange symmetricChange(const BakeScene& scene, const TransportInput& tr
 // each vertex's share of this material, for symmetricChange.
 BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvironment& env,
                         const Stopwatch& clock, std::span<const float> share = {}) {
-  const BakeScene scene{s, mesh, env.radiance, ErrorBudget(s.tolerance),
-                        DirectionalAlbedoWeight(s.material)};
+  const Stopwatch rayClock;
+  const std::unique_ptr<const TriangleScene> rays = rayScene(s, mesh);
+  const double raySceneSeconds = rayClock.seconds();
+  const BakeScene scene{
+      s,         mesh, env.radiance, ErrorBudget(s.tolerance), DirectionalAlbedoWeight(s.material),
+      rays.get()};
   const EnergyStageInput energyIn = energyInput(scene);
   const EnergyStage energy = planEnergy(energyIn);
   VertexLighting lighting = lightVertices(lightingInput(scene, energy));
@@ -694,6 +713,7 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
   BakeReport& report = out.report;
   report.material = s.material;
   report.threads = s.run.threads;
+  report.raySceneSeconds = raySceneSeconds;
   report.mesh = mesh.report;
   report.environment = env.report;
   report.energy = std::move(energyReport);

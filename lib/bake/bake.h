@@ -10,6 +10,8 @@
 //   1b. refineForTexture       with --texture: the mesh refined to the texels (texture_stage.h)
 //      loadBakeEnvironment     the environment as a radiance cubemap (below; lib/envmap)
 //   2. planEnergy              the energy model (escape walks) and the profile (plan_energy.h)
+//   2b. rayScene               the mesh's BVH, one for every stage below that traces the
+//                              surface's rays (3, 7, 10b; bake.cpp)
 //   3. lightVertices           E per vertex: the irradiance cubemap or visibility rays
 //                              (light_vertices.h, lib/lighting)
 //   4. traceFarField           the light leaving far from where it entered (transport/far_field.h)

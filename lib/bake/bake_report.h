@@ -103,6 +103,7 @@ struct BakeReport {
   // largest share of the surface, and errors the materials' mixed by their shares.
   std::vector<MaterialBakeReport> materials;
   int threads = 0;
+  double raySceneSeconds = 0.0;  // the mesh's BVH, shared by the stages that trace it
   double totalSeconds = 0.0;
 };
 

@@ -301,6 +301,7 @@ Json toJson(const BakeReport& r) {
   j["stages"] = {{"load_mesh_s", r.mesh.seconds},
                  {"load_environment_s", r.environment.seconds},
                  {"energy_s", r.energy.seconds},
+                 {"ray_scene_s", r.raySceneSeconds},
                  {"irradiance_s", r.lighting.seconds},
                  {"far_field_s", r.farField.seconds},
                  {"exitance_s", r.transport.seconds},

@@ -60,6 +60,7 @@ std::vector<glm::vec3> lightWithRays(const LightingInput& in, LightingReport& re
   options.run = in.run;
   options.entry = in.entry;
   options.keepCosineHitsUpTo = in.keepCosineHitsUpTo;
+  options.scene = in.rayScene;
   options.pilot = VisibilityPilotOptions{};
   options.chooseSamples = [&](const VisibilityPilot& pilot) {
     const Stopwatch clock;

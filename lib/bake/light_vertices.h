@@ -41,6 +41,8 @@ struct LightingInput {
   // this many per vertex (VisibilityOptions::keepCosineHitsUpTo); 0: never.
   int keepCosineHitsUpTo = 0;
   RunContext run;
+  // Rays: the mesh's ray scene where the caller has one (VisibilityOptions::scene); null: built.
+  const TriangleScene* rayScene = nullptr;
 };
 
 // Mode none: how the irradiance cubemap was made.

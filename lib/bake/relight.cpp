@@ -20,6 +20,7 @@
 #include "mesh/quantized_transfer.h"
 #include "mesh/triangle_mesh.h"
 #include "optics/fresnel.h"
+#include "raytrace/triangle_scene.h"
 #include "transport/interreflection.h"
 
 namespace sss {
@@ -272,9 +273,9 @@ RelightTransfer relightTransfer(const RelightInput& in) {
   RelightReport& report = out.report;
   const TriangleMesh& m = in.meshMm;
   const float eta = float(in.transport.material.eta);
-  const VisibilityTransfer transfer =
-      visibilityTransfer(m.positions, m.normals, m.triangles, eta,
-                         {.order = in.order, .rays = in.rays, .entry = in.entry, .run = in.run});
+  const VisibilityTransfer transfer = visibilityTransfer(
+      m.positions, m.normals, m.triangles, eta,
+      {.order = in.order, .rays = in.rays, .entry = in.entry, .run = in.run, .scene = in.scene});
   report.transferSeconds = clock.seconds();
   // As the files store it, so that the bake relit here is the bake relit from its file.
   out.relightTransfer =
@@ -308,13 +309,17 @@ std::vector<glm::vec3> transferredExitance(std::span<const glm::vec3> transfer, 
 }
 
 // What relighting builds once for any number of environments: the key parsed, the entry weight,
-// the transport with its sums, the compact lights' shadow rays and the bounces' gather (both
-// built when first needed; the gather's mirrored sky swapped for each environment).
+// the transport with its sums, the mesh's ray scene (one for the compact lights' shadows and the
+// bounces' gather) and the gather (both built when first needed, or the bake's own; the gather's
+// mirrored sky swapped for each environment).
 class RelightSession::Context {
  public:
+  // rays: the mesh's ray scene where the caller has one (not owned); null: built when first
+  // needed.
   Context(const std::string& path, const RelightableMesh& bake, const RunContext& run,
-          bool reusable)
-      : bake_(bake),
+          bool reusable, const TriangleScene* rays = nullptr)
+      : givenRays_(rays),
+        bake_(bake),
         run_(run),
         reusable_(reusable),
         stored_(parseTransportKey(path, bake.transfer.relightTransport,
@@ -370,7 +375,7 @@ class RelightSession::Context {
     std::vector<glm::vec3> b = transferredExitance(t.relightTransfer, t.order, sh);
     seconds.smooth = clock.lap();
     if (!split.lights.empty()) {
-      const std::vector<glm::vec3> compact = transport(shadows_.irradiance(split.lights));
+      const std::vector<glm::vec3> compact = transport(shadows_.irradiance(split.lights, rays()));
       for (std::size_t v = 0; v < b.size(); ++v) b[v] += compact[v];
     }
     seconds.compactTransport = clock.lap();
@@ -382,6 +387,15 @@ class RelightSession::Context {
   }
 
  private:
+  // The mesh's ray scene, for the compact lights' shadows and the gather: one BVH for both.
+  const TriangleScene& rays() {
+    if (givenRays_) return *givenRays_;
+    if (!ownRays_)
+      ownRays_ = std::make_unique<TriangleScene>(bake_.meshMm.positions, bake_.meshMm.triangles,
+                                                 TriangleSceneOptions::surfaceRays(run_.threads));
+    return *ownRays_;
+  }
+
   const InterreflectionGather& gather() {
     if (!gather_) {
       const TriangleMesh& m = bake_.meshMm;
@@ -392,11 +406,14 @@ class RelightSession::Context {
                                  .run = run_,
                                  .keepMirrors = reusable_,
                                  .visibilityCosineRays = stored_.gatherVisibilityRays,
-                                 .frontHits = bake_.transfer.gatherFrontHits});
+                                 .frontHits = bake_.transfer.gatherFrontHits,
+                                 .scene = &rays()});
     }
     return *gather_;
   }
 
+  const TriangleScene* givenRays_;
+  std::unique_ptr<TriangleScene> ownRays_;
   const RelightableMesh bake_;  // references to the caller's mesh, material and transfer
   RunContext run_;
   bool reusable_;
@@ -457,8 +474,9 @@ OwnEnvironmentRelight relightOwnEnvironment(const std::string& path, const Relig
                                             std::span<const glm::vec3> ownIrradiance,
                                             std::span<const glm::vec3> radianceNormal,
                                             const RunContext& run,
-                                            std::shared_ptr<InterreflectionGather> gather) {
-  RelightSession::Context c(path, bake, run, false);
+                                            std::shared_ptr<InterreflectionGather> gather,
+                                            const TriangleScene* rays) {
+  RelightSession::Context c(path, bake, run, false, rays);
   c.lightWith(environment);
   if (gather) c.useGather(std::move(gather));
   OwnEnvironmentRelight out;

@@ -46,6 +46,7 @@ namespace sss {
 
 class Cubemap;                  // envmap/cubemap.h
 class InterreflectionGather;    // transport/interreflection.h
+class TriangleScene;            // raytrace/triangle_scene.h
 class DirectionalAlbedoWeight;  // material/directional_albedo_weight.h
 
 // --relightable's order when none is given, and the rays per vertex of its transfer.
@@ -68,6 +69,7 @@ struct RelightInput {
   std::span<const glm::vec3> exitance;        // the bake's B (with its bounces)
   std::span<const glm::vec3> radianceNormal;  // its radiance along the normal
   RunContext run{};
+  const TriangleScene* scene = nullptr;  // the bake's ray scene of the mesh, else null: built
 };
 
 struct RelightReport {
@@ -149,7 +151,8 @@ class RelightSession {
 // (E as the bake's rays measured it, not through the SH transfer, so that g holds the exit model
 // and the traced stages but not the transfer's truncation). `bake.transfer`'s radianceGain is
 // not read. One transport and one gather serve both: `gather`, when given, is the bake's own
-// (traced under `environment` with the stored transport's rays and entry), else one is traced.
+// (traced under `environment` with the stored transport's rays and entry), else one is traced;
+// `rays`, when given, the bake's ray scene of the mesh (TriangleSceneOptions::surfaceRays).
 struct OwnEnvironmentRelight {
   std::vector<glm::vec3> radianceGain;
   RelitLight relit;  // with that g
@@ -159,7 +162,8 @@ OwnEnvironmentRelight relightOwnEnvironment(const std::string& path, const Relig
                                             std::span<const glm::vec3> ownIrradiance,
                                             std::span<const glm::vec3> radianceNormal,
                                             const RunContext& run,
-                                            std::shared_ptr<InterreflectionGather> gather = {});
+                                            std::shared_ptr<InterreflectionGather> gather = {},
+                                            const TriangleScene* rays = nullptr);
 
 // sum_k T_k L_k per vertex over the bands both have (B of the smooth light, before g).
 std::vector<glm::vec3> transferredExitance(std::span<const glm::vec3> transfer, int order,

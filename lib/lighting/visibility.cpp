@@ -137,8 +137,9 @@ std::vector<glm::vec3> transmittedIrradianceWithVisibility(std::span<const glm::
   const EnvironmentSampler sampler(radiance);
 
   Stopwatch buildClock;
-  const TriangleScene scene(positions, triangles,
-                            TriangleSceneOptions::surfaceRays(options.run.threads));
+  std::optional<TriangleScene> own;
+  const TriangleScene& scene = givenOrBuilt(options.scene, own, positions, triangles,
+                                            TriangleSceneOptions::surfaceRays(options.run.threads));
   const double buildSeconds = buildClock.seconds();
 
   const float extent = boundsOf(positions).longestSide();

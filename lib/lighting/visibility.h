@@ -49,6 +49,8 @@
 
 namespace sss {
 
+class TriangleScene;  // raytrace/triangle_scene.h
+
 struct VisibilityOptions {
   int samples = 64;                       // rays per vertex (half environment, half cosine); >= 2
   RunContext run;                         // quiet by default: no progress bar
@@ -64,6 +66,9 @@ struct VisibilityOptions {
   // Keep the cosine rays that meet the mesh (CosineHits) when the full pass's cosine samples per
   // vertex are at most this many (their memory and the gather's work grow with them); 0: never.
   int keepCosineHitsUpTo = 0;
+  // The mesh's ray scene (TriangleSceneOptions::surfaceRays over these positions and triangles)
+  // where the caller has one for its other stages; null: built here. Not owned.
+  const TriangleScene* scene = nullptr;
   // Called with the pilot (if one runs) before the full pass; returns the rays per vertex to use
   // (>= 2). Empty: `samples`.
   std::function<int(const VisibilityPilot&)> chooseSamples;

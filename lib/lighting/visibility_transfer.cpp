@@ -1,6 +1,7 @@
 #include "lighting/visibility_transfer.h"
 
 #include <atomic>
+#include <optional>
 #include <string>
 
 #include <glm/geometric.hpp>
@@ -63,8 +64,9 @@ VisibilityTransfer visibilityTransfer(std::span<const glm::vec3> positions,
   out.coefficients.assign(positions.size() * out.count, glm::vec3(0.0f));
   const std::vector<glm::vec3> zonal = zonalCoefficients(eta, options.entry, order);
   const VertexFacets facets = lightFacets(positions, normals, triangles);
-  const TriangleScene scene(positions, triangles,
-                            TriangleSceneOptions::surfaceRays(options.run.threads));
+  std::optional<TriangleScene> own;
+  const TriangleScene& scene = givenOrBuilt(options.scene, own, positions, triangles,
+                                            TriangleSceneOptions::surfaceRays(options.run.threads));
   const float extent = boundsOf(positions).longestSide();
   const uint32_t n = static_cast<uint32_t>(options.rays);
   std::atomic<uint64_t> blocked{0};
@@ -113,7 +115,10 @@ std::vector<glm::vec3> directionalIrradiance(std::span<const glm::vec3> position
                                              const DirectionalAlbedoWeight* entry,
                                              std::span<const DirectionalLight> lights,
                                              const RunContext& run) {
-  return DirectionalShadows(positions, normals, triangles, eta, entry, run).irradiance(lights);
+  if (lights.empty() || positions.empty()) return std::vector<glm::vec3>(positions.size());
+  const TriangleScene scene(positions, triangles, TriangleSceneOptions::surfaceRays(run.threads));
+  return DirectionalShadows(positions, normals, triangles, eta, entry, run)
+      .irradiance(lights, scene);
 }
 
 DirectionalShadows::DirectionalShadows(std::span<const glm::vec3> positions,
@@ -128,14 +133,12 @@ DirectionalShadows::DirectionalShadows(std::span<const glm::vec3> positions,
       run_(run),
       facets_(lightFacets(positions, normals, triangles)) {}
 
-DirectionalShadows::~DirectionalShadows() = default;
-
-std::vector<glm::vec3> DirectionalShadows::irradiance(std::span<const DirectionalLight> lights) {
+std::vector<glm::vec3> DirectionalShadows::irradiance(std::span<const DirectionalLight> lights,
+                                                      const TriangleScene& scene) const {
   std::vector<glm::vec3> e(positions_.size(), glm::vec3(0.0f));
   if (lights.empty() || positions_.empty()) return e;
-  if (!scene_)
-    scene_ = std::make_unique<TriangleScene>(positions_, triangles_,
-                                             TriangleSceneOptions::surfaceRays(run_.threads));
+  if (scene.triangleCount() != triangles_.size())
+    fail("", "directional shadows: the scene given is of another mesh");
   const float extent = boundsOf(positions_).longestSide();
   parallelFor(positions_.size(), run_.threads, 256, [&](std::size_t begin, std::size_t end) {
     for (std::size_t v = begin; v < end; ++v) {
@@ -144,8 +147,7 @@ std::vector<glm::vec3> DirectionalShadows::irradiance(std::span<const Directiona
         const FacetIntake intake =
             facetIntake(facets_, v, normals_[v], light.direction, eta_, entry_);
         if (intake.transmitted <= 0.0f) continue;
-        if (scene_->occluded(positions_[v] + offset * normals_[v], light.direction, offset))
-          continue;
+        if (scene.occluded(positions_[v] + offset * normals_[v], light.direction, offset)) continue;
         e[v] += light.irradiance * (entry_ ? intake.entryWeighted : glm::vec3(intake.transmitted));
       }
     }

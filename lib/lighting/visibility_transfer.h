@@ -36,6 +36,9 @@ struct VisibilityTransferOptions {
   int rays = 64;                                   // per vertex, for the blocked part
   const DirectionalAlbedoWeight* entry = nullptr;  // null: w = 1
   RunContext run{};
+  // The mesh's ray scene (TriangleSceneOptions::surfaceRays) where the caller has one; null:
+  // built here. Not owned.
+  const TriangleScene* scene = nullptr;
 };
 
 struct VisibilityTransfer {
@@ -65,15 +68,15 @@ std::vector<glm::vec3> directionalIrradiance(std::span<const glm::vec3> position
                                              const RunContext& run);
 
 // directionalIrradiance for any number of sets of lights on one mesh: the facets built once, the
-// shadow rays' scene when first needed (a relit turntable, bake/relight.h). Keeps references to
-// the mesh's arrays and to `entry`.
+// shadow rays traced in the caller's scene of the mesh (TriangleSceneOptions::surfaceRays; a
+// relit turntable, bake/relight.h). Keeps references to the mesh's arrays and to `entry`.
 class DirectionalShadows {
  public:
   DirectionalShadows(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
                      std::span<const glm::uvec3> triangles, float eta,
                      const DirectionalAlbedoWeight* entry, const RunContext& run);
-  ~DirectionalShadows();
-  std::vector<glm::vec3> irradiance(std::span<const DirectionalLight> lights);
+  std::vector<glm::vec3> irradiance(std::span<const DirectionalLight> lights,
+                                    const TriangleScene& scene) const;
 
  private:
   std::span<const glm::vec3> positions_, normals_;
@@ -82,7 +85,6 @@ class DirectionalShadows {
   const DirectionalAlbedoWeight* entry_;
   RunContext run_;
   VertexFacets facets_;
-  std::unique_ptr<TriangleScene> scene_;
 };
 
 }  // namespace sss

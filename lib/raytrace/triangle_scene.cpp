@@ -85,6 +85,16 @@ TriangleScene::TriangleScene(std::span<const glm::vec3> positions,
 
 TriangleScene::~TriangleScene() = default;
 
+const TriangleScene& givenOrBuilt(const TriangleScene* given, std::optional<TriangleScene>& own,
+                                  std::span<const glm::vec3> positions,
+                                  std::span<const glm::uvec3> triangles,
+                                  const TriangleSceneOptions& options) {
+  if (!given) return own.emplace(positions, triangles, options);
+  if (given->triangleCount() != triangles.size())
+    fail("", "triangle scene: the scene given is of another mesh");
+  return *given;
+}
+
 namespace {
 
 RTCRay makeRay(const glm::vec3& o, const glm::vec3& d, float tNear, float tFar, unsigned id) {

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -92,6 +93,7 @@ class TriangleScene {
   // The unit normal SceneHit::faceNormal gives for a triangle.
   const glm::vec3& faceNormal(uint32_t triangle) const { return faceNormals_[triangle]; }
   float diagonal() const { return diagonal_; }
+  std::size_t triangleCount() const { return faceNormals_.size(); }
 
  private:
   struct Impl;
@@ -100,5 +102,13 @@ class TriangleScene {
   float epsilon_ = 0.0f;
   float diagonal_ = 0.0f;
 };
+
+// The scene a caller built over this mesh (`given`, with the same options: one BVH for every stage
+// that traces the mesh), else one built here into `own`. Throws Error where `given` holds another
+// number of triangles.
+const TriangleScene& givenOrBuilt(const TriangleScene* given, std::optional<TriangleScene>& own,
+                                  std::span<const glm::vec3> positions,
+                                  std::span<const glm::uvec3> triangles,
+                                  const TriangleSceneOptions& options);
 
 }  // namespace sss

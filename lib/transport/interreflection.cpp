@@ -175,8 +175,9 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
   if (traced && (traced->offsets.size() != n + 1 || !options.vertices.empty() ||
                  traced->perVertex != options.visibilityCosineRays))
     fail("", "interreflection: the traced rays must be the whole mesh's visibility set");
-  const TriangleScene scene(positions, triangles,
-                            TriangleSceneOptions::surfaceRays(options.run.threads));
+  std::optional<TriangleScene> own;
+  const TriangleScene& scene = givenOrBuilt(options.scene, own, positions, triangles,
+                                            TriangleSceneOptions::surfaceRays(options.run.threads));
   const float exitScale = float(exitRadianceScale(eta));
   const Cubemap mirrorSky = mirrorSkyOf(radiance);
   const DirectionalAlbedoWeight diffuse;

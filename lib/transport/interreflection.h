@@ -39,6 +39,7 @@
 namespace sss {
 
 class DiffusionProfile;  // material/diffusion_profile.h
+class TriangleScene;     // raytrace/triangle_scene.h
 
 struct InterreflectionOptions {
   int rays = 64;  // cosine-distributed rays per vertex (>= 1)
@@ -68,6 +69,9 @@ struct InterreflectionOptions {
   // Empty: every ray. Not kept.
   std::span<const uint16_t> frontHits{};
   bool keepFrontHits = false;  // record them (frontHits())
+  // The mesh's ray scene (TriangleSceneOptions::surfaceRays over the gather's positions and
+  // triangles) where the caller has one; null: built by the gather. Not owned.
+  const TriangleScene* scene = nullptr;
 };
 
 // The 16-bit words of one vertex's front-hit bits for `rays` rays per vertex

@@ -21,6 +21,7 @@
 #include "mesh/primitives.h"
 #include "mesh/triangle_mesh.h"
 #include "optics/fresnel.h"
+#include "raytrace/triangle_scene.h"
 #include "support/box_with_pit.h"
 #include "transport/interreflection.h"
 
@@ -151,6 +152,45 @@ TEST(Interreflection, StoredFrontHitsGatherTheSameLight) {
   relight.frontHits = std::span(none).first(none.size() - 1);
   EXPECT_THROW(
       InterreflectionGather(mesh.positions, mesh.normals, mesh.triangles, sky, eta, relight),
+      Error);
+}
+
+// One BVH for the bake's stages: the visibility and the gather given the caller's scene of the
+// mesh see what they see with their own, bit for bit; a scene of another mesh is refused.
+TEST(Interreflection, AGivenRaySceneGathersWhatAnOwnOneDoes) {
+  const TriangleMesh mesh = boxWithPit();
+  const Cubemap sky(8, glm::vec3(0.6f, 0.8f, 1.0f));
+  const float eta = 1.3f;
+  const TriangleScene shared(mesh.positions, mesh.triangles, TriangleSceneOptions::surfaceRays(1));
+  VisibilityOptions vis;
+  vis.samples = 96;
+  vis.keepCosineHitsUpTo = 48;
+  VisibilityReport own, given;
+  const std::vector<glm::vec3> eOwn = transmittedIrradianceWithVisibility(
+      mesh.positions, mesh.normals, mesh.triangles, sky, eta, vis, &own);
+  vis.scene = &shared;
+  const std::vector<glm::vec3> eGiven = transmittedIrradianceWithVisibility(
+      mesh.positions, mesh.normals, mesh.triangles, sky, eta, vis, &given);
+  EXPECT_EQ(eOwn, eGiven);
+  ASSERT_EQ(own.cosineHits.hits.size(), given.cosineHits.hits.size());
+  InterreflectionOptions options;
+  options.rays = 64;  // 48 of them the visibility's, 16 traced here
+  options.visibilityCosineRays = 48;
+  options.traced = &own.cosineHits;
+  const InterreflectionGather alone(mesh.positions, mesh.normals, mesh.triangles, sky, eta,
+                                    options);
+  options.scene = &shared;
+  const InterreflectionGather sharing(mesh.positions, mesh.normals, mesh.triangles, sky, eta,
+                                      options);
+  const std::vector<glm::vec3> b(mesh.positions.size(), glm::vec3(0.3f, 0.5f, 0.7f));
+  EXPECT_EQ(alone.gather(b), sharing.gather(b));
+  EXPECT_GT(alone.blockedFraction(), 0.02);
+  const TriangleMesh other = makeIcosphere(2, 10.0f);
+  const TriangleScene otherScene(other.positions, other.triangles,
+                                 TriangleSceneOptions::surfaceRays(1));
+  options.scene = &otherScene;
+  EXPECT_THROW(
+      InterreflectionGather(mesh.positions, mesh.normals, mesh.triangles, sky, eta, options),
       Error);
 }
 

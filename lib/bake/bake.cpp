@@ -166,7 +166,7 @@ TransportInput transportInput(const BakeScene& scene, const EnergyStage& energy,
 InterreflectionOptions interreflectionOptions(const BakeScene& scene,
                                               const VertexLighting& lighting) {
   const BakeSettings& s = scene.settings;
-  return {.rays = gatherRaysOf(s),
+  return {.rays = gatherRaysWith(s, lighting.cosineHits.perVertex),
           .entry = lighting.entryWeighted.empty() ? nullptr : &scene.entryWeight,
           .run = s.run,
           .visibilityCosineRays = lighting.cosineHits.perVertex,

@@ -102,16 +102,34 @@ void validateBakeSettings(const BakeSettings& s) {
         "transfer per vertex");
 }
 
+namespace {
+
+constexpr double kSqrt2 = 1.4142135623730951;
+
+// The gather's rays a tolerance asks for before rounding: its noise falls as 1 / sqrt(rays).
+double gatherRaysWanted(double tolerance) {
+  return 64.0 * std::pow(0.01 / std::max(tolerance, 1e-6), 2.0);
+}
+
+}  // namespace
+
 int gatherRaysFor(double tolerance) {
-  const double rays = 64.0 * std::pow(0.01 / std::max(tolerance, 1e-6), 2.0);
+  const double rays = gatherRaysWanted(tolerance);
   int power = 8;
-  while (power < 256 && power * 1.4142135623730951 < rays) power *= 2;
+  while (power < 256 && power * kSqrt2 < rays) power *= 2;
   return power;
 }
 
 int gatherRaysOf(const BakeSettings& settings) {
   return settings.interreflectionRays > 0 ? settings.interreflectionRays
                                           : gatherRaysFor(settings.tolerance);
+}
+
+int gatherRaysWith(const BakeSettings& settings, int visibilityCosineRays) {
+  const int rounded = gatherRaysOf(settings);
+  if (settings.interreflectionRays > 0 || visibilityCosineRays < 1) return rounded;
+  const bool asGood = visibilityCosineRays * kSqrt2 >= gatherRaysWanted(settings.tolerance);
+  return asGood && visibilityCosineRays <= rounded ? visibilityCosineRays : rounded;
 }
 
 }  // namespace sss

@@ -118,5 +118,10 @@ inline constexpr int kMaxRelightOrder = 8;
 int gatherRaysFor(double tolerance);
 // settings.interreflectionRays, or gatherRaysFor(settings.tolerance) where it is 0.
 int gatherRaysOf(const BakeSettings& settings);
+// The gather's rays beside the visibility's cosine set of `visibilityCosineRays` per vertex (0:
+// none kept): where the settings leave them to the tolerance, that set alone when it is as many
+// as gatherRaysFor's rounding accepts (from 1 / sqrt 2 of the unrounded count up to the rounded
+// one), so that the gather traces no ray of its own; else gatherRaysOf.
+int gatherRaysWith(const BakeSettings& settings, int visibilityCosineRays);
 
 }  // namespace sss

@@ -117,7 +117,8 @@ struct InteractionList {
 
 // The sources of `group` (other than its own points): calls cluster(nodeIndex, d2) for nodes used
 // as one cluster (theta > 0) and point(k, d2) for single source points, d2 their squared box
-// distance from the group; nodes beyond every cutoff from the group's box are skipped.
+// distance from the group; nodes beyond every cutoff from the group's box, and with `clusters`
+// those of zero mass, are skipped.
 template <class OnCluster, class OnPoint>
 void forEachSourceOfGroup(const DiffusionOctree& tree, const OctreeNode& group,
                           const GaussianMixtureKernel& kernel, double theta,
@@ -131,6 +132,9 @@ void forEachSourceOfGroup(const DiffusionOctree& tree, const OctreeNode& group,
     stack.pop_back();
     const OctreeNode& node = tree.nodes[ni];
     if (group.begin <= node.begin && node.end <= group.end) continue;  // inside the group
+    // A node that holds no light sends none (the bounces' light on the convex parts, a compact
+    // light's unlit side): its points are skipped with it. The masses are >= 0 per channel.
+    if (!clusters.empty() && clusters[ni].mass == glm::vec3(0.0f)) continue;
     const float d2 = boxDistanceSquared(node.box, group.box);
     if (d2 >= maxCut2) continue;
     const bool containsGroup = node.begin <= group.begin && group.end <= node.end;
@@ -210,6 +214,7 @@ void collectInteractionList(const DiffusionOctree& tree, const OctreeNode& group
                     firstGaussianReaching(kernel, d2, c.spread));
       },
       [&](std::uint32_t k, float d2) {
+        if (mass[k] == glm::vec3(0.0f)) return;  // no light to send
         items.stage(s.x[k], s.y[k], s.z[k], s.spread[k], mass[k],
                     firstGaussianReaching(kernel, d2, s.spread[k]));
       });

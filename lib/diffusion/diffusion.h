@@ -26,6 +26,8 @@
 // Stability: the self term integrates the profile over the vertex's disc of area A_i, and each
 // source point is a disc (per-axis variance rho^2 / 4), so meshes coarser than the mean free path
 // stay finite and close to the continuous answer.
+// Sources without light (E = 0 over an octree node, or at a point) are skipped by the octree sums:
+// their terms are zero (the bounces' light on convex parts, a compact light's unlit side).
 // Determinism: every vertex sums its terms in a fixed order: identical for any thread count.
 #pragma once
 

@@ -137,8 +137,7 @@ std::vector<glm::vec3> DirectionalShadows::irradiance(std::span<const Directiona
                                                       const TriangleScene& scene) const {
   std::vector<glm::vec3> e(positions_.size(), glm::vec3(0.0f));
   if (lights.empty() || positions_.empty()) return e;
-  if (scene.triangleCount() != triangles_.size())
-    fail("", "directional shadows: the scene given is of another mesh");
+  requireSceneOfMesh(scene, triangles_);
   const float extent = boundsOf(positions_).longestSide();
   parallelFor(positions_.size(), run_.threads, 256, [&](std::size_t begin, std::size_t end) {
     for (std::size_t v = begin; v < end; ++v) {

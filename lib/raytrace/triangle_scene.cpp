@@ -85,13 +85,17 @@ TriangleScene::TriangleScene(std::span<const glm::vec3> positions,
 
 TriangleScene::~TriangleScene() = default;
 
+void requireSceneOfMesh(const TriangleScene& scene, std::span<const glm::uvec3> triangles) {
+  if (scene.triangleCount() != triangles.size())
+    fail("", "triangle scene: the scene given is of another mesh");
+}
+
 const TriangleScene& givenOrBuilt(const TriangleScene* given, std::optional<TriangleScene>& own,
                                   std::span<const glm::vec3> positions,
                                   std::span<const glm::uvec3> triangles,
                                   const TriangleSceneOptions& options) {
   if (!given) return own.emplace(positions, triangles, options);
-  if (given->triangleCount() != triangles.size())
-    fail("", "triangle scene: the scene given is of another mesh");
+  requireSceneOfMesh(*given, triangles);
   return *given;
 }
 

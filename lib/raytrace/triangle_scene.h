@@ -103,9 +103,12 @@ class TriangleScene {
   float diagonal_ = 0.0f;
 };
 
+// Throws Error unless `scene` holds as many triangles as `triangles` (a scene a caller built over
+// the mesh a stage traces).
+void requireSceneOfMesh(const TriangleScene& scene, std::span<const glm::uvec3> triangles);
+
 // The scene a caller built over this mesh (`given`, with the same options: one BVH for every stage
-// that traces the mesh), else one built here into `own`. Throws Error where `given` holds another
-// number of triangles.
+// that traces the mesh; requireSceneOfMesh), else one built here into `own`.
 const TriangleScene& givenOrBuilt(const TriangleScene* given, std::optional<TriangleScene>& own,
                                   std::span<const glm::vec3> positions,
                                   std::span<const glm::uvec3> triangles,

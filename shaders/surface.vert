@@ -1,7 +1,8 @@
 // Shading of the baked surface (Li & Guo's CubeMapping.vert/.frag, made physically consistent):
 //   L = B w(mu_o) lobe(mu_o) F_t(mu_o, eta) * exitScale
 //       + F_r(mu_o, eta) * L_env(reflect(-w_o, n))
-// B: exitance baked per vertex (MODE_SSS), or albedo * E(n) from the diffuse irradiance cubemap
+// B: exitance baked per vertex (MODE_SSS; relit here from a relightable bake's transfer with
+// RELIGHT_COEFFICIENTS), or albedo * E(n) from the diffuse irradiance cubemap
 // (MODE_BRDF: a Lambertian surface, the paper's Figure 3 comparison, so that the two modes differ
 // only by light transport). exitScale is 1 / (pi (1 - 2 C_1(eta))) for the normalized exit model
 // (the emitted flux equals B; d'Eon 2012) or 1 / pi (Jensen et al. 2001). The paper writes F_r for
@@ -44,6 +45,25 @@ centroid out float vFresnel;   // F_r(mu_o) weighting the reflection
 centroid out vec3 vToEye;      // from the surface to the eye
 centroid out vec3 vNormal;     // the vertex normal
 
+#ifdef RELIGHT_COEFFICIENTS
+// A relightable bake relit here (bake/relight.h, RelitSplit), for the smooth light's SH
+// coefficients uSmoothLight: B = max(sum_k T_k L_k + rest, 0) g b per channel, the transfer T and
+// g b per vertex in the storage buffer (renderer.cpp, relightStorage: g b, then T_0, T_1, ...),
+// the rest (the compact lights and the bounces, before g) in aValue.
+layout(std430, binding = 0) readonly buffer RelightTransfer { float relightData[]; };
+uniform vec3 uSmoothLight[RELIGHT_COEFFICIENTS];
+
+vec3 relightEntry(int i) { return vec3(relightData[i], relightData[i + 1], relightData[i + 2]); }
+
+vec3 relitExitance() {
+  int base = gl_VertexID * 3 * (RELIGHT_COEFFICIENTS + 1);
+  vec3 b = vec3(0.0);
+  for (int k = 0; k < RELIGHT_COEFFICIENTS; ++k)
+    b += relightEntry(base + 3 * (k + 1)) * uSmoothLight[k];
+  return max(b + aValue, vec3(0.0)) * relightEntry(base);
+}
+#endif
+
 vec3 exitWeight(float mu) {
   float t = clamp(mu, 0.0, 1.0) * 16.0;
   int k = min(int(t), 15);
@@ -77,6 +97,11 @@ void main() {
 #elif defined(MODE_BRDF)
   vBase = uAlbedo * textureLod(uIrradiance, n, 0.0).rgb * ((1.0 - vFresnel) * uExitScale);
 #else
-  vBase = aValue * exitWeight(mu) * exitLobe(mu) * ((1.0 - vFresnel) * uExitScale);
+#ifdef RELIGHT_COEFFICIENTS
+  vec3 exitance = relitExitance();
+#else
+  vec3 exitance = aValue;
+#endif
+  vBase = exitance * exitWeight(mu) * exitLobe(mu) * ((1.0 - vFresnel) * uExitScale);
 #endif
 }

@@ -37,6 +37,13 @@ namespace {
 
 using namespace sss;
 
+// Where a relightable bake is relit: in the vertex shader (the smooth light's SH summed against
+// the stored transfer; the compact lights and the bounces, where there are any, computed before
+// drawing: bake/relight.h, RelitSplit), or wholly before drawing, as sss-relight does.
+enum class RelightDevice { Gpu, Cpu };
+constexpr EnumNames<RelightDevice, 2> kRelightDeviceNames{
+    "relight device", {{{RelightDevice::Gpu, "gpu"}, {RelightDevice::Cpu, "cpu"}}}};
+
 struct Arguments {
   std::vector<std::string> inputs;  // one, or several for a batch
   std::string input, environment, output, shaderDir, jsonPath;
@@ -55,6 +62,7 @@ struct Arguments {
   int lightTurntable = 0;  // > 0: frames with the environment turning a full circle
   bool verbose = false, quiet = false;
   bool relight = true;  // a relightable bake is relit under -e (--no-relight: drawn as baked)
+  RelightDevice relightOn = RelightDevice::Gpu;
 };
 
 glm::vec3 parseXyz(const std::string& text) {
@@ -90,6 +98,8 @@ struct LoadedMesh {
   BakedPlyContents contents;
   // A relightable bake relit under the environment, by this (kept for a light turntable's frames).
   std::unique_ptr<BakedMeshRelighter> relighter;
+  // Relit on the GPU: the smooth light's SH coefficients the shader sums (renderer.h, RenderMesh).
+  std::vector<glm::vec3> smoothLight;
   ShadingParameters shading;
   RenderMesh renderMesh;
   BoundingSphere bounds;
@@ -100,22 +110,49 @@ bool relights(const Arguments& a, const BakedPlyContents& contents) {
   return a.relight && contents.hasRelight && a.request.mode != ShadingMode::Brdf;
 }
 
-// The bake's light replaced by `relit` (bake/relight.h, on the CPU): B and the radiance along
-// the normal, the far field's values (its bake environment's, its exit slopes included) dropped;
-// exit slopes without a far field (the material's and the object's lobe) kept.
-void takeRelitLight(const Arguments& a, RelitLight relit, BakedPlyContents& contents) {
-  BakedMesh& baked = contents.baked;
-  baked.exitance = std::move(relit.exitance);
-  baked.radianceNormal = std::move(relit.radianceNormal);
-  if (contents.hasFarField) {
-    baked.farExitance.clear();
-    baked.exitSlope.clear();
-    contents.hasFarField = false;
-    contents.hasExitSlope = false;
-  }
-  info("relit under " + a.environment + " (" + std::to_string(relit.compactLights) +
-           " compact lights)",
+// The far field's values of a relit bake dropped (its bake environment's, its exit slopes
+// included); exit slopes without a far field (the material's and the object's lobe) kept.
+void dropBakeEnvironmentLight(BakedPlyContents& contents) {
+  if (!contents.hasFarField) return;
+  contents.baked.farExitance.clear();
+  contents.baked.exitSlope.clear();
+  contents.hasFarField = false;
+  contents.hasExitSlope = false;
+}
+
+void reportRelit(const Arguments& a, int compactLights) {
+  info("relit under " + a.environment + " on the " + kRelightDeviceNames.name(a.relightOn) + " (" +
+           std::to_string(compactLights) + " compact lights)",
        a.quiet);
+}
+
+// The bake's light replaced by `relit` (bake/relight.h, on the CPU): B and the radiance along
+// the normal.
+void takeRelitLight(const Arguments& a, RelitLight relit, BakedPlyContents& contents) {
+  contents.baked.exitance = std::move(relit.exitance);
+  contents.baked.radianceNormal = std::move(relit.radianceNormal);
+  dropBakeEnvironmentLight(contents);
+  reportRelit(a, relit.compactLights);
+}
+
+// Relit on the GPU: the shader's smooth light and the mesh's rest of B (RenderMesh), from `split`.
+void takeRelitSplit(const Arguments& a, RelitSplit split, RenderMesh& mesh,
+                    std::vector<glm::vec3>& smoothLight) {
+  smoothLight = split.smoothLight.coefficients();
+  mesh.values = std::move(split.restExitance);
+  reportRelit(a, split.compactLights);
+}
+
+// The transfer and g b of a mesh relit on the GPU (renderer.h, RenderMesh), from the relighter's.
+void addRelightTransfer(const RelightTransfer& transfer, RenderMesh& mesh) {
+  mesh.relightTransfer = transfer.relightTransfer;
+  mesh.exitanceGain.resize(transfer.radianceGain.size());
+  for (std::size_t v = 0; v < mesh.exitanceGain.size(); ++v)
+    mesh.exitanceGain[v] = transfer.radianceGain[v] * transfer.exitancePerRadiance[v];
+}
+
+bool relightsOnGpu(const Arguments& a) {
+  return a.relightOn == RelightDevice::Gpu && a.request.mode == ShadingMode::Sss;
 }
 
 // A relightable bake relit under the environment drawn around it, by the relighter returned
@@ -126,7 +163,10 @@ std::unique_ptr<BakedMeshRelighter> relightUnder(const Arguments& a, const Cubem
   auto relighter = std::make_unique<BakedMeshRelighter>(
       a.input, contents.baked, RunContext{.threads = a.threads, .quiet = true},
       a.lightTurntable > 1);
-  takeRelitLight(a, relighter->relight(radiance), contents);
+  if (relightsOnGpu(a))
+    dropBakeEnvironmentLight(contents);  // the light itself is taken after the render mesh
+  else
+    takeRelitLight(a, relighter->relight(radiance), contents);
   return relighter;
 }
 
@@ -151,6 +191,10 @@ LoadedMesh loadMesh(const Arguments& a, const Cubemap& radiance) {
     warn(noMaterial + format("albedo %g (set --albedo)", m.shading.albedo.x));
   }
   m.renderMesh = renderMeshFor(m.contents.baked, a.request.mode, m.shading.exitLobe);
+  if (m.relighter && relightsOnGpu(a)) {
+    addRelightTransfer(m.relighter->transfer(), m.renderMesh);
+    takeRelitSplit(a, m.relighter->relightSplit(radiance), m.renderMesh, m.smoothLight);
+  }
   m.bounds = boundingSphere(m.contents.baked.mesh.positions);
   return m;
 }
@@ -311,6 +355,7 @@ void writeReport(const Arguments& a, const LoadedMesh& mesh, const Environment& 
   report["environment_convention"] = kEquirectConventionNames.name(a.orientation.convention);
   report["environment_rotate_deg"] = a.orientation.rotateDeg;
   report["relit"] = mesh.relighter != nullptr;
+  if (mesh.relighter) report["relit_on"] = kRelightDeviceNames.name(a.relightOn);
   if (!env.irradianceReason.empty()) report["irradiance"] = env.irradianceReason;
   if (a.frames > 0) report["frames"] = framesJson(timings, a.warmup);
   writeFileAtomically(a.jsonPath, report.dump(2) + "\n");
@@ -364,6 +409,22 @@ RenderedImage contactSheet(const std::vector<RenderedImage>& frames) {
   return sheet;
 }
 
+// A light turntable's frame relit on the GPU: the smooth light set, and the mesh uploaded again
+// with its rest of B where this frame or the one drawn before has one (`hasRest`: whether the
+// renderer's mesh has one, updated).
+void relightFrameOnGpu(const Arguments& a, const LoadedMesh& mesh, Renderer& renderer,
+                       const Cubemap& radiance, bool& hasRest) {
+  RelitSplit split = mesh.relighter->relightSplit(radiance);
+  if (!split.restExitance.empty() || hasRest) {
+    hasRest = !split.restExitance.empty();
+    RenderMesh relit = mesh.renderMesh;
+    relit.values = std::move(split.restExitance);
+    renderer.setMesh(relit);
+  }
+  renderer.setSmoothLight(split.smoothLight.coefficients());
+  reportRelit(a, split.compactLights);
+}
+
 // --light-turntable N: frame k with the environment turned 360 k / N degrees past --env-rotate,
 // a relightable bake relit under each (a plain bake keeps its light: the background and the
 // reflections turn), each to OUT_<kkk>.ext, and OUT the contact sheet of them.
@@ -372,12 +433,15 @@ RenderedImage contactSheet(const std::vector<RenderedImage>& frames) {
 void writeLightTurntable(const Arguments& a, const LoadedMesh& mesh, Renderer& renderer,
                          RenderedImage first) {
   std::vector<RenderedImage> frames{std::move(first)};
+  bool hasRest = !mesh.renderMesh.values.empty();
   for (int k = 1; k < a.lightTurntable; ++k) {
     Arguments turned = a;
     turned.orientation.rotateDeg = a.orientation.rotateDeg + 360.0 * k / a.lightTurntable;
     turned.quiet = true;
     EnvironmentCache environment(turned);
-    if (mesh.relighter) {
+    if (mesh.relighter && !mesh.smoothLight.empty()) {
+      relightFrameOnGpu(turned, mesh, renderer, environment.radiance(), hasRest);
+    } else if (mesh.relighter) {
       BakedPlyContents contents = mesh.contents;
       takeRelitLight(turned, mesh.relighter->relight(environment.radiance()), contents);
       renderer.setMesh(renderMeshFor(contents.baked, a.request.mode, mesh.shading.exitLobe));
@@ -425,8 +489,11 @@ int renderOne(const Arguments& a, const GlContext& context, EnvironmentCache& en
     frame.samples = context.maxSamples();
   }
   const ShaderSources shaders(a.shaderDir);
-  Renderer renderer(shaders, frame, shadingOptions(a, mesh.shading));
+  ShadingOptions shading = shadingOptions(a, mesh.shading);
+  shading.relightCoefficients = int(mesh.smoothLight.size());
+  Renderer renderer(shaders, frame, shading);
   renderer.setMesh(mesh.renderMesh);
+  if (!mesh.smoothLight.empty()) renderer.setSmoothLight(mesh.smoothLight);
   renderer.setEnvironment(env.radiance, env.irradiance.empty() ? nullptr : &env.irradiance);
   const float aspect = static_cast<float>(frame.width) / static_cast<float>(frame.height);
   renderer.setCamera(placeCamera(a, mesh.bounds, aspect));
@@ -588,6 +655,9 @@ void addFrameOptions(CLI::App& app, Arguments& a) {
       ->check(CLI::Range(1, 360));
   app.add_flag("!--no-relight", a.relight,
                "Draw a relightable bake (sss-bake --relightable) as baked, not relit under -e");
+  cli::addEnumOption(app, "--relight-on", a.relightOn, kRelightDeviceNames,
+                     "Where a relightable bake is relit: gpu (its smooth light summed in the "
+                     "vertex shader) or cpu (wholly before drawing, as sss-relight)");
   app.add_flag("-v,--verbose", a.verbose, "Print the EGL path and the GL vendor/renderer/version");
   cli::addQuietFlag(app, a.quiet);
 }

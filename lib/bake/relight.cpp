@@ -367,13 +367,46 @@ class RelightSession::Context {
   // B of the environment before g: its compact lights with their shadows and its smooth rest
   // through the transfer, then the bounces; each stage's time into `seconds`.
   std::vector<glm::vec3> relitExitance(CompactLightSplit& split, RelightSeconds& seconds) {
-    const RelightTransfer& t = bake_.transfer;
+    const SphericalHarmonics sh = smoothLight(split, seconds);
+    Stopwatch clock;
+    std::vector<glm::vec3> b =
+        transferredExitance(bake_.transfer.relightTransfer, bake_.transfer.order, sh);
+    seconds.smooth += clock.lap();
+    return withCompactLightsAndBounces(std::move(b), split, seconds);
+  }
+
+  // The split for a renderer that sums the smooth part itself: its SH light, and B before g less
+  // that part (the compact lights and the bounces; empty where there is neither).
+  RelitSplit relitSplit(CompactLightSplit& split, RelightSeconds& seconds) {
+    RelitSplit out;
+    out.smoothLight = smoothLight(split, seconds);
+    if (split.lights.empty() && stored_.bounces <= 0) return out;
+    Stopwatch clock;
+    const std::vector<glm::vec3> smooth =
+        transferredExitance(bake_.transfer.relightTransfer, bake_.transfer.order, out.smoothLight);
+    seconds.smooth += clock.lap();
+    out.restExitance = withCompactLightsAndBounces(smooth, split, seconds);
+    for (std::size_t v = 0; v < smooth.size(); ++v) out.restExitance[v] -= smooth[v];
+    return out;
+  }
+
+ private:
+  // The compact lights split off the environment (`split`), and the SH projection of its rest.
+  SphericalHarmonics smoothLight(CompactLightSplit& split, RelightSeconds& seconds) {
     Stopwatch clock;
     split = splitCompactLights(*environment_);
     seconds.compactLights = clock.lap();
-    const SphericalHarmonics sh = SphericalHarmonics::project(split.rest, t.order, run_.threads);
-    std::vector<glm::vec3> b = transferredExitance(t.relightTransfer, t.order, sh);
+    SphericalHarmonics sh =
+        SphericalHarmonics::project(split.rest, bake_.transfer.order, run_.threads);
     seconds.smooth = clock.lap();
+    return sh;
+  }
+
+  // b (the smooth light's B) with the compact lights' B through the transport, then the bounces.
+  std::vector<glm::vec3> withCompactLightsAndBounces(std::vector<glm::vec3> b,
+                                                     const CompactLightSplit& split,
+                                                     RelightSeconds& seconds) {
+    Stopwatch clock;
     if (!split.lights.empty()) {
       const std::vector<glm::vec3> compact = transport(shadows_.irradiance(split.lights, rays()));
       for (std::size_t v = 0; v < b.size(); ++v) b[v] += compact[v];
@@ -386,7 +419,6 @@ class RelightSession::Context {
     return out;
   }
 
- private:
   // The mesh's ray scene, for the compact lights' shadows and the gather: one BVH for both.
   const TriangleScene& rays() {
     if (givenRays_) return *givenRays_;
@@ -461,6 +493,17 @@ RelitLight RelightSession::relight(const Cubemap& environment) {
   RelitLight out = withGain(std::move(b), bake_.transfer.radianceGain,
                             bake_.transfer.exitancePerRadiance, split);
   out.seconds = seconds;
+  return out;
+}
+
+RelitSplit RelightSession::relightSplit(const Cubemap& environment) {
+  context_->lightWith(environment);
+  CompactLightSplit split;
+  RelightSeconds seconds;
+  RelitSplit out = context_->relitSplit(split, seconds);
+  out.seconds = seconds;
+  out.compactLights = int(split.lights.size());
+  out.compactFluxShare = split.fluxShare;
   return out;
 }
 

@@ -119,6 +119,20 @@ struct RelitLight {
   RelightSeconds seconds;
 };
 
+// The relight split for a renderer that sums the smooth part itself (sss-render, in its vertex
+// shader): per vertex and channel, relight()'s exitance is
+//   max(sum_k T_k L_k + rest, 0) g b,
+// L_k the smooth light's SH coefficients (`smoothLight`, at the transfer's order), rest the B
+// before g of the compact lights and the bounces (`restExitance`; empty where there are neither:
+// no per-vertex work is done here then).
+struct RelitSplit {
+  SphericalHarmonics smoothLight;
+  std::vector<glm::vec3> restExitance;
+  int compactLights = 0;
+  double compactFluxShare = 0.0;
+  RelightSeconds seconds;
+};
+
 // The bake under `environment` (a radiance cubemap in the mesh's frame): compact lights split
 // off, the rest through the transfer. Throws Error naming `path` on a transport key it cannot
 // read.
@@ -138,6 +152,8 @@ class RelightSession {
                  bool reusable = true);
   ~RelightSession();
   RelitLight relight(const Cubemap& environment);
+  // relight() as its parts (RelitSplit), equal to it up to float rounding.
+  RelitSplit relightSplit(const Cubemap& environment);
 
   class Context;  // relight.cpp
 
@@ -181,6 +197,8 @@ class BakedMeshRelighter {
   BakedMeshRelighter(const std::string& path, const BakedMesh& baked, const RunContext& run,
                      bool reusable = true);
   RelitLight relight(const Cubemap& environment) { return session_.relight(environment); }
+  RelitSplit relightSplit(const Cubemap& environment) { return session_.relightSplit(environment); }
+  const RelightTransfer& transfer() const { return transfer_; }
 
  private:
   TriangleMesh meshMm_;

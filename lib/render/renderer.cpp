@@ -54,6 +54,8 @@ std::string programDefines(const ShadingOptions& s) {
   if (s.tonemap == Tonemap::Reinhard) d += "#define TONEMAP_REINHARD\n";
   if (s.tonemap == Tonemap::Aces) d += "#define TONEMAP_ACES\n";
   if (s.drawsUnscattered()) d += "#define UNSCATTERED\n";
+  if (s.mode == ShadingMode::Sss && s.relightCoefficients > 0)
+    d += "#define RELIGHT_COEFFICIENTS " + std::to_string(s.relightCoefficients) + "\n";
   return d;
 }
 
@@ -100,6 +102,7 @@ GLuint uploadCubemap(const Cubemap& cubemap) {
 struct Renderer::Gl {
   GLuint surface = 0, background = 0, backDepthProgram = 0;
   GLuint meshVao = 0, emptyVao = 0, vertexBuffer = 0, indexBuffer = 0;
+  GLuint relightBuffer = 0;  // per vertex g b, then T_0 ... T_(K-1) (RenderMesh), as floats
   GLuint radiance = 0, irradiance = 0;
   int radianceSize = 0;
   GLuint drawFbo = 0, resolveFbo = 0;
@@ -116,6 +119,7 @@ struct Renderer::Gl {
     glDeleteVertexArrays(1, &emptyVao);
     glDeleteBuffers(1, &vertexBuffer);
     glDeleteBuffers(1, &indexBuffer);
+    glDeleteBuffers(1, &relightBuffer);
     glDeleteTextures(1, &radiance);
     glDeleteTextures(1, &irradiance);
     glDeleteFramebuffers(1, &drawFbo);
@@ -201,11 +205,39 @@ void Renderer::createBackDepthPass(const ShaderSources& shaders, const std::stri
     throw Error("the GL cannot render the back faces' depth into a texture");
 }
 
+namespace {
+
+// A relit mesh's transfer and gains as the vertex shader reads them (surface.vert,
+// relitExitance): per vertex 3 (K + 1) floats, g b first.
+std::vector<float> relightStorage(const RenderMesh& mesh, std::size_t coefficients) {
+  const std::size_t n = mesh.positions.size(), stride = 3 * (coefficients + 1);
+  if (mesh.exitanceGain.size() != n || mesh.relightTransfer.size() != n * coefficients)
+    throw Error("render mesh: a relit mesh's transfer or gains differ in length");
+  std::vector<float> out(n * stride);
+  for (std::size_t v = 0; v < n; ++v) {
+    std::memcpy(&out[v * stride], &mesh.exitanceGain[v], sizeof(glm::vec3));
+    std::memcpy(&out[v * stride + 3], &mesh.relightTransfer[v * coefficients],
+                coefficients * sizeof(glm::vec3));
+  }
+  return out;
+}
+
+}  // namespace
+
 void Renderer::setMesh(const RenderMesh& mesh) {
   const std::size_t n = mesh.positions.size();
   const auto sized = [n](const std::vector<glm::vec3>& v) { return v.empty() || v.size() == n; };
   if (mesh.normals.size() != n || !sized(mesh.values) || !sized(mesh.exitSlopes)) {
     throw Error("render mesh: attribute arrays differ in length");
+  }
+  glDeleteBuffers(1, &gl_->relightBuffer);
+  gl_->relightBuffer = 0;
+  if (relights()) {
+    const std::vector<float> storage = relightStorage(mesh, shading_.relightCoefficients);
+    glCreateBuffers(1, &gl_->relightBuffer);
+    glNamedBufferStorage(gl_->relightBuffer,
+                         std::max<std::size_t>(storage.size(), 1) * sizeof(float),
+                         storage.empty() ? nullptr : storage.data(), 0);
   }
   // Interleaved position, normal, value, exit slope: 48 bytes per vertex.
   constexpr std::size_t kFloats = 3 * kVertexAttributes;
@@ -243,6 +275,18 @@ void Renderer::setMesh(const RenderMesh& mesh) {
   glProgramUniform1f(gl_->surface, glGetUniformLocation(gl_->surface, "uMaxPath"),
                      bounds.empty() ? 0.0f : glm::length(bounds.extent()));
   checkGl("uploading the mesh");
+}
+
+bool Renderer::relights() const {
+  return shading_.mode == ShadingMode::Sss && shading_.relightCoefficients > 0;
+}
+
+void Renderer::setSmoothLight(const std::vector<glm::vec3>& coefficients) {
+  if (!relights() || int(coefficients.size()) < shading_.relightCoefficients)
+    throw Error("the smooth light has fewer SH coefficients than the relit mesh's transfer");
+  glProgramUniform3fv(gl_->surface, glGetUniformLocation(gl_->surface, "uSmoothLight"),
+                      shading_.relightCoefficients, glm::value_ptr(coefficients[0]));
+  checkGl("setting the smooth light");
 }
 
 void Renderer::setEnvironment(const Cubemap& radiance, const Cubemap* irradiance) {
@@ -347,6 +391,7 @@ void Renderer::draw() {
     }
     setSrgb(srgb && shading_.mode != ShadingMode::Normals);
     glUseProgram(gl_->surface);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, gl_->relightBuffer);
     glBindVertexArray(gl_->meshVao);
     glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(indexCount_), GL_UNSIGNED_INT, nullptr);
     setSrgb(srgb);

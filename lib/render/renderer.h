@@ -1,7 +1,8 @@
 // Draws a baked mesh in an environment into an offscreen framebuffer: the surface shading of
 // shaders/surface.frag, the environment behind it, MSAA resolved by a blit, read back as an
-// image. One vertex buffer with interleaved attributes, one index buffer, one draw call; nothing
-// is uploaded per frame, so --frames measures the drawing alone.
+// image. One vertex buffer with interleaved attributes, one index buffer (and for a relit mesh one
+// storage buffer with its transfer), one draw call; nothing is uploaded per frame, so --frames
+// measures the drawing alone.
 #pragma once
 
 #include <array>
@@ -34,9 +35,14 @@ class Cubemap;
 // exitance B (sss), irradiance E (irradiance view); brdf and normals ignore it. exitSlopes (sss):
 // the slope of the exit lobe B leaves with, which the bake's far field measured
 // (optics/exit_lobe.h); empty: 0, the exit model alone.
+// Relit in the vertex shader (ShadingOptions::relightCoefficients K > 0; bake/relight.h,
+// RelitSplit): B = max(sum_k T_k L_k + value, 0) g b, with relightTransfer T at [vertex * K + k]
+// and exitanceGain g b per vertex, L_k the renderer's smooth light (Renderer::setSmoothLight),
+// and the values then the rest of B before g (the compact lights and the bounces; empty: none).
 struct RenderMesh {
   std::vector<glm::vec3> positions, normals, values, exitSlopes;
   std::vector<uint32_t> indices;  // three per triangle
+  std::vector<glm::vec3> relightTransfer, exitanceGain;
 };
 
 // sss: the baked exitance B through the exit model, plus Fresnel reflections; brdf: a Lambertian
@@ -88,6 +94,9 @@ struct ShadingOptions {
   // transport/unscattered_light.h), drawn where > 0 in some channel. A pass over the back faces'
   // depth shows where each refracted view ray leaves (shaders/surface.frag marches it).
   glm::vec3 unscatteredSigmaT = glm::vec3(0.0f);
+  // sss: > 0, the SH coefficients (order + 1)^2 of a relightable bake's transfer, relit in the
+  // vertex shader (RenderMesh); 0: B as given.
+  int relightCoefficients = 0;
   bool drawsUnscattered() const;
 };
 
@@ -133,6 +142,8 @@ class Renderer {
   // other modes). Faces are uploaded as they are (GL orientation), RGB16F with mipmaps.
   void setEnvironment(const Cubemap& radiance, const Cubemap* irradiance);
   void setCamera(const Camera& camera);
+  // The smooth light's SH coefficients L_k of a relit mesh (relightCoefficients of them).
+  void setSmoothLight(const std::vector<glm::vec3>& coefficients);
 
   // Draws one frame into the resolved framebuffer (no wait).
   void draw();
@@ -141,6 +152,7 @@ class Renderer {
   FrameTimings timeFrames(int frames, int warmup = 3);
 
  private:
+  bool relights() const;
   void createBackDepthPass(const ShaderSources& shaders, const std::string& defines);
   void drawBackDepth();
   struct Gl;

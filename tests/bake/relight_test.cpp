@@ -171,6 +171,43 @@ TEST_F(Relight, ASessionRelightsEachEnvironmentAsARelightOfItsOwn) {
   }
 }
 
+// What sss-render's vertex shader relights from (RelitSplit): the smooth light's SH summed against
+// the transfer, plus the rest (the compact lights and the bounces), clamped at zero, times g b, is
+// relight()'s exitance up to float rounding. Without bounces, a smooth light leaves no rest: no
+// per-vertex work before drawing.
+TEST_F(Relight, ItsSplitAddsUpToTheRelight) {
+  const Cubemap sun = loadBakeEnvironment(settingsFor(mesh_, kSky, 75.0)).radiance;
+  const Cubemap sky = gradient(glm::vec3(0.3f, 0.8f, 0.1f), glm::vec3(0.9f, 0.6f, 0.4f));
+  RelightTransfer noBounces = *transfer_;
+  noBounces.gatherFrontHits.clear();
+  std::vector<std::string> key{""};
+  for (const char c : noBounces.relightTransport) c == ',' ? key.emplace_back() : key.back() += c;
+  ASSERT_EQ(key.size(), 10u);
+  key[8] = "0";
+  noBounces.relightTransport = key[0];
+  for (std::size_t i = 1; i < key.size(); ++i) noBounces.relightTransport += "," + key[i];
+  const RunContext run{.seed = 3, .threads = 2, .quiet = true};
+  for (const RelightTransfer* t : {transfer_, &noBounces}) {
+    const RelightableMesh mesh{out_->baked.mesh, *material_, *t};
+    RelightSession session("bumpy.ply", mesh, run);
+    for (const Cubemap* env : {&sun, &sky}) {
+      const RelitLight whole = session.relight(*env);
+      const RelitSplit split = session.relightSplit(*env);
+      EXPECT_EQ(split.compactLights, whole.compactLights);
+      const bool rest = t == transfer_ || env == &sun;
+      ASSERT_EQ(split.restExitance.size(), rest ? whole.exitance.size() : 0u);
+      std::vector<glm::vec3> b =
+          transferredExitance(t->relightTransfer, t->order, split.smoothLight);
+      for (std::size_t v = 0; v < b.size(); ++v) {
+        if (rest) b[v] += split.restExitance[v];
+        b[v] = glm::max(b[v], glm::vec3(0.0f)) * t->radianceGain[v] * t->exitancePerRadiance[v];
+      }
+      EXPECT_LT(relativeRms(b, whole.exitance), 1e-5);
+      EXPECT_GT(relativeRms(whole.exitance, out_->baked.exitance), 0.05);  // relit, not as baked
+    }
+  }
+}
+
 // The bake stores which of its gather's rays met the object (the fixture's bake has bounces), so
 // that a relight traces only those: the same light, bit for bit, as tracing them all.
 TEST_F(Relight, StoredFrontHitsRelightAsTracingEveryRay) {

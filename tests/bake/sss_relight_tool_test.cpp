@@ -195,7 +195,8 @@ TEST_F(SssRelightTool, SssRenderRelightsAsSssRelightDoes) {
       0);
   ASSERT_EQ(relight(path("baked.ply") + " -e " + env + " -q -o " + path("relit_env.ply")).exitCode,
             0);
-  test::ToolRun r = render(path("baked.ply") + " -e " + env + " -o " + path("a.png"));
+  test::ToolRun r =
+      render(path("baked.ply") + " -e " + env + " --relight-on cpu -o " + path("a.png"));
   ASSERT_EQ(r.exitCode, 0) << r.output;
   r = render(path("relit_env.ply") + " -e " + env + " -o " + path("b.png"));
   ASSERT_EQ(r.exitCode, 0) << r.output;
@@ -204,7 +205,8 @@ TEST_F(SssRelightTool, SssRenderRelightsAsSssRelightDoes) {
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_NE(test::readFile(path("a.png")), test::readFile(path("c.png")));
   // The turntable: N frames and their contact sheet.
-  r = render(path("baked.ply") + " -e " + env + " --light-turntable 3 -o " + path("turn.png"));
+  r = render(path("baked.ply") + " -e " + env + " --relight-on cpu --light-turntable 3 -o " +
+             path("turn.png"));
   ASSERT_EQ(r.exitCode, 0) << r.output;
   for (const char* frame : {"turn_000.png", "turn_001.png", "turn_002.png"})
     EXPECT_TRUE(std::filesystem::exists(path(frame))) << frame;
@@ -213,6 +215,49 @@ TEST_F(SssRelightTool, SssRenderRelightsAsSssRelightDoes) {
   const ImageRgb sheet = readImage(path("turn.png"));
   EXPECT_EQ(sheet.width, 128);
   EXPECT_EQ(sheet.height, 128);
+}
+
+// sss-render relights on the GPU by default: the smooth light's SH summed against the transfer in
+// the vertex shader, the compact lights' B (the sky's sun) computed before. Its images are those
+// relit on the CPU (which draws what sss-relight writes, above) within 1e-3, frame by frame as the
+// light turns, and far from the bake drawn as baked.
+TEST_F(SssRelightTool, SssRenderRelightsOnTheGpuAsOnTheCpu) {
+  const std::string env = path("sky_gpu.exr");
+  ASSERT_EQ(test::runTool("sss-irrmap",
+                          "--sky elevation=25,azimuth=120 --radiance " + env + " -o " +
+                              path("irr_gpu.exr") + " -q",
+                          Capture::StdoutAndStderr)
+                .exitCode,
+            0);
+  const std::string common = path("baked.ply") + " -e " + env + " --size 64x64 -q --tonemap none";
+  for (const char* device : {"gpu", "cpu"}) {
+    const test::ToolRun r = test::runTool("sss-render",
+                                          common + " --light-turntable 4 --relight-on " + device +
+                                              " -o " + path(std::string(device) + ".exr"),
+                                          Capture::StdoutAndStderr);
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+  }
+  for (const std::string& args : {" --no-relight -o " + path("as_baked.exr"),
+                                  " -o " + path("gpu_one.exr") + " --json " + path("gpu.json")})
+    ASSERT_EQ(test::runTool("sss-render", common + args, Capture::StdoutAndStderr).exitCode, 0);
+  const auto largestDifference = [](const ImageRgb& a, const ImageRgb& b) {
+    double worst = 0.0;
+    for (std::size_t i = 0; i < a.pixels.size(); ++i)
+      for (int c = 0; c < 3; ++c)
+        worst = std::max(worst, double(std::abs(a.pixels[i][c] - b.pixels[i][c])) /
+                                    std::max(double(b.pixels[i][c]), 1e-2));
+    return worst;
+  };
+  for (const char* frame : {"_000.exr", "_001.exr", "_002.exr", "_003.exr"}) {
+    const ImageRgb gpu = readImage(path(std::string("gpu") + frame));
+    const ImageRgb cpu = readImage(path(std::string("cpu") + frame));
+    ASSERT_EQ(gpu.pixels.size(), cpu.pixels.size());
+    EXPECT_LT(largestDifference(gpu, cpu), 1e-3) << frame;
+  }
+  EXPECT_GT(largestDifference(readImage(path("gpu_001.exr")), readImage(path("as_baked.exr"))),
+            0.1);
+  EXPECT_TRUE(readImage(path("gpu_one.exr")).pixels == readImage(path("gpu_000.exr")).pixels);
+  EXPECT_NE(test::readFile(path("gpu.json")).find("\"relit_on\": \"gpu\""), std::string::npos);
 }
 
 TEST_F(SssRelightTool, SssBakeRefusesNonsenseRelightOptions) {

@@ -19,6 +19,7 @@
 #include "core/cli.h"
 #include "core/error.h"
 #include "core/format.h"
+#include "core/median.h"
 #include "core/paths.h"
 #include "core/timer.h"
 #include "core/tool.h"
@@ -306,6 +307,14 @@ struct StageTimes {
   double context = 0, load = 0, environment = 0, setup = 0, render = 0;
 };
 
+// A light turntable's further frames (all but the first), medians per frame in milliseconds: the
+// environment turned (its cubemap made again), the bake relit, the frame drawn and read back, and
+// all of it.
+struct TurntableTimes {
+  int frames = 0;
+  double environment = 0, relight = 0, draw = 0, total = 0;
+};
+
 nlohmann::json glJson(const GlContext& context) {
   return {{"egl_path", context.eglPath()},  {"egl_vendor", context.eglVendor()},
           {"vendor", context.glVendor()},   {"renderer", context.glRenderer()},
@@ -326,7 +335,8 @@ nlohmann::json framesJson(const FrameTimings& t, int warmup) {
 
 void writeReport(const Arguments& a, const LoadedMesh& mesh, const Environment& env,
                  const FrameOptions& frame, const GlContext& context, const StageTimes& ms,
-                 const FrameTimings& timings, const Stopwatch& total) {
+                 const FrameTimings& timings, const TurntableTimes& turntable,
+                 const Stopwatch& total) {
   const TriangleMesh& triangles = mesh.contents.baked.mesh;
   nlohmann::json report = {{"input", a.input},
                            {"output", a.output},
@@ -358,6 +368,14 @@ void writeReport(const Arguments& a, const LoadedMesh& mesh, const Environment& 
   if (mesh.relighter) report["relit_on"] = kRelightDeviceNames.name(a.relightOn);
   if (!env.irradianceReason.empty()) report["irradiance"] = env.irradianceReason;
   if (a.frames > 0) report["frames"] = framesJson(timings, a.warmup);
+  if (turntable.frames > 0) {
+    report["light_turntable"] = {{"frames", turntable.frames},
+                                 {"further_frame_median_ms",
+                                  {{"environment", turntable.environment},
+                                   {"relight", turntable.relight},
+                                   {"draw_and_readback", turntable.draw},
+                                   {"total", turntable.total}}}};
+  }
   writeFileAtomically(a.jsonPath, report.dump(2) + "\n");
 }
 
@@ -409,17 +427,15 @@ RenderedImage contactSheet(const std::vector<RenderedImage>& frames) {
   return sheet;
 }
 
-// A light turntable's frame relit on the GPU: the smooth light set, and the mesh uploaded again
-// with its rest of B where this frame or the one drawn before has one (`hasRest`: whether the
-// renderer's mesh has one, updated).
+// A light turntable's frame relit on the GPU: the smooth light set, and the mesh's rest of B
+// written where this frame or the one drawn before has one (`hasRest`: whether the renderer's
+// mesh has one, updated).
 void relightFrameOnGpu(const Arguments& a, const LoadedMesh& mesh, Renderer& renderer,
                        const Cubemap& radiance, bool& hasRest) {
-  RelitSplit split = mesh.relighter->relightSplit(radiance);
+  const RelitSplit split = mesh.relighter->relightSplit(radiance);
   if (!split.restExitance.empty() || hasRest) {
     hasRest = !split.restExitance.empty();
-    RenderMesh relit = mesh.renderMesh;
-    relit.values = std::move(split.restExitance);
-    renderer.setMesh(relit);
+    renderer.setValues(split.restExitance);
   }
   renderer.setSmoothLight(split.smoothLight.coefficients());
   reportRelit(a, split.compactLights);
@@ -430,25 +446,32 @@ void relightFrameOnGpu(const Arguments& a, const LoadedMesh& mesh, Renderer& ren
 // reflections turn), each to OUT_<kkk>.ext, and OUT the contact sheet of them.
 // The mesh read once (`mesh`, the first frame's) is relit again from its transfer for each frame
 // by the first frame's relighter (bake/relight.h, RelightSession: its rays traced once).
-void writeLightTurntable(const Arguments& a, const LoadedMesh& mesh, Renderer& renderer,
-                         RenderedImage first) {
+TurntableTimes writeLightTurntable(const Arguments& a, const LoadedMesh& mesh, Renderer& renderer,
+                                   RenderedImage first) {
   std::vector<RenderedImage> frames{std::move(first)};
   bool hasRest = !mesh.renderMesh.values.empty();
+  std::vector<double> environmentMs, relightMs, drawMs, totalMs;
   for (int k = 1; k < a.lightTurntable; ++k) {
+    Stopwatch frameClock, clock;
     Arguments turned = a;
     turned.orientation.rotateDeg = a.orientation.rotateDeg + 360.0 * k / a.lightTurntable;
     turned.quiet = true;
     EnvironmentCache environment(turned);
+    const Cubemap& radiance = environment.radiance();
+    environmentMs.push_back(clock.lap() * 1e3);
     if (mesh.relighter && !mesh.smoothLight.empty()) {
-      relightFrameOnGpu(turned, mesh, renderer, environment.radiance(), hasRest);
+      relightFrameOnGpu(turned, mesh, renderer, radiance, hasRest);
     } else if (mesh.relighter) {
       BakedPlyContents contents = mesh.contents;
-      takeRelitLight(turned, mesh.relighter->relight(environment.radiance()), contents);
+      takeRelitLight(turned, mesh.relighter->relight(radiance), contents);
       renderer.setMesh(renderMeshFor(contents.baked, a.request.mode, mesh.shading.exitLobe));
     }
+    relightMs.push_back(clock.lap() * 1e3);
     const Environment& env = environment.lighting(mesh.shading.eta);
     renderer.setEnvironment(env.radiance, env.irradiance.empty() ? nullptr : &env.irradiance);
     frames.push_back(readBackOf(renderer));
+    drawMs.push_back(clock.lap() * 1e3);
+    totalMs.push_back(frameClock.milliseconds());
   }
   for (int k = 0; k < a.lightTurntable; ++k)
     writeRenderedImage(turntableFramePath(a.output, k), frames[k]);
@@ -456,6 +479,11 @@ void writeLightTurntable(const Arguments& a, const LoadedMesh& mesh, Renderer& r
   info("wrote " + std::to_string(a.lightTurntable) + " frames " + turntableFramePath(a.output, 0) +
            " ... and their contact sheet " + a.output,
        a.quiet);
+  return {.frames = a.lightTurntable,
+          .environment = median(environmentMs),
+          .relight = median(relightMs),
+          .draw = median(drawMs),
+          .total = median(totalMs)};
 }
 
 // One mesh (a.input) into a.output (and a.jsonPath) with the shared context and environment.
@@ -500,20 +528,21 @@ int renderOne(const Arguments& a, const GlContext& context, EnvironmentCache& en
   ms.setup = stage.milliseconds();
 
   stage.restart();
-  if (a.lightTurntable > 0) {
-    writeLightTurntable(a, mesh, renderer, readBackOf(renderer));
-    return 0;
-  }
   const RenderedImage image = readBackOf(renderer);
   ms.render = stage.milliseconds();
   FrameTimings timings;
-  if (a.frames > 0) {
-    timings = renderer.timeFrames(a.frames, a.warmup);
-    printFrameTimings(a, mesh, frame, timings, context);
+  TurntableTimes turntable;
+  if (a.lightTurntable > 0) {
+    turntable = writeLightTurntable(a, mesh, renderer, image);
+  } else {
+    if (a.frames > 0) {
+      timings = renderer.timeFrames(a.frames, a.warmup);
+      printFrameTimings(a, mesh, frame, timings, context);
+    }
+    writeRenderedImage(a.output, image);
+    info("wrote " + a.output, a.quiet);
   }
-  writeRenderedImage(a.output, image);
-  info("wrote " + a.output, a.quiet);
-  if (!a.jsonPath.empty()) writeReport(a, mesh, env, frame, context, ms, timings, total);
+  if (!a.jsonPath.empty()) writeReport(a, mesh, env, frame, context, ms, timings, turntable, total);
   return 0;
 }
 

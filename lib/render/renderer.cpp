@@ -13,6 +13,7 @@
 
 #include "core/bounds.h"
 #include "core/error.h"
+#include "core/median.h"
 #include "core/timer.h"
 #include "envmap/cubemap.h"
 #include "image/image.h"
@@ -21,8 +22,10 @@
 namespace sss {
 namespace {
 
-// Per vertex: position, normal, value, far value, far slope (RenderMesh; shaders/surface.vert).
+// Per vertex: position, normal, value, exit slope (RenderMesh; shaders/surface.vert), interleaved.
 constexpr GLuint kVertexAttributes = 4;
+constexpr std::size_t kVertexFloats = 3 * kVertexAttributes;
+constexpr std::size_t kValueOffset = 2 * sizeof(glm::vec3);
 
 void checkGl(const char* what) {
   const GLenum e = glGetError();
@@ -64,13 +67,6 @@ double processCpuMs() {
   getrusage(RUSAGE_SELF, &usage);
   return (usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) * 1e3 +
          (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec) * 1e-3;
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 GLuint uploadCubemap(const Cubemap& cubemap) {
@@ -240,13 +236,12 @@ void Renderer::setMesh(const RenderMesh& mesh) {
                          storage.empty() ? nullptr : storage.data(), 0);
   }
   // Interleaved position, normal, value, exit slope: 48 bytes per vertex.
-  constexpr std::size_t kFloats = 3 * kVertexAttributes;
-  std::vector<float> interleaved(n * kFloats);
+  std::vector<float> interleaved(n * kVertexFloats);
   const auto at = [](const std::vector<glm::vec3>& v, std::size_t i) {
     return v.empty() ? glm::vec3(0.0f) : v[i];
   };
   for (std::size_t i = 0; i < n; ++i) {
-    float* v = &interleaved[i * kFloats];
+    float* v = &interleaved[i * kVertexFloats];
     const glm::vec3 attributes[kVertexAttributes] = {mesh.positions[i], mesh.normals[i],
                                                      at(mesh.values, i), at(mesh.exitSlopes, i)};
     std::memcpy(v, attributes, sizeof attributes);
@@ -256,12 +251,14 @@ void Renderer::setMesh(const RenderMesh& mesh) {
   glDeleteBuffers(1, &gl_->indexBuffer);
   glCreateBuffers(1, &gl_->vertexBuffer);
   glCreateBuffers(1, &gl_->indexBuffer);
+  // Mapped for writing by setValues (a relit mesh's new light).
   glNamedBufferStorage(gl_->vertexBuffer, interleaved.size() * sizeof(float), interleaved.data(),
-                       0);
+                       GL_MAP_WRITE_BIT);
+  vertexCount_ = n;
   glNamedBufferStorage(gl_->indexBuffer, mesh.indices.size() * sizeof(uint32_t),
                        mesh.indices.data(), 0);
   glCreateVertexArrays(1, &gl_->meshVao);
-  glVertexArrayVertexBuffer(gl_->meshVao, 0, gl_->vertexBuffer, 0, kFloats * sizeof(float));
+  glVertexArrayVertexBuffer(gl_->meshVao, 0, gl_->vertexBuffer, 0, kVertexFloats * sizeof(float));
   for (GLuint attrib = 0; attrib < kVertexAttributes; ++attrib) {
     glEnableVertexArrayAttrib(gl_->meshVao, attrib);
     glVertexArrayAttribFormat(gl_->meshVao, attrib, 3, GL_FLOAT, GL_FALSE,
@@ -275,6 +272,22 @@ void Renderer::setMesh(const RenderMesh& mesh) {
   glProgramUniform1f(gl_->surface, glGetUniformLocation(gl_->surface, "uMaxPath"),
                      bounds.empty() ? 0.0f : glm::length(bounds.extent()));
   checkGl("uploading the mesh");
+}
+
+void Renderer::setValues(const std::vector<glm::vec3>& values) {
+  if (!values.empty() && values.size() != vertexCount_)
+    throw Error("render mesh: the new values differ in length from the mesh's vertices");
+  if (vertexCount_ == 0) return;
+  const std::size_t stride = kVertexFloats * sizeof(float);
+  auto* mapped = static_cast<char*>(glMapNamedBufferRange(
+      gl_->vertexBuffer, 0, GLsizeiptr(vertexCount_ * stride), GL_MAP_WRITE_BIT));
+  if (!mapped) throw Error("OpenGL could not map the vertex buffer for new values");
+  const glm::vec3 zero(0.0f);
+  for (std::size_t i = 0; i < vertexCount_; ++i)
+    std::memcpy(mapped + i * stride + kValueOffset, values.empty() ? &zero : &values[i],
+                sizeof(glm::vec3));
+  glUnmapNamedBuffer(gl_->vertexBuffer);
+  checkGl("writing the mesh's new values");
 }
 
 bool Renderer::relights() const {

@@ -138,6 +138,9 @@ class Renderer {
   Renderer& operator=(const Renderer&) = delete;
 
   void setMesh(const RenderMesh& mesh);
+  // The mesh's values replaced (RenderMesh::values: one per vertex, or empty for 0), the rest of
+  // it kept: a relit mesh's rest of B under a new light.
+  void setValues(const std::vector<glm::vec3>& values);
   // radiance: reflections and background; irradiance: the brdf mode's E(n) (may be null in
   // other modes). Faces are uploaded as they are (GL orientation), RGB16F with mipmaps.
   void setEnvironment(const Cubemap& radiance, const Cubemap* irradiance);
@@ -160,7 +163,7 @@ class Renderer {
   FrameOptions frame_;
   ShadingOptions shading_;
   Camera camera_;
-  std::size_t indexCount_ = 0;
+  std::size_t indexCount_ = 0, vertexCount_ = 0;
 };
 
 }  // namespace sss

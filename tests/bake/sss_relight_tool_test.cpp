@@ -233,7 +233,8 @@ TEST_F(SssRelightTool, SssRenderRelightsOnTheGpuAsOnTheCpu) {
   for (const char* device : {"gpu", "cpu"}) {
     const test::ToolRun r = test::runTool("sss-render",
                                           common + " --light-turntable 4 --relight-on " + device +
-                                              " -o " + path(std::string(device) + ".exr"),
+                                              " -o " + path(std::string(device) + ".exr") +
+                                              " --json " + path(std::string(device) + "_turn.json"),
                                           Capture::StdoutAndStderr);
     ASSERT_EQ(r.exitCode, 0) << r.output;
   }
@@ -257,7 +258,15 @@ TEST_F(SssRelightTool, SssRenderRelightsOnTheGpuAsOnTheCpu) {
   EXPECT_GT(largestDifference(readImage(path("gpu_001.exr")), readImage(path("as_baked.exr"))),
             0.1);
   EXPECT_TRUE(readImage(path("gpu_one.exr")).pixels == readImage(path("gpu_000.exr")).pixels);
-  EXPECT_NE(test::readFile(path("gpu.json")).find("\"relit_on\": \"gpu\""), std::string::npos);
+  EXPECT_EQ(nlohmann::json::parse(test::readFile(path("gpu.json")))["relit_on"], "gpu");
+  // The turntable's report: its frames and what each further one took.
+  const nlohmann::json turn = nlohmann::json::parse(test::readFile(path("gpu_turn.json")));
+  EXPECT_EQ(turn["relit_on"], "gpu");
+  EXPECT_EQ(turn["light_turntable"]["frames"], 4);
+  const nlohmann::json& perFrame = turn["light_turntable"]["further_frame_median_ms"];
+  EXPECT_GT(perFrame["relight"].get<double>(), 0.0);
+  EXPECT_GE(perFrame["total"].get<double>(),
+            perFrame["environment"].get<double>() + perFrame["relight"].get<double>());
 }
 
 TEST_F(SssRelightTool, SssBakeRefusesNonsenseRelightOptions) {

@@ -21,7 +21,8 @@ mkdir -p "$out"
 scenes=("dragon_res2 marble 150" "bunny marble 50")
 csv=$out/cost.csv
 echo "scene,run,plain_bake_s,relightable_bake_s,relight_stage_s,relight_s,turntable1_s,turntable5_s,plain_bytes,relightable_bytes,plain_glb_bytes,relightable_glb_bytes,relight_compact_lights_s,relight_smooth_s,relight_compact_transport_s,relight_gather_s,relight_bounces_s" >"$csv.tmp"
-elapsed() { python3 -c 'import subprocess,sys,time; t=time.perf_counter(); subprocess.run(sys.argv[1:], check=True); print(f"{time.perf_counter()-t:.3f}")' "$@"; }
+# shellcheck source=tests/bench/elapsed.sh
+source "$root/tests/bench/elapsed.sh"
 seconds() { python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))[sys.argv[2]])' "$@"; }
 for run in $(seq "$runs"); do
   for scene in "${scenes[@]}"; do

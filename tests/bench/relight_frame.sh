@@ -24,13 +24,8 @@ trap 'rm -rf "$work"' EXIT
 mkdir -p "$out"
 python3 "$root/tests/bench/smooth_sky.py" "$work/smooth.hdr"
 render=("$build/tools/sss-render" --threads 2 --quiet)
-seconds() {  # the wall time of a command, in seconds
-  local start end
-  start=$(date +%s.%N)
-  "$@" >/dev/null
-  end=$(date +%s.%N)
-  python3 -c "print(f'{$end - $start:.4f}')"
-}
+# shellcheck source=tests/bench/elapsed.sh
+source "$root/tests/bench/elapsed.sh"
 csv=$out/frame.csv
 echo "scene,run,environment,mode,draw_ms,turntable_frame_s" >"$csv.tmp"
 for run in $(seq "$runs"); do
@@ -43,12 +38,12 @@ for run in $(seq "$runs"); do
       for mode in "--no-relight" "--relight-on gpu" "--relight-on cpu"; do
         # shellcheck disable=SC2086 # the mode is one or two words
         "${render[@]}" "$work/relightable.ply" -e "$env" $mode --frames 20 --size 1024x1024 \
-          -o "$work/draw.png" --json "$work/draw.json"
+          -o "$work/draw.png" --json "$work/draw.json" >/dev/null
         draw=$(python3 -c "import json; print(json.load(open('$work/draw.json'))['frames']['median_ms'])")
         turn=()
         for n in 1 9; do
           # shellcheck disable=SC2086
-          turn+=("$(seconds "${render[@]}" "$work/relightable.ply" -e "$env" $mode \
+          turn+=("$(elapsed "${render[@]}" "$work/relightable.ply" -e "$env" $mode \
             --light-turntable $n --size 512x512 -o "$work/turn.png")")
         done
         per_frame=$(python3 -c "print(f'{(${turn[1]} - ${turn[0]}) / 8:.4f}')")

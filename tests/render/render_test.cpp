@@ -6,11 +6,13 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
+#include "core/error.h"
 #include "envmap/cubemap.h"
 #include "envmap/environment.h"
 #include "envmap/equirect.h"
@@ -298,6 +300,82 @@ TEST_F(RenderTest, UnscatteredLightThroughASphereFollowsTheRefractedChord) {
 // A sun's radiance exceeds half floats (65504: the procedural sky's reaches 1.4e5): the cubemap is
 // kept in 32-bit floats, so a mirror shows it as it is (in RGBA16F it would become Inf, and the
 // tonemap's Inf / Inf a NaN: coloured specks where a sun's reflection falls).
+// A relit mesh (ShadingOptions::relightCoefficients): the vertex shader's
+// max(sum_k T_k L_k + rest, 0) g b, per vertex from its storage buffer, draws what a mesh whose
+// values are that sum, made here, draws; after new values (setValues) and a new light too. The
+// transfer, rest and gains vary per vertex and take both signs, so that a wrong vertex index,
+// coefficient stride or clamp shows.
+TEST_F(RenderTest, RelitInTheShaderAsSummedOnTheCpu) {
+  constexpr int kCoefficients = 4;
+  const RenderMesh plain = toRenderMesh(makeIcosphere(3, 1.0f), glm::vec3(0.0f));
+  const std::size_t n = plain.positions.size();
+  const auto wave = [](std::size_t v, int k, float phase) {
+    return std::sin(0.37f * float(v) + 1.3f * float(k) + phase);
+  };
+  RenderMesh relit = plain;
+  relit.relightTransfer.resize(n * kCoefficients);
+  relit.exitanceGain.resize(n);
+  std::vector<glm::vec3> rest(n), otherRest(n);
+  for (std::size_t v = 0; v < n; ++v) {
+    for (int k = 0; k < kCoefficients; ++k)
+      relit.relightTransfer[v * kCoefficients + k] =
+          glm::vec3(0.6f + wave(v, k, 0.0f), 0.5f + wave(v, k, 1.0f), 0.4f + wave(v, k, 2.0f));
+    relit.exitanceGain[v] = glm::vec3(1.0f + 0.5f * wave(v, 0, 3.0f), 0.8f, 1.2f);
+    rest[v] = 0.3f * glm::vec3(wave(v, 1, 4.0f), wave(v, 2, 5.0f), wave(v, 3, 6.0f));
+    otherRest[v] = 0.2f * glm::vec3(wave(v, 2, 1.0f), wave(v, 1, 0.5f), 0.5f);
+  }
+  const std::vector<glm::vec3> light{
+      {1.0f, 0.8f, 0.6f}, {0.2f, -0.1f, 0.3f}, {-0.2f, 0.1f, 0.0f}, {0.3f, 0.3f, -0.4f}};
+  const std::vector<glm::vec3> otherLight{
+      {0.5f, 0.9f, 1.1f}, {-0.3f, 0.2f, 0.1f}, {0.1f, 0.1f, 0.2f}, {0.0f, -0.2f, 0.3f}};
+  const auto summed = [&](const std::vector<glm::vec3>& l, const std::vector<glm::vec3>& r) {
+    RenderMesh m = plain;
+    for (std::size_t v = 0; v < n; ++v) {
+      glm::vec3 b = r.empty() ? glm::vec3(0.0f) : r[v];
+      for (int k = 0; k < kCoefficients; ++k)
+        b += relit.relightTransfer[v * kCoefficients + k] * l[k];
+      m.values[v] = glm::max(b, glm::vec3(0.0f)) * relit.exitanceGain[v];
+    }
+    return m;
+  };
+  const FrameOptions frame = linearFrame(96);
+  const Camera camera = unitSphereCamera(40.0f, 20.0f);
+  const Cubemap env(8, glm::vec3(0.2f));
+  ShadingOptions shading = linearShading();
+  Renderer reference(ShaderSources(), frame, shading);
+  reference.setEnvironment(env, nullptr);
+  reference.setCamera(camera);
+  shading.relightCoefficients = kCoefficients;
+  Renderer renderer(ShaderSources(), frame, shading);
+  renderer.setMesh(relit);
+  renderer.setEnvironment(env, nullptr);
+  renderer.setCamera(camera);
+  const auto compare = [&](const RenderMesh& expected, const char* what) {
+    reference.setMesh(expected);
+    reference.draw();
+    renderer.draw();
+    const RenderedImage want = reference.readBack(), got = renderer.readBack();
+    float worst = 0.0f, largest = 0.0f;
+    for (std::size_t i = 0; i < want.linearRgb.size(); ++i) {
+      worst = std::max(worst, std::abs(got.linearRgb[i] - want.linearRgb[i]));
+      largest = std::max(largest, want.linearRgb[i]);
+    }
+    EXPECT_GT(largest, 0.1f) << what;
+    EXPECT_LT(worst, 1e-4f * largest) << what;
+  };
+  relit.values = rest;
+  renderer.setMesh(relit);
+  renderer.setSmoothLight(light);
+  compare(summed(light, rest), "the first light");
+  renderer.setValues(otherRest);
+  renderer.setSmoothLight(otherLight);
+  compare(summed(otherLight, otherRest), "new values and light");
+  renderer.setValues({});
+  compare(summed(otherLight, {}), "no rest");
+  EXPECT_THROW(renderer.setValues(std::vector<glm::vec3>(n + 1)), Error);
+  EXPECT_THROW(renderer.setSmoothLight(std::vector<glm::vec3>(kCoefficients - 1)), Error);
+}
+
 TEST_F(RenderTest, RadianceAboveHalfFloatRangeStaysFinite) {
   ShadingOptions shading = linearShading();
   shading.reflectFactor = 1.0f;

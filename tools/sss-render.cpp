@@ -99,6 +99,7 @@ struct LoadedMesh {
   BakedPlyContents contents;
   // A relightable bake relit under the environment, by this (kept for a light turntable's frames).
   std::unique_ptr<BakedMeshRelighter> relighter;
+  RelightDevice relitOn = RelightDevice::Cpu;  // where a relighter is: where it relights
   // Relit on the GPU: the smooth light's SH coefficients the shader sums (renderer.h, RenderMesh).
   std::vector<glm::vec3> smoothLight;
   ShadingParameters shading;
@@ -121,8 +122,8 @@ void dropBakeEnvironmentLight(BakedPlyContents& contents) {
   contents.hasExitSlope = false;
 }
 
-void reportRelit(const Arguments& a, int compactLights) {
-  info("relit under " + a.environment + " on the " + kRelightDeviceNames.name(a.relightOn) + " (" +
+void reportRelit(const Arguments& a, RelightDevice device, int compactLights) {
+  info("relit under " + a.environment + " on the " + kRelightDeviceNames.name(device) + " (" +
            std::to_string(compactLights) + " compact lights)",
        a.quiet);
 }
@@ -133,7 +134,7 @@ void takeRelitLight(const Arguments& a, RelitLight relit, BakedPlyContents& cont
   contents.baked.exitance = std::move(relit.exitance);
   contents.baked.radianceNormal = std::move(relit.radianceNormal);
   dropBakeEnvironmentLight(contents);
-  reportRelit(a, relit.compactLights);
+  reportRelit(a, RelightDevice::Cpu, relit.compactLights);
 }
 
 // Relit on the GPU: the shader's smooth light and the mesh's rest of B (RenderMesh), from `split`.
@@ -141,7 +142,7 @@ void takeRelitSplit(const Arguments& a, RelitSplit split, RenderMesh& mesh,
                     std::vector<glm::vec3>& smoothLight) {
   smoothLight = split.smoothLight.coefficients();
   mesh.values = std::move(split.restExitance);
-  reportRelit(a, split.compactLights);
+  reportRelit(a, RelightDevice::Gpu, split.compactLights);
 }
 
 // The transfer and g b of a mesh relit on the GPU (renderer.h, RenderMesh), from the relighter's.
@@ -152,34 +153,52 @@ void addRelightTransfer(const RelightTransfer& transfer, RenderMesh& mesh) {
     mesh.exitanceGain[v] = transfer.radianceGain[v] * transfer.exitancePerRadiance[v];
 }
 
-bool relightsOnGpu(const Arguments& a) {
-  return a.relightOn == RelightDevice::Gpu && a.request.mode == ShadingMode::Sss;
+// Where a relightable bake is relit: on the GPU where asked, in the sss mode, and where this GL's
+// vertex shaders can read its transfer (GlContext::maxVertexStorageBytes); else on the CPU, with a
+// warning where the GPU was asked but cannot.
+RelightDevice relightDeviceFor(const Arguments& a, const BakedMesh& baked,
+                               std::size_t maxVertexStorageBytes) {
+  if (a.relightOn != RelightDevice::Gpu || a.request.mode != ShadingMode::Sss)
+    return RelightDevice::Cpu;
+  const std::size_t bytes = relightStorageBytes(
+      baked.mesh.positions.size(), std::size_t(baked.relightOrder + 1) * (baked.relightOrder + 1));
+  if (bytes <= maxVertexStorageBytes) return RelightDevice::Gpu;
+  warn(a.input + ": relit on the CPU: its transfer takes " + format("%.1f", bytes / 1048576.0) +
+       " MiB, and this GL's vertex shaders read " +
+       (maxVertexStorageBytes == 0
+            ? std::string("no storage buffer")
+            : format("storage buffers of %.1f MiB at most", maxVertexStorageBytes / 1048576.0)));
+  return RelightDevice::Cpu;
 }
 
 // A relightable bake relit under the environment drawn around it, by the relighter returned
-// (null: not relit), which a light turntable's frames reuse.
+// (null: not relit), which a light turntable's frames reuse. On the GPU only the bake's own
+// light is dropped here: the relit light is taken into the render mesh (loadMesh).
 std::unique_ptr<BakedMeshRelighter> relightUnder(const Arguments& a, const Cubemap& radiance,
-                                                 BakedPlyContents& contents) {
+                                                 RelightDevice device, BakedPlyContents& contents) {
   if (!relights(a, contents)) return nullptr;
   auto relighter = std::make_unique<BakedMeshRelighter>(
       a.input, contents.baked, RunContext{.threads = a.threads, .quiet = true},
       a.lightTurntable > 1);
-  if (relightsOnGpu(a))
-    dropBakeEnvironmentLight(contents);  // the light itself is taken after the render mesh
+  if (device == RelightDevice::Gpu)
+    dropBakeEnvironmentLight(contents);
   else
     takeRelitLight(a, relighter->relight(radiance), contents);
   return relighter;
 }
 
 // Reads the baked mesh; names what the asked mode needs and the file lacks, and the defaults
-// taken for what the file does not record. A relightable bake is relit under `radiance`.
-LoadedMesh loadMesh(const Arguments& a, const Cubemap& radiance) {
+// taken for what the file does not record. A relightable bake is relit under `radiance`, on the
+// GPU where this GL can (relightDeviceFor).
+LoadedMesh loadMesh(const Arguments& a, const Cubemap& radiance, const GlContext& context) {
   LoadedMesh m;
   m.contents = readBakedMesh(a.input);
   if (!a.quiet) {
     for (const std::string& w : m.contents.report.warnings) warn(a.input + ": " + w);
   }
-  m.relighter = relightUnder(a, radiance, m.contents);
+  if (relights(a, m.contents))
+    m.relitOn = relightDeviceFor(a, m.contents.baked, context.maxVertexStorageBytes());
+  m.relighter = relightUnder(a, radiance, m.relitOn, m.contents);
   const std::string missing = missingBakedValues(m.contents, a.request.mode);
   if (!missing.empty()) {
     fail(a.input, "missing " + missing +
@@ -192,7 +211,7 @@ LoadedMesh loadMesh(const Arguments& a, const Cubemap& radiance) {
     warn(noMaterial + format("albedo %g (set --albedo)", m.shading.albedo.x));
   }
   m.renderMesh = renderMeshFor(m.contents.baked, a.request.mode, m.shading.exitLobe);
-  if (m.relighter && relightsOnGpu(a)) {
+  if (m.relighter && m.relitOn == RelightDevice::Gpu) {
     addRelightTransfer(m.relighter->transfer(), m.renderMesh);
     takeRelitSplit(a, m.relighter->relightSplit(radiance), m.renderMesh, m.smoothLight);
   }
@@ -365,7 +384,7 @@ void writeReport(const Arguments& a, const LoadedMesh& mesh, const Environment& 
   report["environment_convention"] = kEquirectConventionNames.name(a.orientation.convention);
   report["environment_rotate_deg"] = a.orientation.rotateDeg;
   report["relit"] = mesh.relighter != nullptr;
-  if (mesh.relighter) report["relit_on"] = kRelightDeviceNames.name(a.relightOn);
+  if (mesh.relighter) report["relit_on"] = kRelightDeviceNames.name(mesh.relitOn);
   if (!env.irradianceReason.empty()) report["irradiance"] = env.irradianceReason;
   if (a.frames > 0) report["frames"] = framesJson(timings, a.warmup);
   if (turntable.frames > 0) {
@@ -384,6 +403,9 @@ void describeContext(const GlContext& context) {
   info("GL_VENDOR: " + context.glVendor(), false);
   info("GL_RENDERER: " + context.glRenderer(), false);
   info("GL_VERSION: " + context.glVersion(), false);
+  info(format("vertex shader storage buffers: %.0f MiB at most (a relit mesh's transfer)",
+              context.maxVertexStorageBytes() / 1048576.0),
+       false);
 }
 
 RenderedImage readBackOf(Renderer& renderer) {
@@ -438,7 +460,7 @@ void relightFrameOnGpu(const Arguments& a, const LoadedMesh& mesh, Renderer& ren
     renderer.setValues(split.restExitance);
   }
   renderer.setSmoothLight(split.smoothLight.coefficients());
-  reportRelit(a, split.compactLights);
+  reportRelit(a, RelightDevice::Gpu, split.compactLights);
 }
 
 // --light-turntable N: frame k with the environment turned 360 k / N degrees past --env-rotate,
@@ -503,7 +525,7 @@ int renderOne(const Arguments& a, const GlContext& context, EnvironmentCache& en
   ms.environment = stage.milliseconds();
 
   stage.restart();
-  const LoadedMesh mesh = loadMesh(a, radiance);
+  const LoadedMesh mesh = loadMesh(a, radiance, context);
   ms.load = stage.milliseconds();
 
   stage.restart();

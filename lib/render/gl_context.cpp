@@ -175,6 +175,11 @@ GlContext::GlContext() {
     glRenderer_ = glString(GL_RENDERER);
     glVersion_ = glString(GL_VERSION);
     glGetIntegerv(GL_MAX_SAMPLES, &maxSamples_);
+    GLint vertexBlocks = 0;
+    GLint64 blockBytes = 0;
+    glGetIntegerv(GL_MAX_VERTEX_SHADER_STORAGE_BLOCKS, &vertexBlocks);
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &blockBytes);
+    maxVertexStorageBytes_ = vertexBlocks > 0 && blockBytes > 0 ? std::size_t(blockBytes) : 0;
     software_ = glRenderer_.find("llvmpipe") != std::string::npos ||
                 glRenderer_.find("softpipe") != std::string::npos ||
                 c.label.find("(software)") != std::string::npos;

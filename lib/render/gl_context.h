@@ -9,6 +9,7 @@
 //   3. eglGetDisplay(EGL_DEFAULT_DISPLAY).
 #pragma once
 
+#include <cstddef>
 #include <string>
 
 namespace sss {
@@ -29,6 +30,9 @@ class GlContext {
   const std::string& glRenderer() const { return glRenderer_; }
   const std::string& glVersion() const { return glVersion_; }
   int maxSamples() const { return maxSamples_; }
+  // The largest storage buffer a vertex shader may read, in bytes: 0 where vertex shaders read
+  // none (GL 4.3 requires them of compute and fragment shaders only).
+  std::size_t maxVertexStorageBytes() const { return maxVertexStorageBytes_; }
   // True on a software rasterizer (llvmpipe, softpipe), where GL timer queries do not measure
   // the work that the CPU does.
   bool isSoftware() const { return software_; }
@@ -38,6 +42,7 @@ class GlContext {
   void* context_ = nullptr;
   std::string eglPath_, eglVendor_, glVendor_, glRenderer_, glVersion_;
   int maxSamples_ = 1;
+  std::size_t maxVertexStorageBytes_ = 0;
   bool software_ = false;
 };
 

@@ -220,6 +220,10 @@ std::vector<float> relightStorage(const RenderMesh& mesh, std::size_t coefficien
 
 }  // namespace
 
+std::size_t relightStorageBytes(std::size_t vertices, std::size_t coefficients) {
+  return vertices * 3 * (coefficients + 1) * sizeof(float);
+}
+
 void Renderer::setMesh(const RenderMesh& mesh) {
   const std::size_t n = mesh.positions.size();
   const auto sized = [n](const std::vector<glm::vec3>& v) { return v.empty() || v.size() == n; };
@@ -230,6 +234,12 @@ void Renderer::setMesh(const RenderMesh& mesh) {
   gl_->relightBuffer = 0;
   if (relights()) {
     const std::vector<float> storage = relightStorage(mesh, shading_.relightCoefficients);
+    GLint64 limit = 0;
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &limit);
+    if (storage.size() * sizeof(float) > std::size_t(std::max<GLint64>(limit, 0)))
+      throw Error("render mesh: a relit mesh's transfer takes " +
+                  std::to_string(storage.size() * sizeof(float)) + " bytes, over this GL's " +
+                  std::to_string(limit) + " for a storage buffer");
     glCreateBuffers(1, &gl_->relightBuffer);
     glNamedBufferStorage(gl_->relightBuffer,
                          std::max<std::size_t>(storage.size(), 1) * sizeof(float),

@@ -128,6 +128,10 @@ struct FrameTimings {
   double fps() const { return medianWallMs > 0 ? 1000.0 / medianWallMs : 0.0; }
 };
 
+// The bytes of a relit mesh's storage buffer (RenderMesh): per vertex g b and `coefficients`
+// transfer entries, 3 floats each. A GL reads it only up to GlContext::maxVertexStorageBytes.
+std::size_t relightStorageBytes(std::size_t vertices, std::size_t coefficients);
+
 // Needs a current GL 4.5 context (GlContext) for its whole life.
 class Renderer {
  public:

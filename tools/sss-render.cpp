@@ -100,8 +100,6 @@ struct LoadedMesh {
   // A relightable bake relit under the environment, by this (kept for a light turntable's frames).
   std::unique_ptr<BakedMeshRelighter> relighter;
   RelightDevice relitOn = RelightDevice::Cpu;  // where a relighter is: where it relights
-  // Relit on the GPU: the smooth light's SH coefficients the shader sums (renderer.h, RenderMesh).
-  std::vector<glm::vec3> smoothLight;
   ShadingParameters shading;
   RenderMesh renderMesh;
   BoundingSphere bounds;
@@ -137,14 +135,6 @@ void takeRelitLight(const Arguments& a, RelitLight relit, BakedPlyContents& cont
   reportRelit(a, RelightDevice::Cpu, relit.compactLights);
 }
 
-// Relit on the GPU: the shader's smooth light and the mesh's rest of B (RenderMesh), from `split`.
-void takeRelitSplit(const Arguments& a, RelitSplit split, RenderMesh& mesh,
-                    std::vector<glm::vec3>& smoothLight) {
-  smoothLight = split.smoothLight.coefficients();
-  mesh.values = std::move(split.restExitance);
-  reportRelit(a, RelightDevice::Gpu, split.compactLights);
-}
-
 // The transfer and g b of a mesh relit on the GPU (renderer.h, RenderMesh), from the relighter's.
 void addRelightTransfer(const RelightTransfer& transfer, RenderMesh& mesh) {
   mesh.relightTransfer = transfer.relightTransfer;
@@ -173,7 +163,7 @@ RelightDevice relightDeviceFor(const Arguments& a, const BakedMesh& baked,
 
 // A relightable bake relit under the environment drawn around it, by the relighter returned
 // (null: not relit), which a light turntable's frames reuse. On the GPU only the bake's own
-// light is dropped here: the relit light is taken into the render mesh (loadMesh).
+// light is dropped here: the renderer takes the relit light (relightOnGpu).
 std::unique_ptr<BakedMeshRelighter> relightUnder(const Arguments& a, const Cubemap& radiance,
                                                  RelightDevice device, BakedPlyContents& contents) {
   if (!relights(a, contents)) return nullptr;
@@ -188,8 +178,8 @@ std::unique_ptr<BakedMeshRelighter> relightUnder(const Arguments& a, const Cubem
 }
 
 // Reads the baked mesh; names what the asked mode needs and the file lacks, and the defaults
-// taken for what the file does not record. A relightable bake is relit under `radiance`, on the
-// GPU where this GL can (relightDeviceFor).
+// taken for what the file does not record. A relightable bake is relit under `radiance` on the
+// CPU; where this GL can relight it (relightDeviceFor), its render mesh takes the transfer instead.
 LoadedMesh loadMesh(const Arguments& a, const Cubemap& radiance, const GlContext& context) {
   LoadedMesh m;
   m.contents = readBakedMesh(a.input);
@@ -213,7 +203,7 @@ LoadedMesh loadMesh(const Arguments& a, const Cubemap& radiance, const GlContext
   m.renderMesh = renderMeshFor(m.contents.baked, a.request.mode, m.shading.exitLobe);
   if (m.relighter && m.relitOn == RelightDevice::Gpu) {
     addRelightTransfer(m.relighter->transfer(), m.renderMesh);
-    takeRelitSplit(a, m.relighter->relightSplit(radiance), m.renderMesh, m.smoothLight);
+    m.renderMesh.values.clear();  // the rest of B: written with the light (relightOnGpu)
   }
   m.bounds = boundingSphere(m.contents.baked.mesh.positions);
   return m;
@@ -449,16 +439,18 @@ RenderedImage contactSheet(const std::vector<RenderedImage>& frames) {
   return sheet;
 }
 
-// A light turntable's frame relit on the GPU: the smooth light set, and the mesh's rest of B
-// written where this frame or the one drawn before has one (`hasRest`: whether the renderer's
-// mesh has one, updated).
-void relightFrameOnGpu(const Arguments& a, const LoadedMesh& mesh, Renderer& renderer,
-                       const Cubemap& radiance, bool& hasRest) {
+// The number of SH coefficients a mesh relit on the GPU sums in the shader (0: not relit there).
+int gpuRelightCoefficients(const LoadedMesh& mesh) {
+  if (!mesh.relighter || mesh.relitOn != RelightDevice::Gpu) return 0;
+  return (mesh.relighter->transfer().order + 1) * (mesh.relighter->transfer().order + 1);
+}
+
+// A mesh relit on the GPU under `radiance` (each frame's): the renderer's smooth light and the
+// mesh's rest of B (zero where there is none).
+void relightOnGpu(const Arguments& a, const LoadedMesh& mesh, Renderer& renderer,
+                  const Cubemap& radiance) {
   const RelitSplit split = mesh.relighter->relightSplit(radiance);
-  if (!split.restExitance.empty() || hasRest) {
-    hasRest = !split.restExitance.empty();
-    renderer.setValues(split.restExitance);
-  }
+  renderer.setValues(split.restExitance);
   renderer.setSmoothLight(split.smoothLight.coefficients());
   reportRelit(a, RelightDevice::Gpu, split.compactLights);
 }
@@ -471,7 +463,6 @@ void relightFrameOnGpu(const Arguments& a, const LoadedMesh& mesh, Renderer& ren
 TurntableTimes writeLightTurntable(const Arguments& a, const LoadedMesh& mesh, Renderer& renderer,
                                    RenderedImage first) {
   std::vector<RenderedImage> frames{std::move(first)};
-  bool hasRest = !mesh.renderMesh.values.empty();
   std::vector<double> environmentMs, relightMs, drawMs, totalMs;
   for (int k = 1; k < a.lightTurntable; ++k) {
     Stopwatch frameClock, clock;
@@ -481,8 +472,8 @@ TurntableTimes writeLightTurntable(const Arguments& a, const LoadedMesh& mesh, R
     EnvironmentCache environment(turned);
     const Cubemap& radiance = environment.radiance();
     environmentMs.push_back(clock.lap() * 1e3);
-    if (mesh.relighter && !mesh.smoothLight.empty()) {
-      relightFrameOnGpu(turned, mesh, renderer, radiance, hasRest);
+    if (gpuRelightCoefficients(mesh) > 0) {
+      relightOnGpu(turned, mesh, renderer, radiance);
     } else if (mesh.relighter) {
       BakedPlyContents contents = mesh.contents;
       takeRelitLight(turned, mesh.relighter->relight(radiance), contents);
@@ -540,10 +531,10 @@ int renderOne(const Arguments& a, const GlContext& context, EnvironmentCache& en
   }
   const ShaderSources shaders(a.shaderDir);
   ShadingOptions shading = shadingOptions(a, mesh.shading);
-  shading.relightCoefficients = int(mesh.smoothLight.size());
+  shading.relightCoefficients = gpuRelightCoefficients(mesh);
   Renderer renderer(shaders, frame, shading);
   renderer.setMesh(mesh.renderMesh);
-  if (!mesh.smoothLight.empty()) renderer.setSmoothLight(mesh.smoothLight);
+  if (shading.relightCoefficients > 0) relightOnGpu(a, mesh, renderer, radiance);
   renderer.setEnvironment(env.radiance, env.irradiance.empty() ? nullptr : &env.irradiance);
   const float aspect = static_cast<float>(frame.width) / static_cast<float>(frame.height);
   renderer.setCamera(placeCamera(a, mesh.bounds, aspect));

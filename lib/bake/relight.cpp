@@ -367,12 +367,8 @@ class RelightSession::Context {
   // B of the environment before g: its compact lights with their shadows and its smooth rest
   // through the transfer, then the bounces; each stage's time into `seconds`.
   std::vector<glm::vec3> relitExitance(CompactLightSplit& split, RelightSeconds& seconds) {
-    const SphericalHarmonics sh = smoothLight(split, seconds);
-    Stopwatch clock;
-    std::vector<glm::vec3> b =
-        transferredExitance(bake_.transfer.relightTransfer, bake_.transfer.order, sh);
-    seconds.smooth += clock.lap();
-    return withCompactLightsAndBounces(std::move(b), split, seconds);
+    return withCompactLightsAndBounces(smoothExitance(smoothLight(split, seconds), seconds), split,
+                                       seconds);
   }
 
   // The split for a renderer that sums the smooth part itself: its SH light, and B before g less
@@ -381,10 +377,7 @@ class RelightSession::Context {
     RelitSplit out;
     out.smoothLight = smoothLight(split, seconds);
     if (split.lights.empty() && stored_.bounces <= 0) return out;
-    Stopwatch clock;
-    const std::vector<glm::vec3> smooth =
-        transferredExitance(bake_.transfer.relightTransfer, bake_.transfer.order, out.smoothLight);
-    seconds.smooth += clock.lap();
+    const std::vector<glm::vec3> smooth = smoothExitance(out.smoothLight, seconds);
     out.restExitance = withCompactLightsAndBounces(smooth, split, seconds);
     for (std::size_t v = 0; v < smooth.size(); ++v) out.restExitance[v] -= smooth[v];
     return out;
@@ -400,6 +393,15 @@ class RelightSession::Context {
         SphericalHarmonics::project(split.rest, bake_.transfer.order, run_.threads);
     seconds.smooth = clock.lap();
     return sh;
+  }
+
+  // B of the smooth light `sh` through the transfer; its time added to the smooth part's.
+  std::vector<glm::vec3> smoothExitance(const SphericalHarmonics& sh, RelightSeconds& seconds) {
+    Stopwatch clock;
+    std::vector<glm::vec3> b =
+        transferredExitance(bake_.transfer.relightTransfer, bake_.transfer.order, sh);
+    seconds.smooth += clock.lap();
+    return b;
   }
 
   // b (the smooth light's B) with the compact lights' B through the transport, then the bounces.

@@ -175,11 +175,7 @@ GlContext::GlContext() {
     glRenderer_ = glString(GL_RENDERER);
     glVersion_ = glString(GL_VERSION);
     glGetIntegerv(GL_MAX_SAMPLES, &maxSamples_);
-    GLint vertexBlocks = 0;
-    GLint64 blockBytes = 0;
-    glGetIntegerv(GL_MAX_VERTEX_SHADER_STORAGE_BLOCKS, &vertexBlocks);
-    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &blockBytes);
-    maxVertexStorageBytes_ = vertexBlocks > 0 && blockBytes > 0 ? std::size_t(blockBytes) : 0;
+    maxVertexStorageBytes_ = currentMaxVertexStorageBytes();
     software_ = glRenderer_.find("llvmpipe") != std::string::npos ||
                 glRenderer_.find("softpipe") != std::string::npos ||
                 c.label.find("(software)") != std::string::npos;
@@ -195,6 +191,14 @@ GlContext::~GlContext() {
   eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
   eglDestroyContext(display_, context_);
   eglTerminate(display_);
+}
+
+std::size_t currentMaxVertexStorageBytes() {
+  GLint vertexBlocks = 0;
+  GLint64 blockBytes = 0;
+  glGetIntegerv(GL_MAX_VERTEX_SHADER_STORAGE_BLOCKS, &vertexBlocks);
+  glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &blockBytes);
+  return vertexBlocks > 0 && blockBytes > 0 ? std::size_t(blockBytes) : 0;
 }
 
 }  // namespace sss

@@ -30,8 +30,7 @@ class GlContext {
   const std::string& glRenderer() const { return glRenderer_; }
   const std::string& glVersion() const { return glVersion_; }
   int maxSamples() const { return maxSamples_; }
-  // The largest storage buffer a vertex shader may read, in bytes: 0 where vertex shaders read
-  // none (GL 4.3 requires them of compute and fragment shaders only).
+  // currentMaxVertexStorageBytes() of this context.
   std::size_t maxVertexStorageBytes() const { return maxVertexStorageBytes_; }
   // True on a software rasterizer (llvmpipe, softpipe), where GL timer queries do not measure
   // the work that the CPU does.
@@ -45,5 +44,9 @@ class GlContext {
   std::size_t maxVertexStorageBytes_ = 0;
   bool software_ = false;
 };
+
+// The largest storage buffer a vertex shader of the current context may read, in bytes: 0 where
+// vertex shaders read none (GL 4.3 requires them of compute and fragment shaders only).
+std::size_t currentMaxVertexStorageBytes();
 
 }  // namespace sss

@@ -18,6 +18,7 @@
 #include "envmap/cubemap.h"
 #include "image/image.h"
 #include "render/gl.h"
+#include "render/gl_context.h"
 
 namespace sss {
 namespace {
@@ -233,13 +234,13 @@ void Renderer::setMesh(const RenderMesh& mesh) {
   glDeleteBuffers(1, &gl_->relightBuffer);
   gl_->relightBuffer = 0;
   if (relights()) {
+    const std::size_t bytes = relightStorageBytes(n, shading_.relightCoefficients);
+    const std::size_t limit = currentMaxVertexStorageBytes();
+    if (bytes > limit)
+      throw Error("render mesh: a relit mesh's transfer takes " + std::to_string(bytes) +
+                  " bytes, over the " + std::to_string(limit) +
+                  " this GL's vertex shaders read from a storage buffer");
     const std::vector<float> storage = relightStorage(mesh, shading_.relightCoefficients);
-    GLint64 limit = 0;
-    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &limit);
-    if (storage.size() * sizeof(float) > std::size_t(std::max<GLint64>(limit, 0)))
-      throw Error("render mesh: a relit mesh's transfer takes " +
-                  std::to_string(storage.size() * sizeof(float)) + " bytes, over this GL's " +
-                  std::to_string(limit) + " for a storage buffer");
     glCreateBuffers(1, &gl_->relightBuffer);
     glNamedBufferStorage(gl_->relightBuffer,
                          std::max<std::size_t>(storage.size(), 1) * sizeof(float),

@@ -360,7 +360,8 @@ TEST_F(SssRenderTool, BadOptionsAreRejectedBeforeAnyOutput) {
        {mesh + env + " -o " + path("out.png") + " --size 0x64",
         mesh + env + " -o " + path("out.png") + " --background 1,2",
         mesh + env + " -o " + path("out"), mesh + env + " -o " + path("out.png") + " --mode fast",
-        mesh + env + " -o " + path("out.png") + " --eta abc", mesh + env}) {
+        mesh + env + " -o " + path("out.png") + " --eta abc",
+        mesh + env + " -o " + path("out.png") + " --relight-on tpu", mesh + env}) {
     const ToolRun r = run(args);
     EXPECT_EQ(r.exitCode, 2) << args;
     EXPECT_EQ(r.output.rfind("sss-render: error: ", 0), 0u) << r.output;
@@ -369,6 +370,8 @@ TEST_F(SssRenderTool, BadOptionsAreRejectedBeforeAnyOutput) {
   EXPECT_EQ(run(mesh + env + " -o " + path("out.png") + " --mode fast").output,
             "sss-render: error: --mode: unknown shading mode 'fast' (use sss, brdf, irradiance or "
             "normals)\n");
+  EXPECT_EQ(run(mesh + env + " -o " + path("out.png") + " --relight-on tpu").output,
+            "sss-render: error: --relight-on: unknown relight device 'tpu' (use gpu or cpu)\n");
   // Bad input files: exit 1.
   for (const std::string& args : {mesh + " -e " + path("missing.exr") + " -o " + path("out.png"),
                                   path("missing.ply") + env + " -o " + path("out.png")}) {

@@ -279,6 +279,7 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
       });
   layOutPerVertex(vertices, kGrain, hitCount, std::move(chunkHits), std::move(chunkMirrors));
   rays_ = int(total);
+  threads_ = options.run.threads;
   visibilityCosineRays_ = options.visibilityCosineRays;
   blockedFraction_ = double(blocked) / double(std::max<std::size_t>(vertices.size() * total, 1));
 }
@@ -324,29 +325,32 @@ std::vector<glm::vec3> InterreflectionGather::gather(std::span<const glm::vec3> 
   if (exitance.size() != n) fail("", "interreflection: one exitance per vertex needed");
   std::vector<glm::vec3> e(n, glm::vec3(0.0f));
   if (variance) variance->assign(n, glm::vec3(0.0f));
-  for (std::size_t v = 0; v < n; ++v) {
-    glm::dvec3 ray(0.0), squares(0.0);  // the current ray's light; the sum of squares over rays
-    for (uint32_t k = offsets_[v]; k < offsets_[v + 1]; ++k) {
-      const Hit& h = hits_[k];
-      const glm::vec3 b = h.barycentric.x * exitance[h.vertices.x] +
-                          h.barycentric.y * exitance[h.vertices.y] +
-                          h.barycentric.z * exitance[h.vertices.z];
-      const glm::vec3 light = h.exitWeight * b + (mirrored ? h.reflection : glm::vec3(0.0f));
-      e[v] += light;
-      if (!h.sameRay) {
-        squares += ray * ray;
-        ray = glm::dvec3(0.0);
+  // Each vertex's sum alone, in its hits' order: the same for any thread count.
+  parallelFor(n, threads_, 1024, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t v = begin; v < end; ++v) {
+      glm::dvec3 ray(0.0), squares(0.0);  // the current ray's light; the sum of squares over rays
+      for (uint32_t k = offsets_[v]; k < offsets_[v + 1]; ++k) {
+        const Hit& h = hits_[k];
+        const glm::vec3 b = h.barycentric.x * exitance[h.vertices.x] +
+                            h.barycentric.y * exitance[h.vertices.y] +
+                            h.barycentric.z * exitance[h.vertices.z];
+        const glm::vec3 light = h.exitWeight * b + (mirrored ? h.reflection : glm::vec3(0.0f));
+        e[v] += light;
+        if (!h.sameRay) {
+          squares += ray * ray;
+          ray = glm::dvec3(0.0);
+        }
+        ray += glm::dvec3(light);
       }
-      ray += glm::dvec3(light);
+      squares += ray * ray;
+      if (variance && rays_ > 1) {
+        // Var(sum of N rays) = N var(one ray) = N (sum x^2 - (sum x)^2 / N) / (N - 1).
+        const double count = double(rays_);
+        const glm::dvec3 sum(e[v]);
+        (*variance)[v] = glm::vec3(count * (squares - sum * sum / count) / (count - 1.0));
+      }
     }
-    squares += ray * ray;
-    if (variance && rays_ > 1) {
-      // Var(sum of N rays) = N var(one ray) = N (sum x^2 - (sum x)^2 / N) / (N - 1).
-      const double count = double(rays_);
-      const glm::dvec3 sum(e[v]);
-      (*variance)[v] = glm::vec3(count * (squares - sum * sum / count) / (count - 1.0));
-    }
-  }
+  });
   return e;
 }
 

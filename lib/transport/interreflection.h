@@ -127,6 +127,7 @@ class InterreflectionGather {
                        std::vector<std::vector<Mirror>> chunkMirrors);
 
   int rays_ = 0;
+  int threads_ = 0;  // for gather (InterreflectionOptions::run)
   int visibilityCosineRays_ = 0;
   std::vector<uint32_t> offsets_;  // hits of vertex v: [offsets_[v], offsets_[v + 1])
   std::vector<Hit> hits_;

@@ -19,6 +19,10 @@ namespace {
 // Batches per round: enough for the noise estimate; the tracer keeps two tallies per vertex and
 // batch (48 bytes), so auto leaves out meshes whose tallies would not fit beside the bake.
 constexpr int kBatches = 8;
+// Another round only where the noise is this far over its budget: a near miss is not worth one.
+constexpr double kRoundAgain = 1.5;
+// A round whose noise is this many times what paths^-1/2 predicted marks heavy-tailed tallies.
+constexpr double kHeavyTail = 2.0;
 constexpr std::size_t kMaxTracedVertices = 500000;
 // Its paths apart from the far field's (far_field.h), which trace the same light with the bake's
 // seed: the two estimates' noise would otherwise be one draw and not add in quadrature.
@@ -71,6 +75,24 @@ Sums sumsOf(const UnscatteredLightInput& in, const TracedRound& round) {
   return s;
 }
 
+// The paths that would bring the noise of `sums` (from `paths` paths) to the budget, 10 % over
+// (noise ~ paths^-1/2).
+uint64_t pathsForBudget(const Sums& sums, uint64_t paths, double budget) {
+  const double ratio = sums.relativeNoise() / budget;
+  const double needed = std::ceil(1.1 * double(paths) * ratio * ratio);
+  return needed >= 1.8e19 ? UINT64_MAX : uint64_t(needed);
+}
+
+// After a round whose noise paths^-1/2 predicted at `predicted`: whether auto should stop tracing,
+// the light not worth more paths. Either its noise is not below its share (left out as it is: a
+// round sized for the budget that leaves it there found the pilot's noise far too low), or the
+// noise fell far more slowly than predicted (heavy-tailed tallies: a sun focused through thin
+// parts onto a few small vertices).
+bool notWorthMore(const Sums& sums, double predicted) {
+  const double noise = sums.relativeNoise();
+  return noise >= sums.share() || noise > kHeavyTail * predicted;
+}
+
 UnscatteredLight skip(UnscatteredLight out, std::string reason, const Stopwatch& clock) {
   out.radiance.clear();
   out.report.traced = false;
@@ -114,24 +136,42 @@ UnscatteredLight traceUnscatteredLight(const UnscatteredLightInput& in) {
         std::move(out),
         "negligible (" + format("%.2g%%", 100.0 * r.share) + " of the radiance along the normal)",
         clock);
-  // Paths for the budget (noise ~ paths^-1/2), 10 % over; at the cap it is traced all the same:
-  // without it the error is the whole share.
-  const double ratio = sums.relativeNoise() / o.noiseBudget;
-  const double needed = std::ceil(1.1 * double(o.pilotPaths) * ratio * ratio);
-  const uint64_t total = uint64_t(std::min(needed, double(o.maxPaths)));
-  if (total > round.paths) {
-    round = combineRounds(round, traceRound(in, round.paths, total - round.paths));
+  // Paths for the budget (noise ~ paths^-1/2), 10 % over, in rounds: the pilot's estimate of the
+  // noise comes from few paths and may be low, so each round's (from all the paths so far) sets
+  // the next where the budget was missed by far, up to the cap. Auto stops early where more paths
+  // cannot make the light worth keeping (below).
+  uint64_t needed = pathsForBudget(sums, round.paths, o.noiseBudget);
+  while (needed > round.paths && round.paths < o.maxPaths) {
+    const uint64_t before = round.paths, total = std::min(needed, o.maxPaths);
+    const double predicted = sums.relativeNoise() * std::sqrt(double(before) / double(total));
+    round = combineRounds(round, traceRound(in, before, total - before));
     sums = sumsOf(in, round);
-    r.share = sums.share();  // from all the paths now
+    if (sums.relativeNoise() <= kRoundAgain * o.noiseBudget ||
+        (automatic && notWorthMore(sums, predicted)))
+      break;
+    needed = pathsForBudget(sums, round.paths, o.noiseBudget);
   }
+  const bool overBudget = sums.relativeNoise() > o.noiseBudget;
+  r.share = sums.share();  // from all the paths
+  r.paths = round.paths;
+  r.relativeStdError = sums.relativeNoise();
+  // Traced, the error it leaves is its noise; left out, its share. Auto keeps the smaller (a light
+  // no larger than its own noise only adds fireflies: docs/tools/sss-bake.md, "Unscattered
+  // light"); `on` keeps it whatever its noise.
+  if (automatic && r.relativeStdError >= r.share)
+    return skip(std::move(out),
+                "left out: its noise (" + format("%.2g%%", 100.0 * r.relativeStdError) +
+                    " of the radiance along the normal after " + std::to_string(round.paths) +
+                    " paths) is not below its share (" + format("%.2g%%", 100.0 * r.share) + ")",
+                clock);
   out.radiance.reserve(round.mean.size());
   for (const glm::dvec3& l : round.mean) out.radiance.push_back(glm::vec3(l));
   r.traced = true;
-  r.paths = round.paths;
-  r.relativeStdError = sums.relativeNoise();
   r.reason = std::string(automatic ? "it is " : "requested; ") + format("%.2g%%", 100.0 * r.share) +
              " of the radiance along the normal" +
-             (needed > double(o.maxPaths) ? " (paths capped)" : "");
+             (overBudget ? " (noise " + format("%.2g%%", 100.0 * r.relativeStdError) + " after " +
+                               std::to_string(round.paths) + " paths, over its budget)"
+                         : "");
   r.seconds = clock.seconds();
   return out;
 }

@@ -18,10 +18,14 @@
 // Cost and noise: a pilot round measures L_u's share of the radiance along the normal,
 // s = sqrt(max(0, sum A |L_u|^2 - sum A var(L_u)) / sum A |L_s + L_u|^2) (area-weighted over
 // vertices and channels, its own noise removed), and its relative noise; paths then grow as
-// noise^-2 to the budget, up to a cap. A path is a few rays, no scattering events.
+// noise^-2 to the budget in rounds, each round's noise (from all its paths) setting the next, up to
+// a cap. A path is a few rays, no scattering events.
 //
 // Auto: traced when s exceeds the noise budget (what tracing would leave); a dense material
 // (marble: sigma_t ~2.2 /mm) or a large object finds almost nothing in the pilot and costs only it.
+// Then kept only where its noise is below s: traced, the error it leaves is its noise, left out,
+// s. Auto traces no further round once the noise is not below s, or is more than twice what
+// paths^-1/2 predicted (heavy-tailed tallies: a sun through thin parts onto a few small vertices).
 #pragma once
 
 #include <cstdint>

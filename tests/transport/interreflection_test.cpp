@@ -99,6 +99,36 @@ TEST(Interreflection, WhiteFurnaceHoldsWithTheVisibilitysRays) {
   expectWhiteFurnace(256, 128);
 }
 
+// Two touching spheres (5,124 vertices, each sphere sees the other): the gather's light and its
+// variance are the same, bit for bit, for any thread count (each vertex sums its own hits).
+TEST(Interreflection, GatherIsTheSameForAnyThreadCount) {
+  TriangleMesh pair = makeIcosphere(4, 10.0f);
+  const std::size_t half = pair.positions.size();
+  const TriangleMesh other = makeIcosphere(4, 10.0f);
+  for (std::size_t v = 0; v < half; ++v) {
+    pair.positions.push_back(other.positions[v] + glm::vec3(20.5f, 0.0f, 0.0f));
+    pair.normals.push_back(other.normals[v]);
+  }
+  for (const glm::uvec3& t : other.triangles) pair.triangles.push_back(t + glm::uvec3(half));
+  const Cubemap sky(8, glm::vec3(1.0f));
+  std::vector<glm::vec3> b(pair.positions.size());
+  for (std::size_t v = 0; v < b.size(); ++v)
+    b[v] = glm::vec3(0.2f + 0.6f * float(v % 7) / 7.0f, 0.5f, 0.3f + float(v % 3) / 3.0f);
+  std::vector<std::vector<glm::vec3>> light, variance;
+  for (int threads : {1, 3}) {
+    InterreflectionOptions options;
+    options.rays = 32;
+    options.run.threads = threads;
+    const InterreflectionGather gather(pair.positions, pair.normals, pair.triangles, sky, 1.3f,
+                                       options);
+    ASSERT_GT(gather.blockedFraction(), 0.01);
+    variance.emplace_back();
+    light.push_back(gather.gather(b, &variance.back()));
+  }
+  EXPECT_EQ(light[0], light[1]);
+  EXPECT_EQ(variance[0], variance[1]);
+}
+
 // A relightable bake stores which of its gather's rays met the front of a surface (frontHits); a
 // gather given them traces those rays only, and gathers the same light, bit for bit, its variance
 // and a swapped sky included.

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Draws the relighting error chart from relight_study's CSVs (tests/bench/results/relight/
-# traced_off/relight.csv and defaults/relight.csv): per light (the 8 HDRs at 4 turns, the sun
+# traced_off/relight.csv and defaults/relight.csv): per light (the 8 HDRs at 8 turns, the sun
 # from 8 directions) the relative RMS of the radiance along the normal against a fresh bake, per
 # scene at SH orders 3 and 6, with the targets (2 % for the HDRs, 3 % for the sun).
 #   tests/bench/relight_charts.sh [DIR]     writes DIR/relight_error.png

@@ -3,7 +3,7 @@
 // the prefixes of its transfer), then for each light a fresh bake with sss-bake's defaults and
 // the relit values at each SH order: relative RMS of the radiance along the normal over the
 // vertices, and the 95th percentile of the per-vertex relative error. The lights: the 8 sample
-// HDRs turned by 0, 90, 180 and 270 degrees about the up axis (--env-rotate), and a sun of 1
+// HDRs turned by 0, 45, ..., 315 degrees about the up axis (--env-rotate), and a sun of 1
 // degree from the 8 diagonal directions (half of them from below, behind the object's base).
 // The fresh bakes' own noise: a second bake of the first light with another seed (row
 // "seed": sh_order -1, relative_rms and p95_relative between the two). Also the costs: the plain
@@ -83,8 +83,9 @@ std::vector<Light> lights(const std::string& dataDir, bool quick) {
   std::vector<Light> out;
   const int hdrCount = quick ? 2 : 8;
   for (int h = 0; h < hdrCount; ++h)
-    for (double rotate : {0.0, 90.0, 180.0, 270.0}) {
-      if (quick && rotate > 90.0) continue;
+    for (int turn = 0; turn < 8; ++turn) {
+      const double rotate = 45.0 * turn;
+      if (quick && turn != 0 && turn != 2) continue;  // 0 and 90 degrees
       out.push_back({"hdr", kHdrs[h], int(rotate), hdr(dataDir, kHdrs[h], rotate)});
     }
   const int suns = quick ? 2 : 8;

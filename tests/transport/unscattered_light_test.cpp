@@ -165,10 +165,12 @@ TEST(UnscatteredLight, AutoSkipsADenseSphereAndTracesALowDensityOne) {
 
 // Auto keeps the unscattered light only where it lowers the error: traced, the error it leaves is
 // its noise; left out, its share. On the 100K-vertex dragon (marble, 150 mm) under courtyard.exr
-// the pilot finds a share above the budget, but the tallies are heavy-tailed (the sun through
-// thin parts onto a few small vertices: more paths barely lower the noise), and traced, two seeds
-// of the bake differed by 3.2 % RMS (one vertex by 8x) against a reported 1.6 %. Auto stops after
-// one round and leaves it out; `on` traces it to the cap all the same, its noise over the budget.
+// the tallies are heavy-tailed (the sun through thin parts onto a few small vertices: more paths
+// barely lower the noise), and traced, two seeds of the bake differed by 3.2 % RMS (one vertex by
+// 8x) against a reported 1.6 %. Whether a seed's pilot finds a share above the budget depends on
+// its draw of the rare bright paths; where it does, auto stops after one round, before the cap,
+// and leaves the light out (or keeps it only with its noise below its share). `on` traces it all
+// the same.
 TEST(UnscatteredLight, AutoLeavesOutALightNoLargerThanItsNoise) {
   const std::filesystem::path data = std::filesystem::path(SSS_SOURCE_DIR) / "data/cache";
   ASSERT_TRUE(std::filesystem::exists(data / "meshes/dragon_res2.ply")) << "run data/fetch.sh";
@@ -177,21 +179,30 @@ TEST(UnscatteredLight, AutoLeavesOutALightNoLargerThanItsNoise) {
   settings.environment = (data / "env/courtyard.exr").string();
   settings.run.quiet = true;
   const Cubemap env = loadBakeEnvironment(settings).radiance;
-  const std::vector<glm::vec3> scattered(dragon.positions.size(), glm::vec3(1.0f));
+  const Material marble = findMaterialPreset("marble");
+  const std::vector<glm::vec3> scattered(dragon.positions.size(), glm::vec3(0.5f));
   UnscatteredLightOptions o;
-  o.run.seed = 1;
-  const UnscatteredLight automatic =
-      traceOn(dragon, env, findMaterialPreset("marble"), o, scattered);
-  EXPECT_FALSE(automatic.traced());
-  EXPECT_TRUE(automatic.radiance.empty());
-  EXPECT_GT(automatic.report.share, o.noiseBudget);  // past the pilot
-  EXPECT_GE(automatic.report.relativeStdError, automatic.report.share);
-  EXPECT_LT(automatic.report.paths, o.maxPaths);  // stopped at the heavy tail, not at the cap
-  EXPECT_NE(automatic.report.reason.find("left out"), std::string::npos) << automatic.report.reason;
+  int leftOut = 0;
+  for (uint64_t seed = 1; seed <= 8; ++seed) {
+    o.run.seed = seed;
+    const UnscatteredLight light = traceOn(dragon, env, marble, o, scattered);
+    const UnscatteredLightReport& r = light.report;
+    if (r.paths == 0) continue;                         // the pilot found it negligible
+    EXPECT_LT(r.paths, o.maxPaths) << "seed " << seed;  // stopped before the cap
+    if (light.traced()) {
+      EXPECT_LT(r.relativeStdError, r.share) << "seed " << seed;
+    } else {
+      ++leftOut;
+      EXPECT_TRUE(light.radiance.empty());
+      EXPECT_GE(r.relativeStdError, r.share) << "seed " << seed;
+      EXPECT_NE(r.reason.find("left out"), std::string::npos) << r.reason;
+    }
+  }
+  EXPECT_GE(leftOut, 1);
   o.mode = UnscatteredMode::On;
+  o.run.seed = 1;
   o.maxPaths = 1 << 21;
-  const UnscatteredLight requested =
-      traceOn(dragon, env, findMaterialPreset("marble"), o, scattered);
+  const UnscatteredLight requested = traceOn(dragon, env, marble, o, scattered);
   ASSERT_TRUE(requested.traced());
   EXPECT_GT(requested.report.relativeStdError, o.noiseBudget);
 }

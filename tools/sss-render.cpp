@@ -150,8 +150,8 @@ RelightDevice relightDeviceFor(const Arguments& a, const BakedMesh& baked,
                                std::size_t maxVertexStorageBytes) {
   if (a.relightOn != RelightDevice::Gpu || a.request.mode != ShadingMode::Sss)
     return RelightDevice::Cpu;
-  const std::size_t bytes = relightStorageBytes(
-      baked.mesh.positions.size(), std::size_t(baked.relightOrder + 1) * (baked.relightOrder + 1));
+  const std::size_t bytes =
+      relightStorageBytes(baked.mesh.positions.size(), std::size_t(baked.relightCount()));
   if (bytes <= maxVertexStorageBytes) return RelightDevice::Gpu;
   warn(a.input + ": relit on the CPU: its transfer takes " + format("%.1f", bytes / 1048576.0) +
        " MiB, and this GL's vertex shaders read " +
@@ -442,7 +442,7 @@ RenderedImage contactSheet(const std::vector<RenderedImage>& frames) {
 // The number of SH coefficients a mesh relit on the GPU sums in the shader (0: not relit there).
 int gpuRelightCoefficients(const LoadedMesh& mesh) {
   if (!mesh.relighter || mesh.relitOn != RelightDevice::Gpu) return 0;
-  return (mesh.relighter->transfer().order + 1) * (mesh.relighter->transfer().order + 1);
+  return mesh.contents.baked.relightCount();
 }
 
 // A mesh relit on the GPU under `radiance` (each frame's): the renderer's smooth light and the

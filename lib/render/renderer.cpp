@@ -58,7 +58,7 @@ std::string programDefines(const ShadingOptions& s) {
   if (s.tonemap == Tonemap::Reinhard) d += "#define TONEMAP_REINHARD\n";
   if (s.tonemap == Tonemap::Aces) d += "#define TONEMAP_ACES\n";
   if (s.drawsUnscattered()) d += "#define UNSCATTERED\n";
-  if (s.mode == ShadingMode::Sss && s.relightCoefficients > 0)
+  if (s.relights())
     d += "#define RELIGHT_COEFFICIENTS " + std::to_string(s.relightCoefficients) + "\n";
   return d;
 }
@@ -182,6 +182,10 @@ Renderer::~Renderer() {
   delete gl_;
 }
 
+bool ShadingOptions::relights() const {
+  return mode == ShadingMode::Sss && relightCoefficients > 0;
+}
+
 bool ShadingOptions::drawsUnscattered() const {
   return mode == ShadingMode::Sss && cullBackFaces && !reflectFactor &&
          std::max({unscatteredSigmaT.x, unscatteredSigmaT.y, unscatteredSigmaT.z}) > 0.0f;
@@ -204,10 +208,15 @@ void Renderer::createBackDepthPass(const ShaderSources& shaders, const std::stri
 
 namespace {
 
-// A relit mesh's transfer and gains as the vertex shader reads them (surface.vert,
-// relitExitance): per vertex 3 (K + 1) floats, g b first.
+// The floats per vertex of a relit mesh's storage buffer: g b and `coefficients` transfer entries,
+// 3 each (surface.vert, relitExitance).
+std::size_t relightFloatsPerVertex(std::size_t coefficients) {
+  return 3 * (coefficients + 1);
+}
+
+// A relit mesh's transfer and gains as the vertex shader reads them, g b first.
 std::vector<float> relightStorage(const RenderMesh& mesh, std::size_t coefficients) {
-  const std::size_t n = mesh.positions.size(), stride = 3 * (coefficients + 1);
+  const std::size_t n = mesh.positions.size(), stride = relightFloatsPerVertex(coefficients);
   if (mesh.exitanceGain.size() != n || mesh.relightTransfer.size() != n * coefficients)
     throw Error("render mesh: a relit mesh's transfer or gains differ in length");
   std::vector<float> out(n * stride);
@@ -222,7 +231,7 @@ std::vector<float> relightStorage(const RenderMesh& mesh, std::size_t coefficien
 }  // namespace
 
 std::size_t relightStorageBytes(std::size_t vertices, std::size_t coefficients) {
-  return vertices * 3 * (coefficients + 1) * sizeof(float);
+  return vertices * relightFloatsPerVertex(coefficients) * sizeof(float);
 }
 
 void Renderer::setMesh(const RenderMesh& mesh) {
@@ -233,7 +242,7 @@ void Renderer::setMesh(const RenderMesh& mesh) {
   }
   glDeleteBuffers(1, &gl_->relightBuffer);
   gl_->relightBuffer = 0;
-  if (relights()) {
+  if (shading_.relights()) {
     const std::size_t bytes = relightStorageBytes(n, shading_.relightCoefficients);
     const std::size_t limit = currentMaxVertexStorageBytes();
     if (bytes > limit)
@@ -301,12 +310,8 @@ void Renderer::setValues(const std::vector<glm::vec3>& values) {
   checkGl("writing the mesh's new values");
 }
 
-bool Renderer::relights() const {
-  return shading_.mode == ShadingMode::Sss && shading_.relightCoefficients > 0;
-}
-
 void Renderer::setSmoothLight(const std::vector<glm::vec3>& coefficients) {
-  if (!relights() || int(coefficients.size()) < shading_.relightCoefficients)
+  if (!shading_.relights() || int(coefficients.size()) < shading_.relightCoefficients)
     throw Error("the smooth light has fewer SH coefficients than the relit mesh's transfer");
   glProgramUniform3fv(gl_->surface, glGetUniformLocation(gl_->surface, "uSmoothLight"),
                       shading_.relightCoefficients, glm::value_ptr(coefficients[0]));

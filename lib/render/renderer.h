@@ -98,6 +98,8 @@ struct ShadingOptions {
   // vertex shader (RenderMesh); 0: B as given.
   int relightCoefficients = 0;
   bool drawsUnscattered() const;
+  // A relit mesh: sss with relightCoefficients > 0.
+  bool relights() const;
 };
 
 struct FrameOptions {
@@ -159,7 +161,6 @@ class Renderer {
   FrameTimings timeFrames(int frames, int warmup = 3);
 
  private:
-  bool relights() const;
   void createBackDepthPass(const ShaderSources& shaders, const std::string& defines);
   void drawBackDepth();
   struct Gl;

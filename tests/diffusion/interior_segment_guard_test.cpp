@@ -8,6 +8,7 @@
 #include "material/material.h"
 #include "material/profile_factory.h"
 #include "mesh/primitives.h"
+#include "support/joined_meshes.h"
 
 namespace sss {
 namespace {
@@ -35,11 +36,9 @@ TEST(InteriorSegmentGuard, ChangesNothingOnAConvexSphere) {
 // Two spheres 0.4 mm apart (far less than marble's diffusion length, ~8 mm): without the guard
 // the lit sphere's light leaks into the dark one; with it the dark one stays black.
 TEST(InteriorSegmentGuard, DropsPairsAcrossAGap) {
-  TriangleMesh a = makeIcosphere(3, 5.0f), two = a;
+  const TriangleMesh a = makeIcosphere(3, 5.0f);
+  const TriangleMesh two = joinedMeshes(a, a, glm::vec3(10.4f, 0.0f, 0.0f));
   const std::size_t n = a.positions.size();
-  for (const auto& p : a.positions) two.positions.push_back(p + glm::vec3(10.4f, 0.0f, 0.0f));
-  two.normals.insert(two.normals.end(), a.normals.begin(), a.normals.end());
-  for (const auto& t : a.triangles) two.triangles.push_back(t + glm::uvec3(uint32_t(n)));
   std::vector<glm::vec3> e(2 * n, glm::vec3(0.0f));
   std::fill(e.begin(), e.begin() + n, glm::vec3(1.0f));  // only the first sphere is lit
   const std::vector<float> areas = vertexAreas(two);

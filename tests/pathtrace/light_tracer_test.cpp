@@ -16,6 +16,7 @@
 #include "pathtrace/light_tracer.h"
 #include "pathtrace/subsurface_path_tracer.h"
 #include "support/box_with_pit.h"
+#include "support/joined_meshes.h"
 #include "support/plane_parallel_slab.h"
 
 namespace sss {
@@ -303,15 +304,11 @@ TEST(LightTracer, RadianceOfAFacetedSurfaceIsPerProjectedArea) {
 // Two spheres in a line with the beam: the far one lies wholly in the near one's shadow, so all
 // its light has left the near one and entered it again. Without absorption all of it leaves.
 TEST(LightTracer, FollowsLightThatEntersTheObjectAgain) {
-  TriangleMesh pair = makeIcosphere(2, 3.0f);
-  const std::size_t n = pair.positions.size();
-  const TriangleMesh second = makeIcosphere(2, 3.0f);
-  for (glm::vec3& p : pair.positions) p.x += 4.0f;
-  for (std::size_t v = 0; v < n; ++v) {
-    pair.positions.push_back(second.positions[v] - glm::vec3(4.0f, 0.0f, 0.0f));
-    pair.normals.push_back(second.normals[v]);
-  }
-  for (const glm::uvec3& t : second.triangles) pair.triangles.push_back(t + glm::uvec3(n));
+  TriangleMesh near = makeIcosphere(2, 3.0f);
+  const std::size_t n = near.positions.size();
+  const TriangleMesh second = near;
+  for (glm::vec3& p : near.positions) p.x += 4.0f;
+  const TriangleMesh pair = joinedMeshes(near, second, glm::vec3(-4.0f, 0.0f, 0.0f));
   const HomogeneousMedium medium = makeMedium({0.5, 0.5, 0.5}, {0.0, 0.0, 0.0}, 1.3);
   LightTraceOptions lo;
   lo.paths = 40000;

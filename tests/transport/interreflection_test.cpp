@@ -23,6 +23,7 @@
 #include "optics/fresnel.h"
 #include "raytrace/triangle_scene.h"
 #include "support/box_with_pit.h"
+#include "support/joined_meshes.h"
 #include "transport/interreflection.h"
 
 namespace sss {
@@ -102,14 +103,8 @@ TEST(Interreflection, WhiteFurnaceHoldsWithTheVisibilitysRays) {
 // Two touching spheres (5,124 vertices, each sphere sees the other): the gather's light and its
 // variance are the same, bit for bit, for any thread count (each vertex sums its own hits).
 TEST(Interreflection, GatherIsTheSameForAnyThreadCount) {
-  TriangleMesh pair = makeIcosphere(4, 10.0f);
-  const std::size_t half = pair.positions.size();
-  const TriangleMesh other = makeIcosphere(4, 10.0f);
-  for (std::size_t v = 0; v < half; ++v) {
-    pair.positions.push_back(other.positions[v] + glm::vec3(20.5f, 0.0f, 0.0f));
-    pair.normals.push_back(other.normals[v]);
-  }
-  for (const glm::uvec3& t : other.triangles) pair.triangles.push_back(t + glm::uvec3(half));
+  const TriangleMesh sphere = makeIcosphere(4, 10.0f);
+  const TriangleMesh pair = joinedMeshes(sphere, sphere, glm::vec3(20.5f, 0.0f, 0.0f));
   const Cubemap sky(8, glm::vec3(1.0f));
   std::vector<glm::vec3> b(pair.positions.size());
   for (std::size_t v = 0; v < b.size(); ++v)

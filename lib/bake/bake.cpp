@@ -231,6 +231,7 @@ Interreflection bounce(const BakeScene& scene, const TransportInput& transportIn
   replicaOptions.traced = nullptr;
   replicaOptions.run.seed = options.run.seed + kReplicaSeedOffset;
   replicaOptions.vertices = pilotVertices(m.positions.size(), kPilotVertices);
+  replicaOptions.mirroredLightsOf = &gather;
   const InterreflectionGather replica(m.positions, m.normals, m.triangles, scene.radiance, eta,
                                       replicaOptions);
   Interreflection out;
@@ -273,6 +274,7 @@ InterreflectionReport estimateInterreflection(const BakeScene& scene,
   const TriangleMesh& m = scene.mesh.meshMm;
   InterreflectionOptions options = interreflectionOptions(scene, lighting);
   options.vertices = pilotVertices(m.positions.size(), kPilotVertices);
+  options.traceMirroredLights = false;
   const InterreflectionGather gather(m.positions, m.normals, m.triangles, scene.radiance,
                                      float(s.material.eta), options);
   const MissingInterreflection missing = estimateMissingInterreflection(

@@ -339,7 +339,7 @@ class RelightSession::Context {
   // The environment the next calls relight under (the gather's mirrored sky follows it).
   void lightWith(const Cubemap& environment) {
     environment_ = &environment;
-    if (gather_) gather_->setSky(environment);
+    if (gather_) gather_->setSky(environment, &rays());
   }
 
   // B of E through the stored transport (E of either sign).

@@ -15,61 +15,39 @@
 #include "core/parallel.h"
 #include "core/random.h"
 #include "core/sampling.h"
+#include "envmap/compact_lights.h"
 #include "lighting/facet_light.h"
 #include "material/diffusion_profile.h"
 #include "optics/fresnel.h"
 #include "raytrace/triangle_scene.h"
+#include "transport/surface_hit.h"
 
 namespace sss {
 
 namespace {
 
 // The sky the gather's hits mirror is looked up at this face size (texels of ~11 degrees, the
-// flux of each kept: Cubemap::resized). A mirror direction finds a small sun only by chance, and
-// brings far more than the sky when it does, so at full resolution the bounces spread a few
-// vertices' fireflies (the pit box under a sun; docs/tools/sss-bake.md, "Bounces and
-// interreflection"). The bias is a reflected sun's patch blurred by the texels' width.
+// flux of each kept: Cubemap::resized). A mirror direction finds a small bright source only by
+// chance, and brings far more than the sky when it does, so at full resolution the bounces would
+// spread a few vertices' fireflies (docs/tools/sss-bake.md, "Bounces and interreflection"). The
+// compact lights are traced from the lights (mirrored_lights.h); what the texels still hold is
+// the rest of the sky, and a source too wide or too dim to count as a compact light, whose
+// reflected patch they blur by their width.
 constexpr int kMirrorSkyFaceSize = 8;
+
+// Mixed into the seed of the compact lights' mirror images (mirrored_lights.h).
+constexpr uint64_t kMirroredLightSeed = 0x6d6972726f72ull;
+
+// The paths for the compact lights' images: their noise relative to E goes as the lights' share
+// of the flux over the square root of the paths, so perVertex at a share of 1 (a sun alone) and
+// share^2 of it elsewhere, at least one per vertex (sunrise.exr, 59 %: 6; forest.exr, 12 %: 1).
+uint64_t mirroredLightPaths(int perVertex, double fluxShare, std::size_t vertices) {
+  const double share = std::clamp(fluxShare, 0.0, 1.0);
+  return uint64_t(std::max(1.0, std::ceil(perVertex * share * share))) * vertices;
+}
 
 Cubemap mirrorSkyOf(const Cubemap& radiance) {
   return radiance.size() > kMirrorSkyFaceSize ? radiance.resized(kMirrorSkyFaceSize) : radiance;
-}
-
-// Where a ray meets the mesh, as the gather needs it: the hit triangle's vertices and barycentric
-// weights, the smooth normal there and the cosine between it and the way back along the ray.
-struct SurfaceHit {
-  bool hit = false;    // met the mesh
-  bool valid = false;  // met the front of a surface
-  glm::uvec3 vertices{0};
-  glm::vec3 barycentric{0.0f}, point{0.0f}, normal{0.0f}, faceNormal{0.0f};
-  float mu = 0.0f;  // cosine between the normal and -direction
-};
-
-SurfaceHit surfaceHitOf(const SceneHit& hit, std::span<const glm::vec3> positions,
-                        std::span<const glm::vec3> normals, std::span<const glm::uvec3> triangles,
-                        const glm::vec3& origin, const glm::vec3& direction) {
-  SurfaceHit s;
-  if (!hit.hit) return s;
-  s.hit = true;
-  s.vertices = triangles[hit.triangle];
-  s.point = origin + hit.t * direction;
-  s.barycentric = glm::vec3(barycentricWeights(s.point, positions[s.vertices.x],
-                                               positions[s.vertices.y], positions[s.vertices.z]));
-  s.normal = glm::normalize(s.barycentric.x * normals[s.vertices.x] +
-                            s.barycentric.y * normals[s.vertices.y] +
-                            s.barycentric.z * normals[s.vertices.z]);
-  s.faceNormal = hit.faceNormal;
-  // The cosine by the smooth normal, as B's exit model is; where a facet seen from its front has
-  // a smooth normal turned away (the rim of a concavity), by the facet's.
-  s.mu = -glm::dot(direction, s.normal);
-  if (!(s.mu > 0.0f)) s.mu = -glm::dot(direction, hit.faceNormal);
-  s.valid = s.mu > 0.0f;  // else the back of a surface: no light leaves towards the origin
-  return s;
-}
-
-// The mirror direction at a hit of a ray going `incoming`.
-glm::vec3 mirrorDirection(const SurfaceHit& h, const glm::vec3& incoming) {
-  return incoming + 2.0f * h.mu * h.normal;
 }
 
 // One vertex's gather rays as streams (TriangleScene::intersect): the first hits, then the
@@ -179,8 +157,20 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
   const TriangleScene& scene = givenOrBuilt(options.scene, own, positions, triangles,
                                             TriangleSceneOptions::surfaceRays(options.run.threads));
   const float exitScale = float(exitRadianceScale(eta));
-  const Cubemap mirrorSky = mirrorSkyOf(radiance);
   const DirectionalAlbedoWeight diffuse;
+  MirroredLightsSetup& mirrored = mirroredSetup_;
+  mirrored.eta = eta;
+  mirrored.entry = options.entry ? *options.entry : diffuse;
+  mirrored.pathsPerVertex =
+      options.traceMirroredLights ? std::max(options.mirroredLightPaths, 0) : 0;
+  mirrored.run = options.run;
+  if (options.keepMirrors && mirrored.pathsPerVertex > 0) {
+    mirrored.positions.assign(positions.begin(), positions.end());
+    mirrored.normals.assign(normals.begin(), normals.end());
+    mirrored.triangles.assign(triangles.begin(), triangles.end());
+  }
+  const Cubemap mirrorSky =
+      mirrorSkyFor(radiance, &scene, options.mirroredLightsOf, positions, normals, triangles);
   const uint32_t visibilitySet = uint32_t(options.visibilityCosineRays);
   const uint32_t total = std::max(uint32_t(options.rays), visibilitySet);
   const uint32_t ownSet = total - visibilitySet;
@@ -307,10 +297,46 @@ void InterreflectionGather::layOutPerVertex(std::span<const uint32_t> vertices, 
   }
 }
 
-void InterreflectionGather::setSky(const Cubemap& radiance) {
+Cubemap InterreflectionGather::mirrorSkyFor(const Cubemap& radiance, const TriangleScene* scene,
+                                            const InterreflectionGather* same,
+                                            std::span<const glm::vec3> positions,
+                                            std::span<const glm::vec3> normals,
+                                            std::span<const glm::uvec3> triangles) {
+  mirroredLights_ = {};
+  const MirroredLightsSetup& m = mirroredSetup_;
+  if (m.pathsPerVertex == 0) return mirrorSkyOf(radiance);
+  const CompactLightSplit split = splitCompactLights(radiance);
+  if (split.lights.empty()) return mirrorSkyOf(radiance);
+  if (same) {
+    if (same->mirroredLights_.irradiance.size() != positions.size())
+      fail("", "interreflection: the gather to take the lights' images from traced none");
+    mirroredLights_ = same->mirroredLights_;
+    return mirrorSkyOf(split.rest);
+  }
+  std::optional<TriangleScene> own;
+  const TriangleScene& rays = givenOrBuilt(scene, own, positions, triangles,
+                                           TriangleSceneOptions::surfaceRays(m.run.threads));
+  RunContext run = m.run;
+  run.seed ^= kMirroredLightSeed;  // streams of their own, not the gather rays' per vertex
+  mirroredLights_ = traceMirroredLights(
+      {.positions = positions,
+       .normals = normals,
+       .triangles = triangles,
+       .scene = rays,
+       .lights = split.lights,
+       .eta = m.eta,
+       .entry = m.entry,
+       .paths = mirroredLightPaths(m.pathsPerVertex, split.fluxShare, positions.size()),
+       .run = run});
+  return mirrorSkyOf(split.rest);
+}
+
+void InterreflectionGather::setSky(const Cubemap& radiance, const TriangleScene* scene) {
   if (mirrors_.size() != hits_.size())
     fail("", "interreflection: setSky needs a gather that kept its mirrors");
-  const Cubemap mirrorSky = mirrorSkyOf(radiance);
+  const MirroredLightsSetup& m = mirroredSetup_;
+  const Cubemap mirrorSky =
+      mirrorSkyFor(radiance, scene, nullptr, m.positions, m.normals, m.triangles);
   for (std::size_t k = 0; k < hits_.size(); ++k) {
     const Mirror& m = mirrors_[k];
     hits_[k].reflection =
@@ -343,12 +369,17 @@ std::vector<glm::vec3> InterreflectionGather::gather(std::span<const glm::vec3> 
         ray += glm::dvec3(light);
       }
       squares += ray * ray;
+      // The compact lights' mirror images, traced from the lights: no ray of this vertex's.
+      const glm::vec3 images = mirrored && !mirroredLights_.irradiance.empty()
+                                   ? mirroredLights_.irradiance[v]
+                                   : glm::vec3(0.0f);
       if (variance && rays_ > 1) {
         // Var(sum of N rays) = N var(one ray) = N (sum x^2 - (sum x)^2 / N) / (N - 1).
         const double count = double(rays_);
         const glm::dvec3 sum(e[v]);
         (*variance)[v] = glm::vec3(count * (squares - sum * sum / count) / (count - 1.0));
       }
+      e[v] += images;
     }
   });
   return e;
@@ -472,9 +503,12 @@ double predictGatherNoise(const InterreflectionGather& gather, const Interreflec
   if (!(squaredB > 0.0) || vertices.empty()) return 0.0;
   const std::vector<glm::vec3> a = gather.gather(exitance), b = replica.gather(exitance);
   double noise = 0.0;  // sum over the replica's vertices of k^2 Var(E_ir)
+  const std::span<const glm::vec3> images = gather.mirroredLightVariance();
   for (const uint32_t v : vertices) {
     const glm::dvec3 d = k * (glm::dvec3(a[v]) - glm::dvec3(b[v]));
     noise += 0.5 * glm::dot(d, d);
+    // The compact lights' images, which the replica shares: their paths' own variance.
+    if (!images.empty()) noise += glm::dot(k * k, glm::dvec3(images[v]));
   }
   noise *= double(exitance.size()) / double(vertices.size());
   return std::sqrt(noise / std::max(effectiveVertices, 1.0) / squaredB);

@@ -10,9 +10,10 @@
 //   L_hit = B F_t(mu_h, eta) / (pi (1 - 2 C_1(eta))) + F_r(mu_h) L_env(r),
 // B interpolated over the hit triangle's vertices through the normalized exit model
 // (optics/fresnel.h), mu_h the cosine between the way back and the hit's interpolated normal, r
-// the mirror direction at the hit, L_env the environment box-filtered to texels of ~11 degrees (a
-// sun the mirror direction finds by chance is spread over a wider cone: interreflection.cpp). The
-// vertex's transmitted irradiance gains
+// the mirror direction at the hit, L_env the environment without its compact lights, box-filtered
+// to texels of ~11 degrees (interreflection.cpp). The compact lights (a sun, lamps), which a
+// mirror direction would find only by chance, are traced from the lights instead
+// (mirrored_lights.h) and added per vertex. The vertex's transmitted irradiance gains
 //   E_ir = integral over blocked w of factor(w) L_hit(w) dw  ~  1 / N sum_k factor / pdf L_hit,k,
 // factor = sum_f share_f F_t(mu_f) mu_f, N rays from the facets' cosine lobes (unblocked ones add
 // nothing: the visibility stage has them). The hits are traced once; each bounce is a gather over
@@ -35,11 +36,13 @@
 #include "envmap/cubemap.h"
 #include "lighting/cosine_hits.h"
 #include "material/directional_albedo_weight.h"
+#include "transport/mirrored_lights.h"
 
 namespace sss {
 
 class DiffusionProfile;  // material/diffusion_profile.h
-class TriangleScene;     // raytrace/triangle_scene.h
+class InterreflectionGather;
+class TriangleScene;  // raytrace/triangle_scene.h
 
 struct InterreflectionOptions {
   int rays = 64;  // cosine-distributed rays per vertex (>= 1)
@@ -69,6 +72,17 @@ struct InterreflectionOptions {
   // Empty: every ray. Not kept.
   std::span<const uint16_t> frontHits{};
   bool keepFrontHits = false;  // record them (frontHits())
+  // The environment's compact lights (envmap/compact_lights.h) in the mirrored sky traced from
+  // the lights (mirrored_lights.h; this many paths per mesh vertex for lights that hold all of the
+  // environment's flux, times the square of their share, at least one) and left out of the sky
+  // the hits look up; false (a pilot: its thousand vertices would pay for the whole surface's
+  // paths), looked up with the rest of the sky.
+  bool traceMirroredLights = true;
+  int mirroredLightPaths = kMirroredLightPathsPerVertex;
+  // Take that gather's images of the compact lights (built under the same sky) instead of tracing
+  // them: a replica of the rays (predictGatherNoise), whose difference is then the rays' noise
+  // alone. Not kept.
+  const InterreflectionGather* mirroredLightsOf = nullptr;
   // The mesh's ray scene (TriangleSceneOptions::surfaceRays over the gather's positions and
   // triangles) where the caller has one; null: built by the gather. Not owned.
   const TriangleScene* scene = nullptr;
@@ -100,13 +114,17 @@ class InterreflectionGather {
   double blockedFraction() const { return blockedFraction_; }
   int rays() const { return rays_; }  // per vertex, the visibility's set included
   int visibilityCosineRays() const { return visibilityCosineRays_; }
+  // The compact lights' mirror images' variance per vertex (their paths' noise), empty where none
+  // were traced.
+  std::span<const glm::vec3> mirroredLightVariance() const { return mirroredLights_.variance; }
   // With InterreflectionOptions::keepFrontHits: per vertex frontHitWords(rays()) words, bit j
   // (bit j % 16 of word j / 16) set where its ray j (the visibility's cosine set first) met the
   // front of a surface. Empty otherwise.
   std::span<const uint16_t> frontHits() const { return frontHits_; }
   // The mirrored sky of `radiance` instead of the one built with: the same values as a gather
-  // built under `radiance`. Needs InterreflectionOptions::keepMirrors.
-  void setSky(const Cubemap& radiance);
+  // built under `radiance`. Needs InterreflectionOptions::keepMirrors. `scene`: the mesh's ray
+  // scene for the compact lights' mirror images, where the caller has one (else built).
+  void setSky(const Cubemap& radiance, const TriangleScene* scene = nullptr);
 
  private:
   struct Hit {
@@ -134,6 +152,24 @@ class InterreflectionGather {
   std::vector<Mirror> mirrors_;  // per hit, with keepMirrors
   std::vector<uint16_t> frontHits_;
   double blockedFraction_ = 0.0;
+  // The compact lights' mirror images per vertex (empty: none traced), and, with keepMirrors,
+  // what setSky needs to trace them again.
+  MirroredLights mirroredLights_;
+  struct MirroredLightsSetup {
+    std::vector<glm::vec3> positions, normals;
+    std::vector<glm::uvec3> triangles;
+    float eta = 1.3f;
+    DirectionalAlbedoWeight entry;
+    int pathsPerVertex = 0;  // InterreflectionOptions::mirroredLightPaths; 0: none traced
+    RunContext run;
+  };
+  MirroredLightsSetup mirroredSetup_;
+  // The sky the hits look up, and mirroredLights_ traced, for `radiance`.
+  // `scene`: of the positions and triangles, or null (built if there are lights to trace);
+  // `same`: a gather whose images to take instead (InterreflectionOptions::mirroredLightsOf).
+  Cubemap mirrorSkyFor(const Cubemap& radiance, const TriangleScene* scene,
+                       const InterreflectionGather* same, std::span<const glm::vec3> positions,
+                       std::span<const glm::vec3> normals, std::span<const glm::uvec3> triangles);
 };
 
 struct BounceResult {

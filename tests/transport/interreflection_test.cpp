@@ -13,6 +13,7 @@
 
 #include "core/error.h"
 #include "core/relative_rms.h"
+#include "envmap/compact_lights.h"
 #include "envmap/cubemap.h"
 #include "lighting/visibility.h"
 #include "material/diffusion_profile.h"
@@ -24,6 +25,7 @@
 #include "raytrace/triangle_scene.h"
 #include "support/box_with_pit.h"
 #include "support/joined_meshes.h"
+#include "support/small_sun.h"
 #include "transport/interreflection.h"
 
 namespace sss {
@@ -390,6 +392,76 @@ TEST(Interreflection, SummingTheIncrementsEqualsIteratingTheWholeTransport) {
 // A relight session (bake/relight.h) traces the gather's rays once and swaps the sky they mirror
 // per environment: the gather must then be what one built under that sky is, bit for bit, and
 // differ from the first sky's (the mirrored sky counts in the pit).
+// A floor and a wall meeting at a right angle (40 mm squares, 1 mm cells), open, under a sun at
+// 45 degrees in the plane across the corner: the sun mirrored by the floor lights the wall with
+// E F_r(cos 45) cos 45, and the wall's image the floor; transmitted, times F_t(cos 45).
+TriangleMesh floorAndWall() {
+  TriangleMesh floor = makeGridPlane(40, 40.0f);
+  TriangleMesh wall = floor;
+  for (glm::vec3& p : wall.positions) p = glm::vec3(0.0f, p.y, p.x + 20.0f);
+  for (glm::vec3& n : wall.normals) n = glm::vec3(1.0f, 0.0f, 0.0f);
+  for (glm::uvec3& t : wall.triangles) std::swap(t.y, t.z);  // facing +x
+  return joinedMeshes(std::move(floor), wall, glm::vec3(0.0f));
+}
+
+TEST(Interreflection, TracedMirrorImageOfASunMatchesTheCornersClosedForm) {
+  TriangleMesh mesh = floorAndWall();
+  for (std::size_t v = 0; v < mesh.positions.size() / 2; ++v) mesh.positions[v].x += 20.0f;
+  const glm::vec3 sun = glm::normalize(glm::vec3(1.0f, 0.0f, 1.0f));
+  const Cubemap sky = smallSun(sun);
+  const CompactLightSplit split = splitCompactLights(sky);
+  ASSERT_EQ(split.lights.size(), 1u);
+  const float eta = 1.3f, mu = float(M_SQRT1_2);
+  const double expected = split.lights[0].irradiance.g * fresnelDielectric(mu, eta) * mu *
+                          fresnelTransmittance(mu, eta);
+  // The vertices away from the edges, where the sun's images are uniform.
+  std::vector<uint32_t> wall, floor;
+  const std::size_t half = mesh.positions.size() / 2;
+  for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+    const glm::vec3 p = mesh.positions[v];
+    const float along = v < half ? p.x : p.z;
+    if (along > 8.0f && along < 32.0f && std::abs(p.y) < 12.0f)
+      (v < half ? floor : wall).push_back(uint32_t(v));
+  }
+  InterreflectionOptions options;
+  options.rays = 1;
+  options.mirroredLightPaths = 256;
+  const InterreflectionGather traced(mesh.positions, mesh.normals, mesh.triangles, sky, eta,
+                                     options);
+  const std::vector<glm::vec3> dark(mesh.positions.size(), glm::vec3(0.0f));
+  const std::vector<glm::vec3> images = traced.gather(dark);
+  InterreflectionOptions oneThread = options;
+  oneThread.run.threads = 1;
+  EXPECT_EQ(InterreflectionGather(mesh.positions, mesh.normals, mesh.triangles, sky, eta, oneThread)
+                .gather(dark),
+            images);  // the paths' deposits in path order, whatever the thread count
+  for (const auto* side : {&wall, &floor}) {
+    double sum = 0.0, squares = 0.0;
+    for (const uint32_t v : *side) {
+      const double e = images[v].g / expected;
+      sum += e;
+      squares += (e - 1.0) * (e - 1.0);
+    }
+    const double n = double(side->size());
+    EXPECT_NEAR(sum / n, 1.0, 0.02);
+    EXPECT_LT(std::sqrt(squares / n), 0.15);  // per vertex: the paths' noise
+  }
+  // The gather's own mirrored sky finds the same light, by chance and blurred: many rays at a few
+  // wall vertices. Its 11-degree texels hold the sun's flux, which the lookup's interpolation
+  // does not keep where the sun is on a face's edge, as here: 6.6 % high with 8,192 or 65,536 rays.
+  InterreflectionOptions looked = options;
+  looked.traceMirroredLights = false;
+  looked.rays = 8192;
+  for (std::size_t k = 0; k < wall.size(); k += wall.size() / 16)
+    looked.vertices.push_back(wall[k]);
+  const InterreflectionGather lookedUp(mesh.positions, mesh.normals, mesh.triangles, sky, eta,
+                                       looked);
+  const std::vector<glm::vec3> blurred = lookedUp.gather(dark);
+  double sum = 0.0;
+  for (const uint32_t v : looked.vertices) sum += blurred[v].g / expected;
+  EXPECT_NEAR(sum / double(looked.vertices.size()), 1.0, 0.1);
+}
+
 TEST(Interreflection, SwappedSkyGathersAsAGatherBuiltUnderIt) {
   const PitUnderSky scene;
   const auto& [mesh, sky, eta, direct] = scene;

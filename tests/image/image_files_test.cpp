@@ -136,13 +136,17 @@ TEST_F(ImageFiles, OurFormatsNeverLoadOpenImageIo) {
         writeImage(path("a.hdr"), gradient(9, 4));
         writeImage(path("a.png"), gradient(9, 4));
         for (const char* name : {"a.exr", "a.hdr", "a.png"}) readImage(path(name));
-        std::exit(oiioLoaded() ? 1 : 0);
+        const bool loaded = oiioLoaded();
+        scratch_.remove();
+        std::exit(loaded ? 1 : 0);
       },
       ::testing::ExitedWithCode(0), "");
   EXPECT_EXIT(
       {
         writeImage(path("a.tif"), gradient(9, 4));
-        std::exit(oiioLoaded() && readImage(path("a.tif")).width == 9 ? 0 : 1);
+        const bool read = oiioLoaded() && readImage(path("a.tif")).width == 9;
+        scratch_.remove();
+        std::exit(read ? 0 : 1);
       },
       ::testing::ExitedWithCode(0), "");
 }

@@ -49,7 +49,10 @@ class ScratchDir {
     std::filesystem::remove_all(dir_);
     std::filesystem::create_directories(dir_);
   }
-  ~ScratchDir() {
+  ~ScratchDir() { remove(); }
+  // The directory and all in it, now: for a death test's child, whose std::exit skips the
+  // destructor.
+  void remove() const {
     std::error_code ignored;
     std::filesystem::remove_all(dir_, ignored);
   }

@@ -105,7 +105,8 @@ void writeRelit(const std::string& input, const std::string& output, const std::
                       {"smooth_s", relit.seconds.smooth},
                       {"compact_transport_s", relit.seconds.compactTransport},
                       {"gather_s", relit.seconds.gather},
-                      {"bounces_s", relit.seconds.bounces}};
+                      {"bounces_s", relit.seconds.bounces},
+                      {"unscattered_s", relit.seconds.unscattered}};
   if (!jsonPath.empty()) sss::writeFileAtomically(jsonPath, report.dump(2) + "\n");
   sss::info("wrote " + output + " (" + std::to_string(baked.mesh.vertexCount()) + " vertices) in " +
                 sss::format("%.3f s", seconds + clock.seconds()),

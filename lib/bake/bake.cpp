@@ -517,7 +517,8 @@ BakeErrorReport errorReport(const BakeReport& r, const ModelErrorReport& model, 
 RelightTransfer relightStage(const BakeScene& scene, const TransportInput& transportIn,
                              const VertexLighting& lighting, const VertexExitance& direct,
                              const Interreflection& bounced, const BakedLight& light,
-                             std::span<const glm::vec3> radianceNormal) {
+                             std::span<const glm::vec3> scatteredRadiance,
+                             std::span<const glm::vec3> radianceNormal, bool unscatteredTraced) {
   const InterreflectionReport& bounces = bounced.report;
   const BakeSettings& s = scene.settings;
   if (s.relightOrder < 0 || !scene.diffusion()) return {};
@@ -536,13 +537,14 @@ RelightTransfer relightStage(const BakeScene& scene, const TransportInput& trans
                        .gatherFrontHits = bounced.gather ? bounced.gather->frontHits()
                                                          : std::span<const uint16_t>(),
                        .exitance = light.exitance,
-                       .radianceNormal = radianceNormal,
+                       .radianceNormal = scatteredRadiance,
+                       .unscattered = unscatteredTraced,
                        .run = s.run,
                        .scene = scene.rays});
   const Stopwatch clock;
   OwnEnvironmentRelight ownRelight = relightOwnEnvironment(
       s.meshPath, {scene.mesh.meshMm, s.material, t}, scene.radiance,
-      lighting.transportIrradiance(), radianceNormal, s.run, bounced.gather, scene.rays);
+      lighting.transportIrradiance(), scatteredRadiance, s.run, bounced.gather, scene.rays);
   t.radianceGain = std::move(ownRelight.radianceGain);
   const RelitLight& own = ownRelight.relit;
   t.report.selfError = relativeRms(own.radianceNormal, radianceNormal);
@@ -708,8 +710,8 @@ BakeOutput bakePrepared(const BakeSettings& s, PreparedMesh mesh, const BakeEnvi
                             : radianceOf(bounced.added, exitLobe.slope, s.material.eta);
   const ModelErrorReport model =
       modelErrorStage(scene, radianceNormal, normal.vertexModel, interreflected, far);
-  RelightTransfer relight =
-      relightStage(scene, transportIn, lighting, direct, bounced, light, radianceNormal);
+  RelightTransfer relight = relightStage(scene, transportIn, lighting, direct, bounced, light,
+                                         normal.all, radianceNormal, unscattered.traced());
 
   BakeOutput out;
   BakeReport& report = out.report;

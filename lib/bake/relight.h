@@ -7,7 +7,8 @@
 // bake's own transport at relight time. Per vertex and channel:
 //
 //   B_direct = sum_k T_k L_k + transport(E_compact),
-//   B = B_direct and the bake's bounces on it (interreflection.h),   L_n = g B,   B_out = b L_n,
+//   B = B_direct and the bake's bounces on it (interreflection.h),
+//   L_n = g B + L_u(compact lights),   B_out = b g B,
 //
 // T_k (k = l (l + 1) + m, l <= order) the exitance B of SH basis function k through the bake's
 // linear transport (to the precision the files store: mesh/quantized_transfer.h), L_k the SH
@@ -19,12 +20,15 @@
 //   2. each through the bake's transport (the diffusion sum of Li & Guo Eq. 7 with the energy
 //      model; transport.h, linearTransportInput), split into its positive and negative parts, as
 //      the sums take light >= 0.
-// g carries the exit model and what the traced far field and the unscattered light change, in the
-// proportion the bake's own environment gave them: the bake's radiance along the normal over its
+// g carries the exit model and what the traced far field changes, in the proportion the bake's
+// own environment gave them: the bake's radiance along the normal of its scattered light over its
 // own light through the same transport and bounces (relightOwnEnvironment). That is the
-// approximation that docs/relighting.md measures. The transport is stored as a key (method,
-// tolerance, profile, energy model, half-space albedo, entry, bounces, gather rays) and the escape
-// probability per vertex, so that sss-relight rebuilds it.
+// approximation that docs/relighting.md measures. The light that crosses without scattering
+// leaves collimated, along the light's own direction, so no ratio carries it to another light:
+// where the bake traced it, a relight traces it again for the compact lights
+// (transport/unscattered_light.h, the same auto) and adds it to L_n. The transport is stored as a
+// key (method, tolerance, profile, energy model, half-space albedo, entry, bounces, gather rays)
+// and the escape probability per vertex, so that sss-relight rebuilds it.
 #pragma once
 
 #include <memory>
@@ -66,8 +70,13 @@ struct RelightInput {
   // Which of the gather's rays met the front of a surface (InterreflectionGather::frontHits),
   // stored so that a relight traces those only; empty: none stored (a relight traces them all).
   std::span<const uint16_t> gatherFrontHits{};
-  std::span<const glm::vec3> exitance;        // the bake's B (with its bounces)
-  std::span<const glm::vec3> radianceNormal;  // its radiance along the normal
+  std::span<const glm::vec3> exitance;  // the bake's B (with its bounces)
+  // Its radiance along the normal, of the scattered light (without the unscattered light, which a
+  // relight traces again: RelightTransfer::unscattered).
+  std::span<const glm::vec3> radianceNormal;
+  // The bake traced the light that crosses without scattering (unscattered_light.h): the key
+  // says so, and a relight traces it for the compact lights.
+  bool unscattered = false;
   RunContext run{};
   const TriangleScene* scene = nullptr;  // the bake's ray scene of the mesh, else null: built
 };
@@ -106,10 +115,11 @@ struct RelightableMesh {
 
 // Where one relight's time went, in seconds: finding the compact lights, the smooth rest through
 // the transfer (its SH projection included), the compact lights' shadows and transport, the
-// bounces' gather rays (traced by a session's first relight; their sky swapped after) and the
-// bounces' transports.
+// bounces' gather rays (traced by a session's first relight; their sky swapped after), the
+// bounces' transports and the compact lights' unscattered light.
 struct RelightSeconds {
-  double compactLights = 0.0, smooth = 0.0, compactTransport = 0.0, gather = 0.0, bounces = 0.0;
+  double compactLights = 0.0, smooth = 0.0, compactTransport = 0.0, gather = 0.0, bounces = 0.0,
+         unscattered = 0.0;
 };
 
 struct RelitLight {

@@ -260,6 +260,49 @@ TEST_F(Relight, ATurnedEnvironmentMatchesAFreshBakeUnderIt) {
   }
 }
 
+// A 10 mm ketchup sphere under a sun lets part of the sun through unscattered onto its far side
+// (unscattered_light.h). That light leaves along the sun's direction, which a ratio per vertex
+// cannot turn with the light: the relight traces it again for the turned sun.
+TEST(RelightUnscattered, TheLightThatCrossesFollowsATurnedSun) {
+  const test::ScratchDir dir;
+  const std::string mesh = dir.path("sphere.ply");
+  {
+    const TriangleMesh m = makeIcosphere(3, 5.0f);
+    std::ofstream out(mesh);
+    out << "ply\nformat ascii 1.0\nelement vertex " << m.positions.size()
+        << "\nproperty float x\nproperty float y\nproperty float z\nelement face "
+        << m.triangles.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
+    for (const glm::vec3& p : m.positions) out << p.x << ' ' << p.y << ' ' << p.z << '\n';
+    for (const glm::uvec3& t : m.triangles) out << "3 " << t.x << ' ' << t.y << ' ' << t.z << '\n';
+  }
+  const auto settings = [&](double rotateDeg, UnscatteredMode unscattered) {
+    BakeSettings s = settingsFor(mesh, "sky:elevation=10,azimuth=0,turbidity=3", rotateDeg);
+    s.material = findMaterialPreset("ketchup");
+    s.unscattered = unscattered;
+    s.tolerance = 0.05;  // the unscattered light's paths to a budget of 1.5 %: quick
+    return s;
+  };
+  BakeSettings s = settings(0.0, UnscatteredMode::On);
+  s.relightOrder = 3;
+  const BakeOutput relightable = bake(s);
+  ASSERT_NE(relightable.baked.relightTransport.find(",unscattered"), std::string::npos);
+  const Material ketchup = findMaterialPreset("ketchup");
+  const RelightTransfer transfer = relightTransferOf(relightable.baked);
+  const RelightableMesh relightableMesh{relightable.baked.mesh, ketchup, transfer};
+  const BakeSettings turned = settings(150.0, UnscatteredMode::On);
+  const BakeOutput fresh = bake(turned);
+  const RelitLight r = relight("sphere.ply", relightableMesh, loadBakeEnvironment(turned).radiance,
+                               {.seed = 3, .threads = 2, .quiet = true});
+  const double error = relativeRms(r.radianceNormal, fresh.baked.radianceNormal);
+  // The unscattered light matters here: without it the fresh bake is much darker in places.
+  const BakeOutput without = bake(settings(150.0, UnscatteredMode::Off));
+  const double unscattered = relativeRms(without.baked.radianceNormal, fresh.baked.radianceNormal);
+  EXPECT_GT(unscattered, 0.05);
+  EXPECT_LT(error, 0.3 * unscattered);
+  // B holds the scattered light alone, as a fresh bake's does.
+  EXPECT_LT(relativeRms(r.exitance, fresh.baked.exitance), 0.5 * error + 0.01);
+}
+
 // A gradient lies in bands 0 and 1 (no truncation, no compact light), and its band-1 light takes
 // both signs over the object: relit, it is what a fresh bake under the same map gives, to within
 // the transfer's rays and the sums' tolerance.

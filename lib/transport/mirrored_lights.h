@@ -4,10 +4,10 @@
 //
 // Why: the gather looks up the sky in the mirror direction at each of its hits, so a 1-degree sun
 // is found only by the few mirror directions that happen to fall on it (through the sky's ~11
-// degree texels): under a sun alone that noise is 2.7 % of B on the marble bunny, 1.6 % under
-// sunrise.exr, where the light itself moves B by 0.8 % (docs/physics.md, "Light the object sends
-// itself"). Traced from the light, every path carries it, as light tracing resolves caustics
-// (Veach 1997, ch. 10; pbrt-v4's light paths).
+// degree texels): looked up so, that noise is 2.5 % of B on the marble bunny under a sky's
+// sun, 1.63 % under sunrise.exr (tests/bench/results/bake/mirrored_lights_ab.csv;
+// docs/tools/sss-bake.md, "Bounces and interreflection"). Traced from the light, every path carries
+// it, as light tracing resolves caustics (Veach 1997, ch. 10).
 //
 // Model, per path: a direction within the light's cone (DirectionalLight: its irradiance at
 // normal incidence and solid angle), a start uniform on a disc of the object's bounding sphere
@@ -38,10 +38,9 @@ namespace sss {
 class TriangleScene;  // raytrace/triangle_scene.h
 
 // Paths per mesh vertex for lights that hold all of the environment's flux (a sun alone; the
-// gather scales them by the square of the lights' share, interreflection.h). On the marble bunny
-// under sunrise.exr 8 per vertex left the gather's noise at 0.69 % of B, against 1.63 % with the
-// sun looked up in the gather's sky and 0.61 % without its image at all (docs/physics.md, "Light
-// the object sends itself").
+// gather scales them by the square of the lights' share, interreflection.h): the marble bunny's
+// gather noise under a sky's sun 0.70 %, and under sunrise.exr (6 per vertex) 0.70 % against
+// 1.63 % looked up in the sky (mirrored_lights_ab.csv).
 inline constexpr int kMirroredLightPathsPerVertex = 16;
 
 struct MirroredLightsInput {

@@ -158,17 +158,7 @@ InterreflectionGather::InterreflectionGather(std::span<const glm::vec3> position
                                             TriangleSceneOptions::surfaceRays(options.run.threads));
   const float exitScale = float(exitRadianceScale(eta));
   const DirectionalAlbedoWeight diffuse;
-  MirroredLightsSetup& mirrored = mirroredSetup_;
-  mirrored.eta = eta;
-  mirrored.entry = options.entry ? *options.entry : diffuse;
-  mirrored.pathsPerVertex =
-      options.traceMirroredLights ? std::max(options.mirroredLightPaths, 0) : 0;
-  mirrored.run = options.run;
-  if (options.keepMirrors && mirrored.pathsPerVertex > 0) {
-    mirrored.positions.assign(positions.begin(), positions.end());
-    mirrored.normals.assign(normals.begin(), normals.end());
-    mirrored.triangles.assign(triangles.begin(), triangles.end());
-  }
+  mirroredSetup_ = mirroredLightsSetup(options, eta, positions, normals, triangles);
   const Cubemap mirrorSky =
       mirrorSkyFor(radiance, &scene, options.mirroredLightsOf, positions, normals, triangles);
   const uint32_t visibilitySet = uint32_t(options.visibilityCosineRays);
@@ -295,6 +285,22 @@ void InterreflectionGather::layOutPerVertex(std::span<const uint32_t> vertices, 
     std::vector<Hit>().swap(chunkHits[c]);  // freed as it is laid out
     if (!chunkMirrors.empty()) std::vector<Mirror>().swap(chunkMirrors[c]);
   }
+}
+
+InterreflectionGather::MirroredLightsSetup InterreflectionGather::mirroredLightsSetup(
+    const InterreflectionOptions& options, float eta, std::span<const glm::vec3> positions,
+    std::span<const glm::vec3> normals, std::span<const glm::uvec3> triangles) {
+  MirroredLightsSetup m;
+  m.eta = eta;
+  if (options.entry) m.entry = *options.entry;
+  m.pathsPerVertex = options.traceMirroredLights ? std::max(options.mirroredLightPaths, 0) : 0;
+  m.run = options.run;
+  if (options.keepMirrors && m.pathsPerVertex > 0) {  // for setSky
+    m.positions.assign(positions.begin(), positions.end());
+    m.normals.assign(normals.begin(), normals.end());
+    m.triangles.assign(triangles.begin(), triangles.end());
+  }
+  return m;
 }
 
 Cubemap InterreflectionGather::mirrorSkyFor(const Cubemap& radiance, const TriangleScene* scene,

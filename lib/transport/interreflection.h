@@ -164,6 +164,10 @@ class InterreflectionGather {
     RunContext run;
   };
   MirroredLightsSetup mirroredSetup_;
+  static MirroredLightsSetup mirroredLightsSetup(const InterreflectionOptions& options, float eta,
+                                                 std::span<const glm::vec3> positions,
+                                                 std::span<const glm::vec3> normals,
+                                                 std::span<const glm::uvec3> triangles);
   // The sky the hits look up, and mirroredLights_ traced, for `radiance`.
   // `scene`: of the positions and triangles, or null (built if there are lights to trace);
   // `same`: a gather whose images to take instead (InterreflectionOptions::mirroredLightsOf).

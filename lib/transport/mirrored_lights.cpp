@@ -120,20 +120,22 @@ MirroredLights traceMirroredLights(const MirroredLightsInput& in) {
   if (in.lights.empty() || in.paths == 0 || n == 0 || in.triangles.empty()) return out;
   const PathSetup setup = pathSetup(in);
   // Each chunk's deposits in path order, added chunk after chunk: the same sum for any thread
-  // count.
-  constexpr std::size_t kGrain = 4096;
-  std::vector<std::vector<Deposit>> chunkDeposits((in.paths + kGrain - 1) / kGrain);
-  parallelFor(std::size_t(in.paths), in.run.threads, kGrain,
-              [&](std::size_t begin, std::size_t end) {
-                std::vector<Deposit>& deposits = chunkDeposits[begin / kGrain];
-                for (std::size_t i = begin; i < end; ++i) tracePath(setup, i, deposits);
-              });
-  for (std::vector<Deposit>& deposits : chunkDeposits) {
-    for (const Deposit& d : deposits) {
-      out.irradiance[d.vertex] += d.irradiance;
-      out.variance[d.vertex] += d.irradiance * d.irradiance;
+  // count. A block of paths at a time, so that the deposits held stay bounded on a large mesh.
+  constexpr std::size_t kGrain = 4096, kBlock = std::size_t(1) << 22;
+  std::vector<std::vector<Deposit>> chunkDeposits(kBlock / kGrain);
+  for (uint64_t first = 0; first < in.paths; first += kBlock) {
+    const std::size_t count = std::size_t(std::min<uint64_t>(kBlock, in.paths - first));
+    parallelFor(count, in.run.threads, kGrain, [&](std::size_t begin, std::size_t end) {
+      std::vector<Deposit>& deposits = chunkDeposits[begin / kGrain];
+      for (std::size_t i = begin; i < end; ++i) tracePath(setup, first + i, deposits);
+    });
+    for (std::vector<Deposit>& deposits : chunkDeposits) {
+      for (const Deposit& d : deposits) {
+        out.irradiance[d.vertex] += d.irradiance;
+        out.variance[d.vertex] += d.irradiance * d.irradiance;
+      }
+      deposits.clear();
     }
-    std::vector<Deposit>().swap(deposits);
   }
   const float perPath = 1.0f / float(in.paths);
   for (std::size_t v = 0; v < n; ++v)

@@ -53,6 +53,7 @@ struct Relit {
   sss::BakedMesh baked;
   int order = -1, compactLights = 0;
   sss::RelightSeconds seconds;
+  sss::UnscatteredLightReport unscattered;  // the compact lights'
 };
 
 Relit relitMesh(const sss::BakedMesh& relightable, sss::BakedMeshRelighter& relighter,
@@ -82,7 +83,8 @@ Relit relitMesh(const sss::BakedMesh& relightable, sss::BakedMeshRelighter& reli
       " convention=" + std::string(sss::kEquirectConventionNames.name(o.orientation.convention)) +
       " rotate_deg=" + sss::format("%g", o.orientation.rotateDeg) +
       " compact_lights=" + std::to_string(relit.compactLights));
-  return {std::move(baked), order, relit.compactLights, relit.seconds};
+  return {std::move(baked), order, relit.compactLights, relit.seconds,
+          std::move(relit.unscattered)};
 }
 
 // The relit bake into `output`, its report into `jsonPath` (unless "").
@@ -97,6 +99,10 @@ void writeRelit(const std::string& input, const std::string& output, const std::
                            {"rotate_deg", o.orientation.rotateDeg},
                            {"sh_order", relit.order},
                            {"compact_lights", relit.compactLights},
+                           {"unscattered",
+                            {{"traced", relit.unscattered.traced},
+                             {"reason", relit.unscattered.reason},
+                             {"paths", relit.unscattered.paths}}},
                            {"vertices", baked.mesh.vertexCount()}};
   sss::writeBakedMesh(output, baked, report.dump());
   report["seconds"] = seconds + clock.seconds();

@@ -386,10 +386,15 @@ class RelightSession::Context {
   // The compact lights' light that crosses without scattering, along each vertex normal, where
   // the bake traced it (the key's last field; else empty), as the bake's auto decides it
   // against `scatteredRadiance`; its time into `seconds`.
-  std::vector<glm::vec3> unscattered(const CompactLightSplit& split,
-                                     std::span<const glm::vec3> scatteredRadiance,
-                                     RelightSeconds& seconds) {
-    if (!stored_.unscattered || split.lights.empty()) return {};
+  UnscatteredLight unscattered(const CompactLightSplit& split,
+                               std::span<const glm::vec3> scatteredRadiance,
+                               RelightSeconds& seconds) {
+    if (!stored_.unscattered || split.lights.empty()) {
+      UnscatteredLight none;
+      none.report.requested = UnscatteredMode::Off;
+      none.report.reason = stored_.unscattered ? "no compact light" : "not traced by the bake";
+      return none;
+    }
     Stopwatch clock;
     const Cubemap& all = *environment_;
     Cubemap lights(all.size());
@@ -405,7 +410,7 @@ class RelightSession::Context {
                                .scatteredRadiance = scatteredRadiance,
                                .options = {.maxPaths = kRelightUnscatteredPaths, .run = run_}});
     seconds.unscattered = clock.lap();
-    return std::move(u.radiance);
+    return u;
   }
 
   // The split for a renderer that sums the smooth part itself: its SH light, and B before g less
@@ -517,9 +522,12 @@ RelitLight withGain(std::vector<glm::vec3> exitance, std::span<const glm::vec3> 
   return out;
 }
 
-// `relit` with the unscattered light along the normal added (empty: none), not to B.
-void addUnscattered(RelitLight& relit, std::span<const glm::vec3> unscattered) {
-  for (std::size_t v = 0; v < unscattered.size(); ++v) relit.radianceNormal[v] += unscattered[v];
+// `relit` with the unscattered light along the normal added (empty: none), not to B, and its
+// report.
+void addUnscattered(RelitLight& relit, UnscatteredLight unscattered) {
+  for (std::size_t v = 0; v < unscattered.radiance.size(); ++v)
+    relit.radianceNormal[v] += unscattered.radiance[v];
+  relit.unscattered = std::move(unscattered.report);
 }
 
 }  // namespace

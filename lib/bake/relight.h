@@ -45,6 +45,7 @@
 #include "material/material.h"
 #include "mesh/baked_ply.h"
 #include "mesh/triangle_mesh.h"
+#include "transport/unscattered_light.h"
 
 namespace sss {
 
@@ -127,6 +128,9 @@ struct RelitLight {
   int compactLights = 0;
   double compactFluxShare = 0.0;
   RelightSeconds seconds;
+  // The compact lights' unscattered light: whether auto traced it, why, and its paths (requested
+  // Off where the bake did not trace that light or there is no compact light).
+  UnscatteredLightReport unscattered;
 };
 
 // The relight split for a renderer that sums the smooth part itself (sss-render, in its vertex

@@ -120,6 +120,8 @@ TEST_F(Relight, StoresTheTransferAndReportsItsOwnEnvironment) {
   // Relit under its own environment, against itself: what the report says, and small.
   const RelitLight own = relit(loadBakeEnvironment(settingsFor(mesh_, kSky)).radiance);
   EXPECT_NEAR(relativeRms(own.radianceNormal, b.radianceNormal), r.selfError, 1e-6);
+  EXPECT_FALSE(own.unscattered.traced);  // marble, and the bake's stage off
+  EXPECT_EQ(own.unscattered.reason, "not traced by the bake");
   EXPECT_LT(r.selfError, 0.03);
   EXPECT_GT(r.selfError, 0.0);
 }
@@ -293,6 +295,7 @@ TEST(RelightUnscattered, TheLightThatCrossesFollowsATurnedSun) {
   const BakeOutput fresh = bake(turned);
   const RelitLight r = relight("sphere.ply", relightableMesh, loadBakeEnvironment(turned).radiance,
                                {.seed = 3, .threads = 2, .quiet = true});
+  EXPECT_TRUE(r.unscattered.traced) << r.unscattered.reason;
   const double error = relativeRms(r.radianceNormal, fresh.baked.radianceNormal);
   // The unscattered light matters here: without it the fresh bake is much darker in places.
   const BakeOutput without = bake(settings(150.0, UnscatteredMode::Off));

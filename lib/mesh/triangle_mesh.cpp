@@ -23,9 +23,17 @@ glm::dvec3 areaVector(const TriangleMesh& mesh, const glm::uvec3& t) {
 }  // namespace
 
 std::vector<float> vertexAreas(const TriangleMesh& mesh) {
-  std::vector<double> sum(mesh.positions.size(), 0.0);
-  for (const glm::uvec3& t : mesh.triangles) {
-    const double third = glm::length(areaVector(mesh, t)) / 6.0;  // |cross| / 2 / 3
+  return vertexAreas(mesh.positions, mesh.triangles);
+}
+
+std::vector<float> vertexAreas(std::span<const glm::vec3> positions,
+                               std::span<const glm::uvec3> triangles) {
+  std::vector<double> sum(positions.size(), 0.0);
+  for (const glm::uvec3& t : triangles) {
+    const glm::dvec3 a(positions[t.x]);
+    const glm::dvec3 cross =
+        glm::cross(glm::dvec3(positions[t.y]) - a, glm::dvec3(positions[t.z]) - a);
+    const double third = glm::length(cross) / 6.0;  // |cross| / 2 / 3
     sum[t.x] += third;
     sum[t.y] += third;
     sum[t.z] += third;

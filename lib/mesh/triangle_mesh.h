@@ -24,6 +24,8 @@ struct TriangleMesh {
 // (Li & Guo's M(x_i); a correction of their unspecified "area of the vertex"). The sum equals
 // surfaceArea(mesh).
 std::vector<float> vertexAreas(const TriangleMesh& mesh);
+std::vector<float> vertexAreas(std::span<const glm::vec3> positions,
+                               std::span<const glm::uvec3> triangles);
 
 // Each vertex's share of the surface projected onto the plane perpendicular to its normal:
 // sum over its triangles of area / 3 * max(0, n_triangle . n_vertex). The area a viewer looking

@@ -12,6 +12,7 @@
 #include "core/parallel.h"
 #include "core/random.h"
 #include "core/sampling.h"
+#include "mesh/triangle_mesh.h"
 #include "optics/fresnel.h"
 #include "raytrace/triangle_scene.h"
 #include "transport/surface_hit.h"
@@ -49,12 +50,7 @@ struct PathSetup {
 };
 
 PathSetup pathSetup(const MirroredLightsInput& in) {
-  PathSetup s{in, lightChoice(in.lights), std::vector<float>(in.positions.size(), 0.0f)};
-  for (const glm::uvec3& t : in.triangles) {
-    const glm::vec3 a = in.positions[t.x], b = in.positions[t.y], c = in.positions[t.z];
-    const float third = glm::length(glm::cross(b - a, c - a)) / 6.0f;
-    for (int k = 0; k < 3; ++k) s.vertexAreas[t[k]] += third;
-  }
+  PathSetup s{in, lightChoice(in.lights), vertexAreas(in.positions, in.triangles)};
   const Bounds3 bounds = boundsOf(in.positions);
   s.center = bounds.center();
   for (const glm::vec3& p : in.positions)

@@ -115,7 +115,7 @@ constexpr uint64_t kRelightUnscatteredPaths = 1 << 18;
 // none, followed by '+' where the bake added their geometric tail; rays: the gather's per vertex,
 // followed by ':N' where the first N are the visibility's cosine set), and ",unscattered" where
 // g and b hold the scattered light alone and a relight traces the unscattered light
-// (RelightTransfer::unscattered; a bake of an earlier build put it in g).
+// (RelightInput::unscattered; a bake of an earlier build put it in g).
 std::string transportKey(const TransportInput& in, bool directionalEntry, int bounces,
                          bool bounceTail, int gatherRays, int gatherVisibilityRays,
                          bool unscattered) {

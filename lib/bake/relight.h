@@ -73,7 +73,7 @@ struct RelightInput {
   std::span<const uint16_t> gatherFrontHits{};
   std::span<const glm::vec3> exitance;  // the bake's B (with its bounces)
   // Its radiance along the normal, of the scattered light (without the unscattered light, which a
-  // relight traces again: RelightTransfer::unscattered).
+  // relight traces again: `unscattered`).
   std::span<const glm::vec3> radianceNormal;
   // The bake traced the light that crosses without scattering (unscattered_light.h): the key
   // says so, and a relight traces it for the compact lights.

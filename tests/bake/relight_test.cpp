@@ -28,20 +28,23 @@
 namespace sss {
 namespace {
 
-// A bumpy sphere, 20 mm across, with concave valleys between its bumps (it shadows itself), as
-// an ASCII PLY without normals.
-void writeBumpySphere(const std::string& path) {
-  TriangleMesh m = makeIcosphere(3, 1.0f);
+// `m` as an ASCII PLY without normals.
+void writeAsciiPly(const std::string& path, const TriangleMesh& m) {
   std::ofstream out(path);
   out << "ply\nformat ascii 1.0\nelement vertex " << m.positions.size()
       << "\nproperty float x\nproperty float y\nproperty float z\nelement face "
       << m.triangles.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
-  for (const glm::vec3& p : m.positions) {
-    const float r = 10.0f * (1.0f + 0.3f * std::sin(4.0f * p.x) * std::sin(4.0f * p.y + 1.0f) *
-                                        std::cos(3.0f * p.z));
-    out << r * p.x << ' ' << r * p.y << ' ' << r * p.z << '\n';
-  }
+  for (const glm::vec3& p : m.positions) out << p.x << ' ' << p.y << ' ' << p.z << '\n';
   for (const glm::uvec3& t : m.triangles) out << "3 " << t.x << ' ' << t.y << ' ' << t.z << '\n';
+}
+
+// A bumpy sphere, 20 mm across, with concave valleys between its bumps (it shadows itself).
+void writeBumpySphere(const std::string& path) {
+  TriangleMesh m = makeIcosphere(3, 1.0f);
+  for (glm::vec3& p : m.positions)
+    p *= 10.0f *
+         (1.0f + 0.3f * std::sin(4.0f * p.x) * std::sin(4.0f * p.y + 1.0f) * std::cos(3.0f * p.z));
+  writeAsciiPly(path, m);
 }
 
 BakeSettings settingsFor(const std::string& mesh, const std::string& sky, double rotateDeg = 0.0) {
@@ -268,15 +271,7 @@ TEST_F(Relight, ATurnedEnvironmentMatchesAFreshBakeUnderIt) {
 TEST(RelightUnscattered, TheLightThatCrossesFollowsATurnedSun) {
   const test::ScratchDir dir;
   const std::string mesh = dir.path("sphere.ply");
-  {
-    const TriangleMesh m = makeIcosphere(3, 5.0f);
-    std::ofstream out(mesh);
-    out << "ply\nformat ascii 1.0\nelement vertex " << m.positions.size()
-        << "\nproperty float x\nproperty float y\nproperty float z\nelement face "
-        << m.triangles.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
-    for (const glm::vec3& p : m.positions) out << p.x << ' ' << p.y << ' ' << p.z << '\n';
-    for (const glm::uvec3& t : m.triangles) out << "3 " << t.x << ' ' << t.y << ' ' << t.z << '\n';
-  }
+  writeAsciiPly(mesh, makeIcosphere(3, 5.0f));
   const auto settings = [&](double rotateDeg, UnscatteredMode unscattered) {
     BakeSettings s = settingsFor(mesh, "sky:elevation=10,azimuth=0,turbidity=3", rotateDeg);
     s.material = findMaterialPreset("ketchup");
